@@ -1,0 +1,64 @@
+// Position noise models: a seeded, deterministic error in local East/North/Up metres as a
+// function of time since the first epoch. Pure: no clocks, no I/O.
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "emulator/enu.hpp"
+
+namespace gpsemu::noise {
+
+/// The report's four cgrw parameters for one axis, all measured on a stationary receiver's log
+/// at the rate `CgrwParams::rate_hz` (see design.md "Noise models").
+struct CgrwAxis {
+  double width_m = 1.0;     ///< max - min of the position (metres)
+  double width_d1_m = 0.15; ///< max - min of the first difference (metres per sample)
+  double width_d2_m = 0.2;  ///< max - min of the second difference (metres per sample^2)
+  double sigma_d2_m = 0.03; ///< standard deviation of the second difference (metres per sample^2)
+};
+
+struct CgrwParams {
+  CgrwAxis east, north, up;
+  double rate_hz = 1.0;  ///< rate the parameters were measured at (Hz); the walk steps at this rate
+};
+
+/// Independent white noise per axis (Chrono's ChNoiseNormal; the report's Fig. 9 baseline).
+struct GaussianAxis {
+  double mean_m = 0.0;
+  double sigma_m = 1.0;
+};
+
+enum class Model { none, cgrw, gaussian };
+
+struct NoiseConfig {
+  Model model = Model::cgrw;
+  CgrwParams cgrw;                          ///< used when model == cgrw
+  std::array<GaussianAxis, 3> gaussian{};   ///< east, north, up; used when model == gaussian
+};
+
+/// The report's "one knob": cgrw parameters for a receiver whose horizontal position wanders over
+/// `width_m` (max - min); 0.1 m high accuracy, 1 m preset, 10 m low accuracy. Up gets 1.5x.
+[[nodiscard]] CgrwParams cgrw_preset(double width_m);
+
+/// A noise process. Query with non-decreasing `since_start`; the same seed and query times give
+/// the same values on every platform.
+class NoiseModel {
+ public:
+  virtual ~NoiseModel() = default;
+  /// The error at `since_start` after the first epoch (metres, local ENU).
+  [[nodiscard]] virtual Enu offset_at(std::chrono::nanoseconds since_start) = 0;
+};
+
+/// Builds the configured model. Throws std::invalid_argument naming the bad parameter.
+[[nodiscard]] std::unique_ptr<NoiseModel> make_noise_model(const NoiseConfig& config,
+                                                           std::uint64_t seed);
+
+/// Parses "none", "cgrw", "gaussian"; throws std::invalid_argument listing the accepted names.
+[[nodiscard]] Model parse_model(const std::string& name);
+[[nodiscard]] std::string to_string(Model model);
+
+}  // namespace gpsemu::noise

@@ -1,0 +1,62 @@
+// The value a receiver reports for one epoch: what every sentence formatter reads and every
+// parser produces. Plain data with units in every name; no behaviour.
+#pragma once
+
+#include <chrono>
+#include <optional>
+#include <string>
+
+namespace gpsemu::nmea {
+
+/// UTC time of an epoch, millisecond resolution (NMEA carries at most centiseconds in practice).
+using UtcTime = std::chrono::sys_time<std::chrono::milliseconds>;
+
+/// GGA fix quality indicator (field 6).
+enum class FixQuality : int {
+  none = 0,       ///< no fix: position fields are left empty
+  gps = 1,        ///< autonomous GNSS fix
+  dgps = 2,       ///< differential (SBAS / DGPS)
+  pps = 3,        ///< PPS / precise
+  rtk_fixed = 4,  ///< RTK with fixed integer ambiguities
+  rtk_float = 5,  ///< RTK float
+  estimated = 6,  ///< dead reckoning
+};
+
+/// 2-D or 3-D (GSA field 2). A 2-D fix has no usable altitude.
+enum class FixDimension : int { none = 1, two_d = 2, three_d = 3 };
+
+/// One epoch of receiver output. When `quality == FixQuality::none` only `time_utc` is
+/// meaningful and formatters leave every position, speed and accuracy field empty.
+struct Fix {
+  UtcTime time_utc{};                          ///< epoch time (UTC)
+  FixQuality quality = FixQuality::none;       ///< GGA quality
+  FixDimension dimension = FixDimension::none; ///< GSA mode
+  double lat_deg = 0.0;      ///< WGS84 latitude, degrees, north positive, [-90, 90]
+  double lon_deg = 0.0;      ///< WGS84 longitude, degrees, east positive, [-180, 180)
+  double alt_msl_m = 0.0;    ///< altitude above mean sea level (metres)
+  double geoid_sep_m = 0.0;  ///< geoid separation: ellipsoid height minus MSL altitude (metres)
+  double speed_mps = 0.0;    ///< speed over ground (metres per second)
+  std::optional<double> course_deg_true;  ///< course over ground, degrees true [0, 360); empty when unknown
+  int satellites_used = 0;   ///< satellites used in the solution (GGA field 7)
+  double hdop = 0.0;         ///< horizontal dilution of precision
+  double vdop = 0.0;         ///< vertical dilution of precision
+  double pdop = 0.0;         ///< position dilution of precision
+  double sigma_lat_m = 0.0;  ///< 1-sigma latitude error estimate (metres), for GST
+  double sigma_lon_m = 0.0;  ///< 1-sigma longitude error estimate (metres), for GST
+  double sigma_alt_m = 0.0;  ///< 1-sigma altitude error estimate (metres), for GST
+
+  [[nodiscard]] bool has_fix() const { return quality != FixQuality::none; }
+};
+
+/// NMEA version: 2.3 adds the RMC/GLL/VTG mode indicator; 4.1 adds the RMC navigational status.
+enum class NmeaVersion { v2_3, v4_1 };
+
+/// How sentences are written. Validated by the caller's configuration.
+struct FormatOptions {
+  std::string talker = "GP";  ///< two-letter talker ID: GP (GPS) or GN (multi-constellation)
+  int minute_decimals = 5;    ///< decimals of minutes in lat/lon, 1..8 (u-blox: 5, about 1.85 cm)
+  int time_decimals = 2;      ///< decimals of seconds in hhmmss.ss, 0..3
+  NmeaVersion version = NmeaVersion::v4_1;
+};
+
+}  // namespace gpsemu::nmea

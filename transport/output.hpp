@@ -1,0 +1,61 @@
+// The one transport interface: where a receiver's bytes go (pty, file, stdout, serial, sockets).
+// The base class counts and rate-limits error reports (spdlog's sink pattern); a backend
+// implements write_bytes() and, when it has input to drain or clients to accept, service().
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+namespace gpsemu::transport {
+
+enum class WriteStatus {
+  ok,       ///< the whole epoch was handed to the operating system
+  dropped,  ///< the epoch was not sent (no room, no client): nothing partial went out
+  error,    ///< the backend failed; it stays usable and may recover
+};
+
+struct OutputStats {
+  std::uint64_t epochs_written = 0;
+  std::uint64_t epochs_dropped = 0;
+  std::uint64_t epochs_failed = 0;
+  std::uint64_t bytes_written = 0;
+};
+
+class Output {
+ public:
+  virtual ~Output() = default;
+  Output() = default;
+  Output(const Output&) = delete;
+  Output& operator=(const Output&) = delete;
+
+  /// Writes one epoch (all its sentences) in one go. Never blocks for long; counts the result.
+  WriteStatus write_epoch(std::string_view bytes);
+
+  /// Non-blocking housekeeping between epochs: read and discard client input, accept clients.
+  virtual void service() {}
+
+  /// A file descriptor to poll for readability before calling service(), or -1.
+  [[nodiscard]] virtual int poll_fd() const { return -1; }
+
+  /// Where a client connects: "/dev/pts/3 (link /tmp/gpsemu)", "stdout", "file out.nmea".
+  [[nodiscard]] virtual std::string describe() const = 0;
+
+  /// Flushes buffered bytes (files). Called at shutdown.
+  virtual void flush() {}
+
+  [[nodiscard]] const OutputStats& stats() const { return stats_; }
+
+ protected:
+  /// Backend hook: send `bytes` entirely or not at all. `error_text` receives a reason on error
+  /// or drop, which the base class logs at most once a second.
+  virtual WriteStatus write_bytes(std::string_view bytes, std::string& error_text) = 0;
+
+ private:
+  OutputStats stats_;
+  std::chrono::steady_clock::time_point last_report_{};
+  std::uint64_t unreported_ = 0;
+};
+
+}  // namespace gpsemu::transport
