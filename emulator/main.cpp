@@ -1,2 +1,103 @@
-// gpsemu entry point (placeholder while the core loop is written).
-int main() { return 0; }
+// gpsemu: a GPS receiver emulator. Parses the command line and config file, sets up logging and
+// signals, and runs the main loop. Exit status: 0 done, 2 bad configuration or start-up failure.
+#include <csignal>
+#include <cstdio>
+#include <iostream>
+#include <map>
+
+#include <CLI/CLI.hpp>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include "emulator/config.hpp"
+#include "emulator/runner.hpp"
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+
+void on_signal(int) { g_stop.store(true); }
+
+void install_signal_handlers() {
+  struct sigaction sa{};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = 0;  // no SA_RESTART: a signal interrupts sleeps so shutdown is prompt
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  signal(SIGPIPE, SIG_IGN);
+}
+
+void setup_logging(const std::string& level) {
+  auto logger = spdlog::stderr_color_mt("gpsemu");
+  logger->set_pattern("%Y-%m-%dT%H:%M:%S.%e %^%l%$ %v");
+  spdlog::set_default_logger(logger);
+  spdlog::set_level(spdlog::level::from_str(level));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"gpsemu: hardware-in-the-loop GPS receiver emulator (NMEA over a pty, file or stdout)",
+               "gpsemu"};
+  app.set_version_flag("--version", std::string("gpsemu ") + GPSEMU_VERSION);
+  app.get_formatter()->column_width(34);
+  std::string config_file;
+  app.add_option("--config", config_file, "TOML config file; keys are the long flag names, flags override it")
+      ->check(CLI::ExistingFile)
+      ->type_name("FILE");
+
+  std::map<std::string, std::vector<std::string>> values;
+  std::map<std::string, CLI::Option*> options;
+  for (const auto& def : gpsemu::option_table()) {
+    auto& store = values[def.name];
+    CLI::Option* opt = nullptr;
+    if (def.value_name.empty()) {
+      opt = app.add_flag("--" + def.name, def.help);
+    } else {
+      opt = app.add_option("--" + def.name, store, def.help)->type_name(def.value_name);
+      if (!def.repeatable) opt->expected(1)->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+    }
+    options[def.name] = opt;
+  }
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "gpsemu: %s\nRun 'gpsemu --help' for the options.\n", e.what());
+    return 2;
+  }
+
+  gpsemu::RawOptions command_line;
+  for (const auto& def : gpsemu::option_table()) {
+    const CLI::Option* opt = options[def.name];
+    if (opt->count() == 0) continue;
+    command_line.emplace_back(def.name, def.value_name.empty() ? std::vector<std::string>{"true"}
+                                                               : values[def.name]);
+  }
+
+  gpsemu::Config config;
+  try {
+    config = gpsemu::build_config(config_file.empty() ? std::nullopt : std::optional{config_file}, command_line);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "gpsemu: %s\n", e.what());
+    return 2;
+  }
+  setup_logging(config.log_level);
+  install_signal_handlers();
+
+  std::unique_ptr<gpsemu::Runner> runner;
+  try {
+    runner = std::make_unique<gpsemu::Runner>(config);
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return 2;
+  }
+  return runner->run(g_stop);
+}

@@ -1,0 +1,232 @@
+#include "emulator/config.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <set>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include "emulator/config_values.hpp"
+
+namespace gpsemu {
+namespace {
+
+using V = const std::vector<std::string>&;
+using namespace config_values;
+
+noise::CgrwAxis parse_cgrw_axis(const std::string& key, const std::string& text) {
+  const auto v = parse_list(key, text, 4, 4);
+  for (const double x : v) {
+    if (!(x > 0.0)) throw std::invalid_argument(fmt::format("{}: every width must be > 0 metres, got '{}'", key, text));
+  }
+  return {v[0], v[1], v[2], v[3]};
+}
+
+std::vector<OptionDef> make_table() {
+  std::vector<OptionDef> t;
+  auto add = [&t](std::string name, std::string value_name, std::string help,
+                  std::function<void(Config&, V)> apply, bool repeatable = false) {
+    t.push_back({std::move(name), std::move(value_name), std::move(help), repeatable, std::move(apply)});
+  };
+  // Pose source
+  add("source", "SPEC", "pose source: sim:stationary | sim:line | sim:circle | sim:waypoints:FILE (default sim:stationary)",
+      [](Config& c, V v) { c.source = v.back(); });
+  add("origin", "LAT,LON,ALT", "local frame origin: degrees, degrees, metres above MSL (default 43.0725,-89.4125,260)",
+      [](Config& c, V v) {
+        const auto x = parse_list("origin", v.back(), 3, 3);
+        if (x[0] < -90.0 || x[0] > 90.0) throw std::invalid_argument(fmt::format("origin latitude {} is outside [-90, 90]", x[0]));
+        if (x[1] < -180.0 || x[1] > 180.0) throw std::invalid_argument(fmt::format("origin longitude {} is outside [-180, 180]", x[1]));
+        c.origin = {x[0], x[1], x[2]};
+      });
+  add("sim-speed", "MPS", "simulated speed for line, circle and waypoints, m/s (default 2)",
+      [](Config& c, V v) { c.sim.speed_mps = parse_number("sim-speed", v.back(), 0.001, 1000.0); });
+  add("sim-heading", "DEG", "sim:line heading, degrees true (default 90 = east)",
+      [](Config& c, V v) { c.sim.heading_deg = parse_number("sim-heading", v.back(), 0.0, 360.0); });
+  add("sim-drive-time", "S", "sim:line seconds of driving before it stops (default 20)",
+      [](Config& c, V v) { c.sim.drive_time_s = parse_number("sim-drive-time", v.back(), 0.0, 1e7); });
+  add("sim-radius", "M", "sim:circle radius, metres (default 20)",
+      [](Config& c, V v) { c.sim.radius_m = parse_number("sim-radius", v.back(), 0.1, 1e6); });
+  add("sim-loop", "", "sim:waypoints: start over after the last waypoint (default off)",
+      [](Config& c, V v) { c.sim.loop = parse_bool("sim-loop", v.back()); });
+  // Clock
+  add("rate", "HZ", "epochs per second: 1..50 whole, or 0.5/0.25/0.2/0.1 (default 1)",
+      [](Config& c, V v) {
+        c.rate_hz = parse_number("rate", v.back(), 0.1, 50.0);
+        (void)EpochGrid(c.rate_hz);  // validates the grid
+      });
+  add("latency", "S", "delay from epoch time to first byte, seconds, 0..0.5 (default 0.05)",
+      [](Config& c, V v) { c.latency_s = parse_number("latency", v.back(), 0.0, 0.5); });
+  add("start-time", "ISO8601", "UTC time of the first epoch, e.g. 2024-05-01T12:00:00Z (default: now)",
+      [](Config& c, V v) { c.start_time = parse_iso8601_utc(v.back()); });
+  add("duration", "S", "stop after this many seconds of epochs (default: run until stopped)",
+      [](Config& c, V v) { c.duration_s = parse_number("duration", v.back(), 0.0, 1e9); });
+  add("fast", "", "no pacing: generate epochs as fast as possible (batch generation, tests)",
+      [](Config& c, V v) { c.fast = parse_bool("fast", v.back()); });
+  // Noise
+  add("noise", "MODEL", "noise model: cgrw | gaussian | none (default cgrw)",
+      [](Config& c, V v) { c.noise.model = noise::parse_model(v.back()); });
+  add("width", "M", "cgrw one knob: horizontal wander max-min, metres (0.1 high accuracy, 1 default, 10 poor)",
+      [](Config& c, V v) { c.width_m = parse_number("width", v.back(), 0.001, 1000.0); });
+  add("seed", "N", "random seed; same seed, inputs and start time give identical output (default 1)",
+      [](Config& c, V v) { c.seed = parse_uint("seed", v.back()); });
+  for (const char* axis : {"east", "north", "up"}) {
+    add(fmt::format("cgrw-{}", axis), "W,W1,W2,S2",
+        fmt::format("cgrw {} axis: width, first- and second-difference widths, second-difference std, metres "
+                    "at cgrw-rate (default: from --width)", axis),
+        [axis](Config& c, V v) {
+          const auto a = parse_cgrw_axis(fmt::format("cgrw-{}", axis), v.back());
+          std::string name = axis;
+          (name == "east" ? c.cgrw_east : name == "north" ? c.cgrw_north : c.cgrw_up) = a;
+        });
+  }
+  add("cgrw-rate", "HZ", "rate the cgrw parameters were measured at, Hz (default 1)",
+      [](Config& c, V v) { c.noise.cgrw.rate_hz = parse_number("cgrw-rate", v.back(), 0.01, 1000.0); });
+  add("gaussian-sigma", "S[,SN,SU]", "gaussian standard deviation east,north,up, metres (default 1,1,1)",
+      [](Config& c, V v) {
+        const auto x = parse_list("gaussian-sigma", v.back(), 1, 3);
+        for (std::size_t i = 0; i < 3; ++i) {
+          const double s = x[std::min(i, x.size() - 1)];
+          if (s < 0.0) throw std::invalid_argument("gaussian-sigma must be >= 0 metres");
+          c.noise.gaussian[i].sigma_m = s;
+        }
+      });
+  add("gaussian-mean", "M[,MN,MU]", "gaussian mean east,north,up, metres (default 0,0,0)",
+      [](Config& c, V v) {
+        const auto x = parse_list("gaussian-mean", v.back(), 1, 3);
+        for (std::size_t i = 0; i < 3; ++i) c.noise.gaussian[i].mean_m = x[std::min(i, x.size() - 1)];
+      });
+  // Receiver and sentences
+  add("satellites", "N", "satellites in use reported with a fix, 4..32 (default 12)",
+      [](Config& c, V v) { c.receiver.satellites_used = static_cast<int>(parse_number("satellites", v.back(), 4, 32)); });
+  add("hdop", "X", "HDOP reported with a fix, 0.5..50 (default 0.8)",
+      [](Config& c, V v) { c.receiver.hdop = parse_number("hdop", v.back(), 0.5, 50.0); });
+  add("geoid-separation", "M", "geoid separation in GGA, metres (default 0)",
+      [](Config& c, V v) { c.receiver.geoid_sep_m = parse_number("geoid-separation", v.back(), -120.0, 120.0); });
+  add("talker", "ID", "NMEA talker ID: GP or GN (default GP)",
+      [](Config& c, V v) { c.format.talker = parse_choice("talker", v.back(), {"GP", "GN", "GL", "GA", "BD"}); });
+  add("nmea-version", "V", "NMEA version: 2.3 or 4.1 (default 4.1)",
+      [](Config& c, V v) {
+        c.format.version = parse_choice("nmea-version", v.back(), {"2.3", "4.1"}) == "2.3" ? nmea::NmeaVersion::v2_3
+                                                                                             : nmea::NmeaVersion::v4_1;
+      });
+  add("resolution", "N", "decimals of minutes in latitude/longitude, 1..8 (default 5, about 1.85 cm)",
+      [](Config& c, V v) { c.format.minute_decimals = static_cast<int>(parse_number("resolution", v.back(), 1, 8)); });
+  add("time-decimals", "N", "decimals of seconds in NMEA times, 0..3 (default 2)",
+      [](Config& c, V v) { c.format.time_decimals = static_cast<int>(parse_number("time-decimals", v.back(), 0, 3)); });
+  // Outputs and logging
+  add("output", "SPEC", "where NMEA goes, repeatable: pty[:LINK] | file:PATH | stdout (default pty:/tmp/gpsemu)",
+      [](Config& c, V v) { c.outputs = v; }, true);
+  add("log-level", "LEVEL", "trace | debug | info | warn | error | off (default info)",
+      [](Config& c, V v) {
+        c.log_level = parse_choice("log-level", v.back(), {"trace", "debug", "info", "warn", "error", "off"});
+      });
+  return t;
+}
+
+const OptionDef* find_option(const std::string& name) {
+  for (const auto& o : option_table()) {
+    if (o.name == name) return &o;
+  }
+  return nullptr;
+}
+
+/// A TOML value as the strings an option's apply() takes.
+std::vector<std::string> toml_to_strings(const toml::node& node, const std::string& key) {
+  std::vector<std::string> out;
+  auto scalar = [&](const toml::node& n) -> std::string {
+    if (auto s = n.value<std::string>(); s && n.is_string()) return *s;
+    if (n.is_integer()) return std::to_string(*n.value<std::int64_t>());
+    if (n.is_floating_point()) return fmt::format("{}", *n.value<double>());
+    if (n.is_boolean()) return *n.value<bool>() ? "true" : "false";
+    if (auto d = n.as_date_time()) {
+      std::ostringstream s;
+      s << *d;
+      return s.str();
+    }
+    throw std::invalid_argument(fmt::format("{}: expected a string, number or boolean", key));
+  };
+  if (const auto* arr = node.as_array()) {
+    for (const auto& item : *arr) out.push_back(scalar(item));
+    if (out.empty()) throw std::invalid_argument(fmt::format("{}: empty list", key));
+  } else {
+    out.push_back(scalar(node));
+  }
+  return out;
+}
+
+void finish(Config& c) {
+  // The cgrw one knob fills every axis not given explicitly.
+  const noise::CgrwParams preset = noise::cgrw_preset(c.width_m);
+  const double rate = c.noise.cgrw.rate_hz;
+  c.noise.cgrw = preset;
+  c.noise.cgrw.rate_hz = rate;
+  if (c.cgrw_east) c.noise.cgrw.east = *c.cgrw_east;
+  if (c.cgrw_north) c.noise.cgrw.north = *c.cgrw_north;
+  if (c.cgrw_up) c.noise.cgrw.up = *c.cgrw_up;
+  if (c.format.time_decimals < 3 && c.rate_hz > std::pow(10.0, c.format.time_decimals)) {
+    throw ConfigError(fmt::format(
+        "rate {} Hz needs more than {} time decimals: successive epochs would repeat a time "
+        "(set time-decimals to {})", c.rate_hz, c.format.time_decimals, c.rate_hz > 100 ? 3 : 2));
+  }
+}
+
+}  // namespace
+
+const std::vector<OptionDef>& option_table() {
+  static const std::vector<OptionDef> table = make_table();
+  return table;
+}
+
+Config build_config(const std::optional<std::string>& config_file, const RawOptions& command_line) {
+  Config config;
+  std::set<std::string> given_on_command_line;
+  for (const auto& [name, values] : command_line) given_on_command_line.insert(name);
+
+  if (config_file) {
+    toml::table file;
+    try {
+      file = toml::parse_file(*config_file);
+    } catch (const toml::parse_error& e) {
+      throw ConfigError(fmt::format("config file {}:{}: {}", *config_file, e.source().begin.line,
+                                    e.description()));
+    } catch (const std::exception& e) {
+      throw ConfigError(fmt::format("config file {}: {}", *config_file, e.what()));
+    }
+    for (const auto& [key, node] : file) {
+      const std::string name{key.str()};
+      const int line = static_cast<int>(node.source().begin.line);
+      const OptionDef* option = find_option(name);
+      if (!option || name == "config") {
+        throw ConfigError(fmt::format("config file {}:{}: unknown key '{}' (keys are the long flag names, "
+                                      "see gpsemu --help)", *config_file, line, name));
+      }
+      if (given_on_command_line.count(name)) continue;  // the command line wins
+      try {
+        option->apply(config, toml_to_strings(node, name));
+      } catch (const std::exception& e) {
+        throw ConfigError(fmt::format("config file {}:{}: key '{}': {}", *config_file, line, name, e.what()));
+      }
+    }
+  }
+  for (const auto& [name, values] : command_line) {
+    const OptionDef* option = find_option(name);
+    if (!option) throw ConfigError(fmt::format("unknown option --{}", name));
+    try {
+      option->apply(config, values);
+    } catch (const std::exception& e) {
+      throw ConfigError(fmt::format("--{}: {}", name, e.what()));
+    }
+  }
+  try {
+    finish(config);
+  } catch (const ConfigError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw ConfigError(e.what());
+  }
+  return config;
+}
+
+}  // namespace gpsemu

@@ -1,0 +1,70 @@
+// Everything a run is configured by, with units and defaults, and the one table of options shared
+// by the command line (CLI11) and the TOML config file (--config): the same keys, validated by the
+// same code; command-line flags override the file.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "emulator/geo.hpp"
+#include "emulator/noise/noise_model.hpp"
+#include "emulator/receiver.hpp"
+#include "emulator/sources/sim.hpp"
+#include "emulator/time.hpp"
+#include "nmea/fix.hpp"
+
+namespace gpsemu {
+
+struct Config {
+  // Pose source
+  std::string source = "sim:stationary";        ///< sim:NAME (later udp:, tcp:, replay:)
+  Geodetic origin{43.0725, -89.4125, 260.0};    ///< local frame origin; alt above MSL (metres)
+  sources::SimOptions sim;
+  // Clock
+  double rate_hz = 1.0;                          ///< epochs per second
+  double latency_s = 0.05;                       ///< epoch time to first byte (seconds)
+  std::optional<UtcNs> start_time;               ///< first epoch; default: the next epoch after now
+  std::optional<double> duration_s;              ///< stop after this much epoch time; default: run until stopped
+  bool fast = false;                             ///< no pacing: generate as fast as possible
+  // Noise
+  noise::NoiseConfig noise;
+  double width_m = 1.0;                          ///< cgrw one-knob horizontal width (metres)
+  std::optional<noise::CgrwAxis> cgrw_east, cgrw_north, cgrw_up;  ///< explicit cgrw axes (else from width_m)
+  std::uint64_t seed = 1;
+  // Receiver and sentences
+  ReceiverOptions receiver;
+  nmea::FormatOptions format;
+  // Outputs
+  std::vector<std::string> outputs{"pty:/tmp/gpsemu"};
+  std::string log_level = "info";
+};
+
+/// One option, usable as `--name VALUE` and as `name = VALUE` in the config file.
+struct OptionDef {
+  std::string name;        ///< long flag without dashes, and the config key
+  std::string value_name;  ///< "HZ", "S", "LAT,LON,ALT"; empty for a flag
+  std::string help;        ///< with unit and default
+  bool repeatable = false; ///< may be given several times (an array in the config file)
+  std::function<void(Config&, const std::vector<std::string>&)> apply;  ///< throws std::invalid_argument
+};
+
+/// The table of every option of the emulator.
+[[nodiscard]] const std::vector<OptionDef>& option_table();
+
+/// Thrown for a bad flag, value or config file: the message names the key (and file and line).
+struct ConfigError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// Raw values gathered from the command line: option name -> values, in the order given.
+using RawOptions = std::vector<std::pair<std::string, std::vector<std::string>>>;
+
+/// Builds the configuration: defaults, then the config file's keys (if `config_file`), then the
+/// command line's. Also applies derived settings (the cgrw preset from width). Throws ConfigError.
+[[nodiscard]] Config build_config(const std::optional<std::string>& config_file,
+                                  const RawOptions& command_line);
+
+}  // namespace gpsemu

@@ -1,0 +1,22 @@
+// Parsing of option values (numbers with ranges, lists, booleans, choices) with messages that say
+// what was expected. Shared by the command line and the config file.
+#pragma once
+
+#include <cstdint>
+#include <initializer_list>
+#include <string>
+#include <vector>
+
+namespace gpsemu::config_values {
+
+/// A finite number in [min, max]; throws std::invalid_argument naming `key`, the range and `text`.
+[[nodiscard]] double parse_number(const std::string& key, const std::string& text, double min, double max);
+/// Comma-separated numbers, between `min_count` and `max_count` of them.
+[[nodiscard]] std::vector<double> parse_list(const std::string& key, const std::string& text,
+                                             std::size_t min_count, std::size_t max_count);
+[[nodiscard]] bool parse_bool(const std::string& key, const std::string& text);
+[[nodiscard]] std::uint64_t parse_uint(const std::string& key, const std::string& text);
+[[nodiscard]] std::string parse_choice(const std::string& key, const std::string& text,
+                                       std::initializer_list<const char*> accepted);
+
+}  // namespace gpsemu::config_values

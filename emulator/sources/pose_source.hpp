@@ -1,0 +1,34 @@
+// Where the vehicle's true pose comes from: the built-in simulator, a socket fed by an external
+// simulator, or a recorded trajectory. Every source answers "what was the truth at epoch t?" in
+// local East/North/Up metres about the configured origin.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "emulator/enu.hpp"
+#include "emulator/time.hpp"
+
+namespace gpsemu::sources {
+
+/// The vehicle's true state at one instant, about the configured origin.
+struct Truth {
+  Enu position_m;    ///< East/North/Up position (metres); Up is altitude above the origin's MSL altitude
+  Enu velocity_mps;  ///< East/North/Up velocity (metres per second)
+};
+
+class PoseSource {
+ public:
+  virtual ~PoseSource() = default;
+  /// The truth at `t`, or nothing when the source has no current pose (stale, not started):
+  /// the receiver then reports no fix.
+  [[nodiscard]] virtual std::optional<Truth> truth_at(UtcNs t) = 0;
+  /// Non-blocking housekeeping between epochs (read sockets). Sources without I/O do nothing.
+  virtual void service() {}
+  /// A file descriptor to poll for readability before calling service(), or -1.
+  [[nodiscard]] virtual int poll_fd() const { return -1; }
+  /// One line for the start-up banner: "sim:circle (radius 20 m, 2 m/s)".
+  [[nodiscard]] virtual std::string describe() const = 0;
+};
+
+}  // namespace gpsemu::sources
