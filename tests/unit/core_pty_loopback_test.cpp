@@ -9,6 +9,9 @@
 
 #include <filesystem>
 #include <map>
+#include <cmath>
+
+#include <fmt/format.h>
 
 #include "nmea/sentences.hpp"
 #include "tests/support/process.hpp"

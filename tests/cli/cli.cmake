@@ -1,0 +1,36 @@
+# Command-line behaviour through CTest: expected output, and one clear message with exit status 2
+# for every kind of bad input at start-up.
+set(GPSEMU_EXPECT ${CMAKE_CURRENT_LIST_DIR}/expect.cmake)
+function(gpsemu_cli_test name rc regex)
+  list(JOIN ARGN "|" args)
+  add_test(NAME cli.${name}
+           COMMAND ${CMAKE_COMMAND} "-DCMD=$<TARGET_FILE:gpsemu>|${args}" -DRC=${rc} "-DREGEX=${regex}"
+                   -P ${GPSEMU_EXPECT})
+endfunction()
+
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/not_a_link.txt "a regular file the pty output must not replace\n")
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/bad_key.toml "rate = 5\nwidht = 2\n")
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/good.toml "# a config file\nrate = 5\nsource = \"sim:circle\"\noutput = \"stdout\"\n")
+
+gpsemu_cli_test(version 0 "gpsemu [0-9]+\\.[0-9]+\\.[0-9]+" --version)
+gpsemu_cli_test(help_lists_options 0 "--rate HZ.*--latency S.*--noise MODEL.*--width M.*--output SPEC" --help)
+gpsemu_cli_test(unknown_flag 2 "bogus" --bogus)
+gpsemu_cli_test(rate_zero 2 "--rate: rate must be from 0.1 to 50" --rate 0)
+gpsemu_cli_test(rate_off_grid 2 "--rate: rate 2.5 Hz" --rate 2.5)
+gpsemu_cli_test(rate_not_a_number 2 "--rate: rate expects a number" --rate fast)
+gpsemu_cli_test(bad_origin 2 "--origin: origin latitude 91" --origin 91,0,0)
+gpsemu_cli_test(bad_noise 2 "unknown noise model 'pink'" --noise pink)
+gpsemu_cli_test(bad_start_time 2 "'tomorrow'" --start-time tomorrow)
+gpsemu_cli_test(missing_config 2 "/nonexistent/gpsemu.toml" --config /nonexistent/gpsemu.toml)
+gpsemu_cli_test(config_unknown_key 2 "bad_key.toml:2: unknown key 'widht'" --config ${CMAKE_CURRENT_BINARY_DIR}/bad_key.toml)
+gpsemu_cli_test(config_file_runs 0 "\\$GPGGA,120001\\.00,.*\\$GPRMC,120001\\.00" --config
+                ${CMAKE_CURRENT_BINARY_DIR}/good.toml --fast --duration 1 --start-time 2024-05-01T12:00:01Z)
+gpsemu_cli_test(unknown_source 2 "unknown simulator scenario 'sim:spiral'" --source sim:spiral --fast --output stdout)
+gpsemu_cli_test(missing_waypoints 2 "/nonexistent/route.csv" --source sim:waypoints:/nonexistent/route.csv --fast --output stdout)
+gpsemu_cli_test(bad_output_spec 2 "bogus:thing" --output bogus:thing --fast --duration 1)
+gpsemu_cli_test(pty_link_dir_missing 2 "/nonexistent/dir/gps" --output pty:/nonexistent/dir/gps --fast --duration 1)
+gpsemu_cli_test(pty_link_is_a_file 2 "not_a_link.txt" --output pty:${CMAKE_CURRENT_BINARY_DIR}/not_a_link.txt --duration 1)
+gpsemu_cli_test(stdout_stationary 0
+                "\\$GPGGA,000000\\.00,4304\\.3[0-9]+,N,08924\\.7[0-9]+,W,1,12,0\\.80,2[56][0-9]\\.[0-9],M,0\\.0,M,,\\*[0-9A-F][0-9A-F]"
+                --fast --duration 2 --output stdout --start-time 2024-01-01T00:00:00Z)
+gpsemu_cli_test(rate_needs_time_decimals 2 "repeat a time" --rate 20 --time-decimals 1)
