@@ -1,0 +1,41 @@
+// Field-level building blocks of the NMEA formatters: latitude/longitude as ddmm.mmmmm plus
+// hemisphere, hhmmss.ss times, ddmmyy dates and fixed-decimal numbers. Internal to nmea/ (the
+// sentence formatters in sentences.cpp are the public interface). Pure functions.
+#pragma once
+
+#include <string>
+
+#include "nmea/fix.hpp"
+
+namespace gpsemu::nmea::fields {
+
+/// A latitude or a longitude as its two NMEA fields.
+struct CoordinateFields {
+  std::string value;       ///< "ddmm.mmmmm" (latitude) or "dddmm.mmmmm" (longitude), zero padded
+  std::string hemisphere;  ///< "N"/"S" or "E"/"W"; empty exactly when `value` is empty
+};
+
+/// Latitude in degrees (north positive, [-90, 90]) rounded to `minute_decimals` (clamped to 1..8)
+/// decimals of minutes first, then split into degrees and minutes with integer arithmetic, so
+/// 47.99999999 prints "4800.00000", never "4760.00000". Zero (and anything that rounds to zero)
+/// is "N". Non-finite or |lat| > 90 gives empty fields.
+[[nodiscard]] CoordinateFields format_latitude(double lat_deg, int minute_decimals);
+
+/// Longitude in degrees (east positive), first brought into [-180, 180] (190 is -170), then
+/// formatted like format_latitude with three degree digits; 0 is "E", 179.99999999 rounds to
+/// "18000.00000","E" at 5 decimals (-180 is "18000.00000","W"). Non-finite input gives empty fields.
+[[nodiscard]] CoordinateFields format_longitude(double lon_deg, int minute_decimals);
+
+/// UTC time of day "hhmmss", plus "." and `decimals` (clamped to 0..3) digits of the second when
+/// `decimals` > 0. Digits are truncated from the milliseconds, never rounded: 23:59:59.999 with two
+/// decimals is "235959.99".
+[[nodiscard]] std::string format_time_of_day(UtcTime time_utc, int decimals);
+
+/// UTC date "ddmmyy" (two-digit year).
+[[nodiscard]] std::string format_date_ddmmyy(UtcTime time_utc);
+
+/// `value` rounded half away from zero to `decimals` (0..8) decimals, fixed notation, never
+/// "-0.0". Empty when `value` is not finite or |value| >= `max_abs` (a field that would not fit).
+[[nodiscard]] std::string format_fixed(double value, int decimals, double max_abs = 1e9);
+
+}  // namespace gpsemu::nmea::fields
