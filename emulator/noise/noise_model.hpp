@@ -24,6 +24,9 @@ struct CgrwAxis {
 struct CgrwParams {
   CgrwAxis east, north, up;
   double rate_hz = 1.0;  ///< rate the parameters were measured at (Hz); the walk steps at this rate
+  /// Length of the windows the widths were measured over (seconds): max - min grows with the
+  /// window, so the walk is fitted to the mean statistics over windows of this length.
+  double window_s = 300.0;
 };
 
 /// Independent white noise per axis (Chrono's ChNoiseNormal; the report's Fig. 9 baseline).
