@@ -31,7 +31,7 @@ std::vector<OptionDef> make_table() {
     t.push_back({std::move(name), std::move(value_name), std::move(help), repeatable, std::move(apply)});
   };
   // Pose source
-  add("source", "SPEC", "pose source: sim:stationary | sim:line | sim:circle | sim:waypoints:FILE (default sim:stationary)",
+  add("source", "SPEC", "pose source: sim:stationary | sim:line | sim:circle | sim:waypoints:FILE | udp:[HOST:]PORT | tcp:[HOST:]PORT (JSON poses from a simulator; HOST default 127.0.0.1) (default sim:stationary)",
       [](Config& c, V v) { c.source = v.back(); });
   add("origin", "LAT,LON,ALT", "local frame origin: degrees, degrees, metres above MSL (default 43.0725,-89.4125,260)",
       [](Config& c, V v) {
@@ -50,6 +50,12 @@ std::vector<OptionDef> make_table() {
       [](Config& c, V v) { c.sim.radius_m = parse_number("sim-radius", v.back(), 0.1, 1e6); });
   add("sim-loop", "", "sim:waypoints: start over after the last waypoint (default off)",
       [](Config& c, V v) { c.sim.loop = parse_bool("sim-loop", v.back()); });
+  add("pose-timeout", "S", "udp:/tcp: a pose older than this means no fix until poses resume, seconds, "
+      "0.05..60 (default 1)",
+      [](Config& c, V v) { c.pose_timeout_s = parse_number("pose-timeout", v.back(), 0.05, 60.0); });
+  add("pose-horizon", "S", "udp:/tcp: extrapolate past the newest pose with its velocity for at most this long, "
+      "then hold it, seconds, 0..pose-timeout (default 0.2)",
+      [](Config& c, V v) { c.pose_horizon_s = parse_number("pose-horizon", v.back(), 0.0, 60.0); });
   // Clock
   add("rate", "HZ", "epochs per second: 1..50 whole, or 0.5/0.25/0.2/0.1 (default 1)",
       [](Config& c, V v) {
@@ -81,8 +87,10 @@ std::vector<OptionDef> make_table() {
           (name == "east" ? c.cgrw_east : name == "north" ? c.cgrw_north : c.cgrw_up) = a;
         });
   }
-  add("cgrw-rate", "HZ", "rate the cgrw parameters were measured at, Hz (default 1)",
-      [](Config& c, V v) { c.noise.cgrw.rate_hz = parse_number("cgrw-rate", v.back(), 0.01, 1000.0); });
+  add("cgrw-rate", "HZ", "rate the cgrw-east/north/up parameters were measured at, Hz (default 1; needs all three axes)",
+      [](Config& c, V v) { c.cgrw_rate_hz = parse_number("cgrw-rate", v.back(), 0.01, 1000.0); });
+  add("cgrw-window", "S", "time span the cgrw widths were measured over, seconds (default 300)",
+      [](Config& c, V v) { c.noise.cgrw.window_s = parse_number("cgrw-window", v.back(), 1.0, 1e6); });
   add("gaussian-sigma", "S[,SN,SU]", "gaussian standard deviation east,north,up, metres (default 1,1,1)",
       [](Config& c, V v) {
         const auto x = parse_list("gaussian-sigma", v.back(), 1, 3);
@@ -157,11 +165,20 @@ std::vector<std::string> toml_to_strings(const toml::node& node, const std::stri
 }
 
 void finish(Config& c) {
+  if (c.pose_horizon_s > c.pose_timeout_s) {
+    throw ConfigError(fmt::format("pose-horizon {} s is longer than pose-timeout {} s: a pose cannot be "
+                                  "extrapolated past the time it goes stale", c.pose_horizon_s, c.pose_timeout_s));
+  }
   // The cgrw one knob fills every axis not given explicitly.
-  const noise::CgrwParams preset = noise::cgrw_preset(c.width_m);
-  const double rate = c.noise.cgrw.rate_hz;
-  c.noise.cgrw = preset;
-  c.noise.cgrw.rate_hz = rate;
+  // The preset's ratios are per 1 Hz sample, so a different measurement rate needs every axis.
+  if (c.cgrw_rate_hz && !(c.cgrw_east && c.cgrw_north && c.cgrw_up)) {
+    throw ConfigError("cgrw-rate applies to parameters measured at that rate: give cgrw-east, cgrw-north "
+                      "and cgrw-up too (gpsemu calibrate writes all four keys)");
+  }
+  const double window_s = c.noise.cgrw.window_s;
+  c.noise.cgrw = noise::cgrw_preset(c.width_m);
+  c.noise.cgrw.window_s = window_s;
+  if (c.cgrw_rate_hz) c.noise.cgrw.rate_hz = *c.cgrw_rate_hz;
   if (c.cgrw_east) c.noise.cgrw.east = *c.cgrw_east;
   if (c.cgrw_north) c.noise.cgrw.north = *c.cgrw_north;
   if (c.cgrw_up) c.noise.cgrw.up = *c.cgrw_up;

@@ -20,9 +20,11 @@ namespace gpsemu {
 
 struct Config {
   // Pose source
-  std::string source = "sim:stationary";        ///< sim:NAME (later udp:, tcp:, replay:)
+  std::string source = "sim:stationary";        ///< sim:NAME, udp:[HOST:]PORT, tcp:[HOST:]PORT
   Geodetic origin{43.0725, -89.4125, 260.0};    ///< local frame origin; alt above MSL (metres)
   sources::SimOptions sim;
+  double pose_timeout_s = 1.0;                   ///< udp:/tcp: a pose older than this is no fix (seconds)
+  double pose_horizon_s = 0.2;                   ///< udp:/tcp: longest extrapolation past the newest pose (seconds)
   // Clock
   double rate_hz = 1.0;                          ///< epochs per second
   double latency_s = 0.05;                       ///< epoch time to first byte (seconds)
@@ -33,6 +35,7 @@ struct Config {
   noise::NoiseConfig noise;
   double width_m = 1.0;                          ///< cgrw one-knob horizontal width (metres)
   std::optional<noise::CgrwAxis> cgrw_east, cgrw_north, cgrw_up;  ///< explicit cgrw axes (else from width_m)
+  std::optional<double> cgrw_rate_hz;            ///< rate the explicit axes were measured at (Hz)
   std::uint64_t seed = 1;
   // Receiver and sentences
   ReceiverOptions receiver;
