@@ -5,6 +5,7 @@
 
 #include <cerrno>
 #include <cmath>
+#include <limits>
 
 #include <spdlog/spdlog.h>
 
@@ -50,12 +51,11 @@ Runner::~Runner() = default;
 
 int Runner::run(const std::atomic<bool>& stop) {
   const auto latency = std::chrono::nanoseconds{std::llround(config_.latency_s * 1e9)};
-  const std::optional<std::int64_t> count =
-      config_.duration_s ? std::optional<std::int64_t>{std::llround(*config_.duration_s * config_.rate_hz)}
-                         : std::nullopt;
+  const std::int64_t count = config_.duration_s ? std::llround(*config_.duration_s * config_.rate_hz)
+                                                : std::numeric_limits<std::int64_t>::max();
   std::string text;
   text.reserve(1024);
-  for (std::int64_t k = 0; !stop.load() && (!count || k < *count); ++k) {
+  for (std::int64_t k = 0; !stop.load() && k < count; ++k) {
     const UtcNs t = grid_.time_of(first_index_ + k);
     if (!config_.fast) {
       const UtcNs deadline = t - sim_minus_wall_ + latency;
