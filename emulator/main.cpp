@@ -11,6 +11,7 @@
 
 #include "emulator/config.hpp"
 #include "emulator/runner.hpp"
+#include "emulator/subcommands.hpp"
 
 namespace {
 
@@ -61,6 +62,9 @@ int main(int argc, char** argv) {
     options[def.name] = opt;
   }
 
+  const std::vector<gpsemu::Subcommand> subcommands = gpsemu::add_subcommands(app);
+  for (const auto& sc : subcommands) sc.app->fallthrough();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -91,6 +95,16 @@ int main(int argc, char** argv) {
   }
   setup_logging(config.log_level);
   install_signal_handlers();
+
+  for (const auto& sc : subcommands) {
+    if (!sc.app->parsed()) continue;
+    try {
+      return sc.run(config, g_stop);
+    } catch (const std::exception& e) {
+      spdlog::error("{}", e.what());
+      return 2;
+    }
+  }
 
   std::unique_ptr<gpsemu::Runner> runner;
   try {
