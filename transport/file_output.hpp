@@ -1,0 +1,53 @@
+// Writes a receiver's bytes to a regular file (`file:PATH`) or to standard output (`stdout`),
+// for batch generation (`--fast`: large buffer, written in big blocks) and for watching a run
+// with `tail -f` (real time: every epoch is handed to the operating system as it is written).
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "transport/output.hpp"
+
+namespace gpsemu::transport {
+
+class FileOutput final : public Output {
+ public:
+  /// Bytes kept before they are written out when not flushing each epoch (bytes).
+  static constexpr std::size_t kBufferBytes = std::size_t{1} << 20;
+
+  /// Creates or truncates `path`. With `flush_each_epoch` every epoch is written out at once
+  /// (real time); without it, bytes are buffered (batch generation). Throws std::runtime_error
+  /// naming the path when it cannot be opened for writing.
+  FileOutput(const std::filesystem::path& path, bool flush_each_epoch);
+
+  /// Writes to the process's standard output (file descriptor 1, not std::cout), which it leaves
+  /// open. Throws std::runtime_error when standard output is closed.
+  static std::unique_ptr<FileOutput> to_stdout(bool flush_each_epoch);
+
+  /// Flushes what is buffered, then closes the file (never standard output).
+  ~FileOutput() override;
+
+  /// "file out.nmea" or "stdout".
+  [[nodiscard]] std::string describe() const override { return description_; }
+  /// Writes out everything buffered, waiting (up to a few seconds) for a slow reader.
+  void flush() override;
+
+ protected:
+  WriteStatus write_bytes(std::string_view bytes, std::string& error_text) override;
+
+ private:
+  enum class DrainResult { done, would_block, failed };
+
+  FileOutput(int fd, bool owns_fd, std::string description, bool flush_each_epoch);
+  DrainResult drain(bool wait, std::string& error_text);
+
+  int fd_ = -1;
+  bool owns_fd_ = false;
+  std::string description_;
+  bool flush_each_epoch_ = false;
+  std::string pending_;  ///< bytes accepted but not yet handed to the operating system
+};
+
+}  // namespace gpsemu::transport
