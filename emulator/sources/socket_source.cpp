@@ -1,0 +1,158 @@
+#include "emulator/sources/socket_source.hpp"
+
+#include <cctype>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+namespace gpsemu::sources {
+namespace {
+
+double seconds(std::chrono::nanoseconds d) { return std::chrono::duration<double>(d).count(); }
+
+/// The start of a refused message for the log: printable, at most 48 characters.
+std::string excerpt(std::string_view bytes) {
+  std::string out;
+  for (const char ch : bytes.substr(0, 48)) {
+    const auto c = static_cast<unsigned char>(ch);
+    out += std::isprint(c) ? std::string(1, ch) : fmt::format("\\x{:02x}", c);
+  }
+  if (bytes.size() > 48) out += fmt::format("... ({} bytes)", bytes.size());
+  return out;
+}
+
+}  // namespace
+
+std::uint64_t SocketSourceStats::rejected_total() const {
+  std::uint64_t n = 0;
+  for (const auto r : rejected) n += r;
+  return n;
+}
+
+SocketPoseSource::SocketPoseSource(std::unique_ptr<transport::PoseSocket> socket, const LocalFrame& frame,
+                                   const SocketSourceOptions& options)
+    : socket_(std::move(socket)), frame_(frame), options_(options), history_(options.history) {
+  spdlog::info("waiting for poses on {}", socket_->describe());
+}
+
+SocketPoseSource::~SocketPoseSource() {
+  std::string reasons;
+  for (std::size_t i = 0; i < kPoseRejectCount; ++i) {
+    if (stats_.rejected[i] == 0) continue;
+    reasons += fmt::format("{}{} {}", reasons.empty() ? "" : ", ", to_string(static_cast<PoseReject>(i)),
+                           stats_.rejected[i]);
+  }
+  spdlog::info("pose input {}: {} poses used, {} dropped{}{}; {} sender changes, {} restarts", socket_->describe(),
+               stats_.accepted, stats_.rejected_total(), reasons.empty() ? "" : " by reason: ", reasons,
+               stats_.sender_changes, stats_.restarts);
+}
+
+std::string SocketPoseSource::describe() const {
+  return fmt::format("{} (JSON poses; no fix after {} s without one, extrapolation up to {} s)",
+                     socket_->describe(), seconds(options_.history.timeout), seconds(options_.history.horizon));
+}
+
+void SocketPoseSource::service() {
+  for (std::size_t i = 0; i < options_.max_messages_per_service; ++i) {
+    const auto m = socket_->receive();
+    if (!m) return;
+    handle_message(*m);
+  }
+}
+
+void SocketPoseSource::reject(PoseReject reason, const transport::ReceivedMessage& m, std::uint64_t count) {
+  const auto i = static_cast<std::size_t>(reason);
+  stats_.rejected[i] += count;
+  unreported_[i] += count;
+  if (m.arrival - last_report_[i] < std::chrono::seconds(1)) return;
+  const bool show_bytes = reason != PoseReject::too_large && reason != PoseReject::kernel_overflow &&
+                          reason != PoseReject::too_many_clients && !m.bytes.empty();
+  spdlog::warn("pose input: dropped {} from {}: {} ({} in all){}", unreported_[i] == 1 ? "a message" :
+               fmt::format("{} messages", unreported_[i]), m.sender_name.empty() ? "?" : m.sender_name,
+               to_string(reason), stats_.rejected[i], show_bytes ? fmt::format(": '{}'", excerpt(m.bytes)) : "");
+  last_report_[i] = m.arrival;
+  unreported_[i] = 0;
+}
+
+Enu SocketPoseSource::to_local(const PoseMessage& pose) const {
+  if (const auto* enu = std::get_if<Enu>(&pose.position)) return *enu;
+  const auto& g = std::get<GeodeticPose>(pose.position);
+  return frame_.to_enu({g.lat_deg, g.lon_deg, g.alt_msl_m.value_or(frame_.origin().alt_m)});
+}
+
+void SocketPoseSource::handle_message(const transport::ReceivedMessage& m) {
+  using Kind = transport::ReceivedMessage::Kind;
+  switch (m.kind) {
+    case Kind::too_large: return reject(PoseReject::too_large, m);
+    case Kind::partial_line: return reject(PoseReject::partial_line, m);
+    case Kind::kernel_dropped: return reject(PoseReject::kernel_overflow, m, m.count);
+    case Kind::refused_client: return reject(PoseReject::too_many_clients, m);
+    case Kind::connected:
+      spdlog::info("pose sender {} connected", m.sender_name);
+      return;
+    case Kind::disconnected:
+      spdlog::info("pose sender {} disconnected", m.sender_name);
+      if (owner_ == m.sender) owner_.reset();  // the next sender may take over at once
+      return;
+    case Kind::message: break;
+  }
+
+  const PoseDecodeResult decoded = decode_pose(m.bytes);
+  if (const auto* why = std::get_if<PoseReject>(&decoded)) return reject(*why, m);
+  const auto& pose = std::get<PoseMessage>(decoded);
+
+  if (owner_ != m.sender) {
+    if (owner_ && m.arrival - owner_last_ <= options_.history.timeout) return reject(PoseReject::other_sender, m);
+    if (owner_ || !owner_name_.empty()) {
+      ++stats_.sender_changes;
+      spdlog::info("pose sender is now {} (was {})", m.sender_name, owner_name_);
+    } else {
+      spdlog::info("first pose from {}", m.sender_name);
+    }
+    history_.clear();
+    owner_ = m.sender;
+    owner_name_.assign(m.sender_name);
+  }
+
+  const TimedPose timed{m.arrival, pose.sender_time_s, to_local(pose), pose.velocity_mps};
+  switch (history_.push(timed)) {
+    case PushResult::out_of_order: return reject(PoseReject::out_of_order, m);
+    case PushResult::flood: return reject(PoseReject::flood, m);
+    case PushResult::restarted:
+      ++stats_.restarts;
+      spdlog::warn("pose input: sender time or clock went back (simulator restarted?): pose history cleared");
+      break;
+    case PushResult::accepted: break;
+  }
+  ++stats_.accepted;
+  owner_last_ = m.arrival;
+}
+
+std::optional<Truth> SocketPoseSource::truth_at(UtcNs t) {
+  std::optional<Truth> truth = history_.sample(t);
+  const State now = truth ? State::fresh : (state_ == State::waiting ? State::waiting : State::stale);
+  if (now != state_) {
+    if (now == State::stale) {
+      spdlog::warn("pose input: no pose for {:.2f} s (timeout {} s): reporting no fix until poses resume",
+                   history_.empty() ? 0.0 : seconds(t - history_.newest().time), seconds(options_.history.timeout));
+    } else if (state_ == State::waiting) {
+      spdlog::info("pose input: fix from {} at epoch {}", owner_name_, format_iso8601_utc(t));
+    } else {
+      spdlog::info("pose input: poses resumed from {}: fix again at epoch {}", owner_name_, format_iso8601_utc(t));
+    }
+    state_ = now;
+  }
+  return truth;
+}
+
+std::unique_ptr<PoseSource> make_socket_source(const std::string& scheme, const std::string& address,
+                                               const LocalFrame& frame, const SocketSourceOptions& options) {
+  const transport::PoseEndpoint endpoint = transport::parse_pose_endpoint(address);
+  const transport::PoseSocketOptions socket_options{.max_message_bytes = kMaxPoseMessageBytes, .max_clients = 8};
+  std::unique_ptr<transport::PoseSocket> socket = scheme == "udp" ? transport::open_udp_pose_socket(endpoint, socket_options)
+                                                                  : transport::open_tcp_pose_server(endpoint, socket_options);
+  return std::make_unique<SocketPoseSource>(std::move(socket), frame, options);
+}
+
+}  // namespace gpsemu::sources

@@ -1,0 +1,85 @@
+// The udp: and tcp: pose sources: an external simulator (Chrono/PyChrono, Gazebo, CARLA, the
+// user's own loop) sends JSON poses (pose_message.hpp) to a pose socket (transport/); each epoch
+// reports the truth sampled from the pose history (pose_history.hpp).
+//
+// - Time base: a pose holds at its arrival time on CLOCK_REALTIME (UTC), so epoch t reports the
+//   pose the simulator sent around t (interpolated; the epoch is sampled at t + latency).
+// - One sender at a time: the first sender (UDP source address:port, or TCP connection) owns the
+//   stream; another sender's poses are dropped (other_sender) until the owner has been silent for
+//   the pose timeout or, over TCP, has disconnected. Then the next sender takes over with a fresh
+//   history.
+// - Bad input is dropped, counted per reason, logged at most once a second per reason; the last
+//   good pose stays. service() handles at most max_messages_per_service messages a call.
+// - Staleness: no truth once the newest pose is older than the timeout; each transition is logged
+//   once. The counts are logged when the source is destroyed.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "emulator/geo.hpp"
+#include "emulator/sources/pose_history.hpp"
+#include "emulator/sources/pose_message.hpp"
+#include "emulator/sources/pose_source.hpp"
+#include "transport/pose_socket.hpp"
+
+namespace gpsemu::sources {
+
+struct SocketSourceOptions {
+  PoseHistoryOptions history;                   ///< timeout, extrapolation horizon, capacity
+  std::size_t max_messages_per_service = 256;   ///< socket events handled per service() call
+};
+
+/// Counters of a socket pose source.
+struct SocketSourceStats {
+  std::uint64_t accepted = 0;                                 ///< poses put in the history
+  std::array<std::uint64_t, kPoseRejectCount> rejected{};     ///< dropped, by PoseReject
+  std::uint64_t sender_changes = 0;                           ///< times another sender took over
+  std::uint64_t restarts = 0;                                 ///< history cleared: sender time or clock went back
+  [[nodiscard]] std::uint64_t rejected_total() const;
+};
+
+class SocketPoseSource final : public PoseSource {
+ public:
+  SocketPoseSource(std::unique_ptr<transport::PoseSocket> socket, const LocalFrame& frame,
+                   const SocketSourceOptions& options);
+  ~SocketPoseSource() override;  ///< logs the counters
+
+  std::optional<Truth> truth_at(UtcNs t) override;
+  void service() override;
+  int poll_fd() const override { return socket_->poll_fd(); }
+  std::string describe() const override;
+
+  [[nodiscard]] const SocketSourceStats& stats() const { return stats_; }
+
+ private:
+  void handle_message(const transport::ReceivedMessage& m);
+  void reject(PoseReject reason, const transport::ReceivedMessage& m, std::uint64_t count = 1);
+  [[nodiscard]] Enu to_local(const PoseMessage& pose) const;
+
+  enum class State { waiting, fresh, stale };
+
+  std::unique_ptr<transport::PoseSocket> socket_;
+  LocalFrame frame_;
+  SocketSourceOptions options_;
+  PoseHistory history_;
+  SocketSourceStats stats_;
+  State state_ = State::waiting;
+  std::optional<std::uint64_t> owner_;  ///< sender of the history's poses
+  std::string owner_name_;
+  UtcNs owner_last_{};                  ///< arrival of the owner's newest accepted pose
+  std::array<UtcNs, kPoseRejectCount> last_report_{};
+  std::array<std::uint64_t, kPoseRejectCount> unreported_{};
+};
+
+/// Builds a source for "udp:[HOST:]PORT" or "tcp:[HOST:]PORT" (`scheme` "udp" or "tcp", `address`
+/// what follows the colon). Throws std::invalid_argument for a bad address, std::runtime_error
+/// naming host:port when the socket cannot be bound.
+[[nodiscard]] std::unique_ptr<PoseSource> make_socket_source(const std::string& scheme, const std::string& address,
+                                                             const LocalFrame& frame,
+                                                             const SocketSourceOptions& options);
+
+}  // namespace gpsemu::sources
