@@ -46,7 +46,7 @@ int main(int argc, char** argv) {
   std::string config_file;
   app.add_option("--config", config_file, "TOML config file; keys are the long flag names, flags override it")
       ->check(CLI::ExistingFile)
-      ->type_name("FILE");
+      ->option_text("FILE");
 
   std::map<std::string, std::vector<std::string>> values;
   std::map<std::string, CLI::Option*> options;
