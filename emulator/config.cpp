@@ -71,7 +71,7 @@ std::vector<OptionDef> make_table() {
   add("fast", "", "no pacing: generate epochs as fast as possible (batch generation, tests)",
       [](Config& c, V v) { c.fast = parse_bool("fast", v.back()); });
   // Noise
-  add("noise", "MODEL", "noise model: cgrw | gaussian | none (default cgrw)",
+  add("noise", "MODEL", "noise model: cgrw | chrono | gaussian | gauss-markov | none (default cgrw)",
       [](Config& c, V v) { c.noise.model = noise::parse_model(v.back()); });
   add("width", "M", "cgrw one knob: horizontal wander max-min, metres (0.1 high accuracy, 1 default, 10 poor)",
       [](Config& c, V v) { c.width_m = parse_number("width", v.back(), 0.001, 1000.0); });
@@ -104,6 +104,43 @@ std::vector<OptionDef> make_table() {
       [](Config& c, V v) {
         const auto x = parse_list("gaussian-mean", v.back(), 1, 3);
         for (std::size_t i = 0; i < 3; ++i) c.noise.gaussian[i].mean_m = x[std::min(i, x.size() - 1)];
+      });
+  add("chrono", "MEAN,SIGMA,RATE[,VMAX,AMAX]",
+      "chrono model: Project Chrono 9 ChNoiseRandomWalks arguments: mean (ignored, as in Chrono), "
+      "sigma m/s^2, update rate Hz, max velocity m/s, max acceleration m/s^2 "
+      "(default 0,0.0163,1,0.03,0.005)",
+      [](Config& c, V v) {
+        const auto x = parse_list("chrono", v.back(), 3, 5);
+        noise::ChronoParams p = c.noise.chrono;
+        p.mean = x[0];
+        p.sigma = x[1];
+        p.update_rate_hz = x[2];
+        if (x.size() > 3) p.v_max_mps = x[3];
+        if (x.size() > 4) p.a_max_mps2 = x[4];
+        if (!(p.sigma >= 0.0)) throw std::invalid_argument(fmt::format("chrono: SIGMA must be >= 0 m/s^2, got '{}'", v.back()));
+        if (!(p.update_rate_hz > 0.0) || p.update_rate_hz > 10000.0)
+          throw std::invalid_argument(fmt::format("chrono: RATE must be > 0 and <= 10000 Hz, got '{}'", v.back()));
+        if (!(p.v_max_mps >= 0.0) || !(p.a_max_mps2 >= 0.0))
+          throw std::invalid_argument(fmt::format("chrono: VMAX and AMAX must be >= 0, got '{}'", v.back()));
+        c.noise.chrono = p;
+      });
+  add("gm-sigma", "S[,SN,SU]", "gauss-markov stationary standard deviation east,north,up, metres (default 1,1,1)",
+      [](Config& c, V v) {
+        const auto x = parse_list("gm-sigma", v.back(), 1, 3);
+        for (std::size_t i = 0; i < 3; ++i) {
+          const double s = x[std::min(i, x.size() - 1)];
+          if (s < 0.0) throw std::invalid_argument(fmt::format("gm-sigma must be >= 0 metres, got '{}'", v.back()));
+          c.noise.gauss_markov[i].sigma_m = s;
+        }
+      });
+  add("gm-tau", "T[,TN,TU]", "gauss-markov correlation time east,north,up, seconds > 0 (default 60,60,60)",
+      [](Config& c, V v) {
+        const auto x = parse_list("gm-tau", v.back(), 1, 3);
+        for (std::size_t i = 0; i < 3; ++i) {
+          const double t = x[std::min(i, x.size() - 1)];
+          if (!(t > 0.0)) throw std::invalid_argument(fmt::format("gm-tau must be > 0 seconds, got '{}'", v.back()));
+          c.noise.gauss_markov[i].tau_s = t;
+        }
       });
   // Receiver and sentences
   add("satellites", "N", "satellites in use reported with a fix, 4..32 (default 12)",

@@ -35,12 +35,32 @@ struct GaussianAxis {
   double sigma_m = 1.0;
 };
 
-enum class Model { none, cgrw, gaussian };
+/// Project Chrono 9's ChNoiseRandomWalks(mean, sigma, noise_model_update_rate, max_velocity,
+/// max_acceleration), the same numbers a PyChrono user passes (see chrono_model.hpp). One set for
+/// the three axes (Chrono clamps the 3-D velocity length).
+struct ChronoParams {
+  double mean = 0.0;            ///< accepted and ignored, as in Chrono 9's arithmetic (metres/s^2)
+  double sigma = 0.0163;        ///< acceleration draw standard deviation (metres/s^2)
+  double update_rate_hz = 1.0;  ///< steps per second of the walk (Hz)
+  double v_max_mps = 0.03;      ///< bound on the 3-D velocity length (metres/s)
+  double a_max_mps2 = 0.005;    ///< per-axis clamp of the acceleration draw (metres/s^2)
+};
+
+/// First-order Gauss-Markov process of one axis: stationary standard deviation and correlation
+/// time (autocorrelation exp(-|dt|/tau)).
+struct GaussMarkovAxis {
+  double sigma_m = 1.0;  ///< stationary standard deviation (metres)
+  double tau_s = 60.0;   ///< correlation time (seconds)
+};
+
+enum class Model { none, cgrw, chrono, gaussian, gauss_markov };
 
 struct NoiseConfig {
   Model model = Model::cgrw;
   CgrwParams cgrw;                          ///< used when model == cgrw
+  ChronoParams chrono;                      ///< used when model == chrono
   std::array<GaussianAxis, 3> gaussian{};   ///< east, north, up; used when model == gaussian
+  std::array<GaussMarkovAxis, 3> gauss_markov{};  ///< east, north, up; model == gauss_markov
 };
 
 /// The report's "one knob": cgrw parameters for a receiver whose horizontal position wanders over
@@ -60,7 +80,7 @@ class NoiseModel {
 [[nodiscard]] std::unique_ptr<NoiseModel> make_noise_model(const NoiseConfig& config,
                                                            std::uint64_t seed);
 
-/// Parses "none", "cgrw", "gaussian"; throws std::invalid_argument listing the accepted names.
+/// Parses "none", "cgrw", "chrono", "gaussian", "gauss-markov"; throws std::invalid_argument listing the accepted names.
 [[nodiscard]] Model parse_model(const std::string& name);
 [[nodiscard]] std::string to_string(Model model);
 

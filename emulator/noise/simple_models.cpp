@@ -6,6 +6,8 @@
 #include <stdexcept>
 
 #include "emulator/noise/cgrw_model.hpp"
+#include "emulator/noise/chrono_model.hpp"
+#include "emulator/noise/gauss_markov_model.hpp"
 
 namespace gpsemu::noise {
 
@@ -39,6 +41,8 @@ std::unique_ptr<NoiseModel> make_noise_model(const NoiseConfig& config, std::uin
     case Model::none: return std::make_unique<NoNoise>();
     case Model::gaussian: return std::make_unique<GaussianNoise>(config.gaussian, seed);
     case Model::cgrw: return std::make_unique<CgrwNoise>(config.cgrw, seed);
+    case Model::chrono: return std::make_unique<ChronoNoise>(config.chrono, seed);
+    case Model::gauss_markov: return std::make_unique<GaussMarkovNoise>(config.gauss_markov, seed);
   }
   throw std::invalid_argument("noise model: unknown value " +
                               std::to_string(static_cast<int>(config.model)));

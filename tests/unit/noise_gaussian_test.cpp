@@ -129,8 +129,8 @@ TEST(NoiseNone, IsZero) {
 }
 
 TEST(NoiseModelNames, ParseAndPrintRoundTrip) {
-  for (Model m : {Model::none, Model::cgrw, Model::gaussian}) EXPECT_EQ(parse_model(to_string(m)), m);
-  EXPECT_THROW((void)parse_model("chrono"), std::invalid_argument);
+  for (Model m : {Model::none, Model::cgrw, Model::chrono, Model::gaussian, Model::gauss_markov}) EXPECT_EQ(parse_model(to_string(m)), m);
+  EXPECT_THROW((void)parse_model("brownian"), std::invalid_argument);
 }
 
 TEST(NoiseFactory, DefaultConfigBuildsACgrwModel) {
