@@ -142,6 +142,13 @@ std::vector<OptionDef> make_table() {
           c.noise.gauss_markov[i].tau_s = t;
         }
       });
+  add("gm-order", "N", "gauss-markov order: 1 (first order) or 2 (second order, smooth like a receiver's "
+      "filtered position; autocorrelation (1+t/tau)exp(-t/tau)) (default 1)",
+      [](Config& c, V v) {
+        c.noise.gauss_markov_order = static_cast<int>(parse_number("gm-order", v.back(), 1, 2));
+        if (parse_number("gm-order", v.back(), 1, 2) != c.noise.gauss_markov_order)
+          throw std::invalid_argument(fmt::format("gm-order must be 1 or 2, got '{}'", v.back()));
+      });
   // Receiver and sentences
   add("satellites", "N", "satellites in use reported with a fix, 4..32 (default 12)",
       [](Config& c, V v) { c.receiver.satellites_used = static_cast<int>(parse_number("satellites", v.back(), 4, 32)); });

@@ -1,11 +1,14 @@
 #include "emulator/subcommands.hpp"
 
+#include "emulator/calibration/commands.hpp"
+
 namespace gpsemu {
 
 std::vector<Subcommand> add_subcommands(CLI::App& app) {
   std::vector<Subcommand> all;
-  (void)app;
-  // all.push_back(add_calibrate_command(app));  -- each subcommand adds its line here
+  // each subcommand adds its line here
+  all.push_back(calibration::add_calibrate_command(app));
+  all.push_back(calibration::add_compare_command(app));
   return all;
 }
 

@@ -61,6 +61,7 @@ struct NoiseConfig {
   ChronoParams chrono;                      ///< used when model == chrono
   std::array<GaussianAxis, 3> gaussian{};   ///< east, north, up; used when model == gaussian
   std::array<GaussMarkovAxis, 3> gauss_markov{};  ///< east, north, up; model == gauss_markov
+  int gauss_markov_order = 1;  ///< 1: first order; 2: second order, critically damped (smooth)
 };
 
 /// The report's "one knob": cgrw parameters for a receiver whose horizontal position wanders over

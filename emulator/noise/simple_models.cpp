@@ -42,7 +42,8 @@ std::unique_ptr<NoiseModel> make_noise_model(const NoiseConfig& config, std::uin
     case Model::gaussian: return std::make_unique<GaussianNoise>(config.gaussian, seed);
     case Model::cgrw: return std::make_unique<CgrwNoise>(config.cgrw, seed);
     case Model::chrono: return std::make_unique<ChronoNoise>(config.chrono, seed);
-    case Model::gauss_markov: return std::make_unique<GaussMarkovNoise>(config.gauss_markov, seed);
+    case Model::gauss_markov: return std::make_unique<GaussMarkovNoise>(config.gauss_markov, seed,
+                                                                           config.gauss_markov_order);
   }
   throw std::invalid_argument("noise model: unknown value " +
                               std::to_string(static_cast<int>(config.model)));

@@ -1,0 +1,217 @@
+#include "emulator/calibration/commands.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "emulator/calibration/calibrate.hpp"
+
+namespace gpsemu::calibration {
+namespace {
+
+const char* const kAxes[3] = {"east", "north", "up"};
+
+struct Args {
+  std::string log;
+  std::string out;   // calibrate: config file; empty = stdout
+  std::string csv;   // compare: series for plots
+  int runs = 8;
+};
+
+Calibration run_calibration(const Args& a, const Config& config) {
+  CalibrateOptions o;
+  o.seed = config.seed;
+  o.runs = a.runs;
+  return calibrate(read_receiver_log_file(a.log), o);
+}
+
+std::string log_summary(const Calibration& c, const std::string& path) {
+  const EnuSeries& s = c.series;
+  const LogCounts& n = c.counts;
+  std::string out = fmt::format("log {}\n", path);
+  out += fmt::format("  {} fixes on a {} Hz grid over {:.0f} s ({} epochs missing); resolution {} decimals "
+                     "of minutes; mean position {:.8f}, {:.8f}, {:.2f} m\n",
+                     s.size() - n.missing_epochs, s.rate_hz, s.duration_s(), n.missing_epochs,
+                     s.minute_decimals, s.centre.lat_deg, s.centre.lon_deg, s.centre.alt_m);
+  out += fmt::format("  skipped: {} GGA without fix, {} malformed GGA, {} repeated times; stream: {} "
+                     "sentences ok, {} bad checksums, {} malformed, {} binary/garbage bytes, {} comment "
+                     "lines\n",
+                     n.gga_no_fix, n.gga_malformed, n.repeated_time, n.stream.sentences_ok,
+                     n.stream.bad_checksum, n.stream.malformed, n.stream.garbage_bytes,
+                     n.stream.comment_lines);
+  return out;
+}
+
+std::string scores_line(const Calibration& c) {
+  std::string out = "score (mean |ln(model/real)| over every statistic and axis; 0 = identical, 0.22 = "
+                    "25% off on average):";
+  for (std::size_t i = 0; i < c.models.size(); ++i)
+    out += fmt::format("  {}{} {:.3f}", i == c.best ? "*" : "", model_label(c.models[i].config),
+                       c.models[i].score);
+  return out + "\n";
+}
+
+std::string calibration_summary(const Calibration& c) {
+  std::string out;
+  out += fmt::format("cgrw statistics at {} Hz over windows of {} samples, measured -> best fit of the walk\n",
+                     c.series.rate_hz, c.window_samples);
+  out += fmt::format("  {:<6} {:>9} {:>9} {:>9} {:>9}   {:>9} {:>9} {:>9} {:>9}  {}\n", "axis", "W (m)",
+                     "W1 (m)", "W2 (m)", "S2 (m)", "fit W", "fit W1", "fit W2", "fit S2", "fit/measured");
+  for (std::size_t a = 0; a < 3; ++a) {
+    const auto& m = c.cgrw_measured[a];
+    const auto& f = c.cgrw_fit[a].achieved;
+    out += fmt::format("  {:<6} {:9.4f} {:9.4f} {:9.4f} {:9.4f}   {:9.4f} {:9.4f} {:9.4f} {:9.4f}  "
+                       "{:.2f} {:.2f} {:.2f} {:.2f}{}\n",
+                       kAxes[a], m.width_m, m.width_d1_m, m.width_d2_m, m.sigma_d2_m, f.width_m,
+                       f.width_d1_m, f.width_d2_m, f.sigma_d2_m, f.width_m / m.width_m,
+                       f.width_d1_m / m.width_d1_m, f.width_d2_m / m.width_d2_m,
+                       f.sigma_d2_m / m.sigma_d2_m,
+                       c.cgrw_fit[a].worst_ratio > noise::kCgrwMaxFitRatio ? "  (out of reach: compromise written)" : "");
+  }
+  if (!c.cgrw_unusable.empty()) out += fmt::format("  cgrw not usable: {}\n", c.cgrw_unusable);
+  for (const ModelResult& m : c.models) {
+    const auto& k = m.config;
+    if (k.model == noise::Model::gaussian) {
+      out += "gaussian (mean, sigma) m:";
+      for (std::size_t a = 0; a < 3; ++a)
+        out += fmt::format("  {} {:.3g}, {:.4f}", kAxes[a], k.gaussian[a].mean_m, k.gaussian[a].sigma_m);
+      out += "\n";
+    } else if (k.model == noise::Model::gauss_markov) {
+      out += fmt::format("{} (sigma m, tau s):", model_label(k));
+      for (std::size_t a = 0; a < 3; ++a)
+        out += fmt::format("  {} {:.4f}, {:.1f}", kAxes[a], k.gauss_markov[a].sigma_m, k.gauss_markov[a].tau_s);
+      out += "\n";
+    } else if (k.model == noise::Model::chrono) {
+      out += fmt::format("chrono (mean, sigma m/s^2, rate Hz, v_max m/s, a_max m/s^2): {:g}, {:.5g}, {}, {:.5g}, "
+                         "{:.5g}\n", k.chrono.mean, k.chrono.sigma, k.chrono.update_rate_hz,
+                         k.chrono.v_max_mps, k.chrono.a_max_mps2);
+    }
+  }
+  return out + scores_line(c);
+}
+
+std::string cell(std::optional<double> v) {
+  if (!v || std::isnan(*v)) return "-";
+  return fmt::format("{:.4g}", *v);
+}
+
+std::string comparison_table(const Calibration& c) {
+  std::string out;
+  for (std::size_t a = 0; a < 3; ++a) {
+    out += fmt::format("{:<15} {:>10}", kAxes[a], "real");
+    for (const ModelResult& m : c.models) out += fmt::format(" {:>12}", model_label(m.config));
+    out += "\n";
+    for (const StatDef& d : stat_defs()) {
+      out += fmt::format("  {:<13} {:>10}", d.name, cell(d.show(c.real[a])));
+      for (const ModelResult& m : c.models) out += fmt::format(" {:>12}", cell(d.show(m.stats[a])));
+      out += "\n";
+    }
+  }
+  out += scores_line(c);
+  // Where each model falls short: statistics off by more than a factor 1.5.
+  for (const ModelResult& m : c.models) {
+    std::string misses;
+    for (std::size_t a = 0; a < 3; ++a) {
+      for (const StatDef& d : stat_defs()) {
+        const auto r = d.get(c.real[a]), v = d.get(m.stats[a]);
+        if (!r || !v || !(*r > 0) || !(*v > 0)) continue;
+        const double ratio = *v / *r;
+        if (ratio > 1.5 || ratio < 1 / 1.5)
+          misses += fmt::format(" {} {} x{:.2g};", kAxes[a], d.name, ratio);
+      }
+    }
+    out += fmt::format("  {} off by more than x1.5:{}\n", model_label(m.config),
+                       misses.empty() ? " nothing" : misses);
+  }
+  out += "  (acf rows: the ratio is of 1 - autocorrelation)\n";
+  return out;
+}
+
+void write_csv(const Calibration& c, const std::string& path) {
+  std::ofstream f(path);
+  if (!f) throw std::runtime_error(fmt::format("--csv: cannot write '{}'", path));
+  f << "t_s,real_east_m,real_north_m,real_up_m";
+  for (const ModelResult& m : c.models) {
+    const std::string name = model_label(m.config);
+    f << "," << name << "_east_m," << name << "_north_m," << name << "_up_m";
+  }
+  f << "\n";
+  const auto value = [](double v) { return std::isnan(v) ? std::string() : fmt::format("{:.4f}", v); };
+  for (std::size_t k = 0; k < c.series.size(); ++k) {
+    f << fmt::format("{:.3f}", static_cast<double>(k) / c.series.rate_hz);
+    for (std::size_t a = 0; a < 3; ++a) f << "," << value(c.series.axis_m[a][k]);
+    for (const ModelResult& m : c.models)
+      for (std::size_t a = 0; a < 3; ++a) f << "," << value(m.first_run_m[a][k]);
+    f << "\n";
+  }
+}
+
+void add_common(CLI::App* sub, const std::shared_ptr<Args>& args) {
+  sub->add_option("log", args->log, "NMEA log of a stationary receiver (binary and junk are skipped)")
+      ->required()
+      ->check(CLI::ExistingFile)
+      ->option_text("LOG");
+  sub->add_option("--runs", args->runs, "simulated runs per model, seeds --seed, --seed+1, ... (default 8)")
+      ->check(CLI::Range(1, 1000))
+      ->option_text("N");
+}
+
+}  // namespace
+
+Subcommand add_calibrate_command(CLI::App& app) {
+  auto args = std::make_shared<Args>();
+  CLI::App* sub = app.add_subcommand(
+      "calibrate",
+      "fit every noise model to a stationary receiver's NMEA log and write a config file the emulator "
+      "loads with --config (noise = the best-scoring model)");
+  add_common(sub, args);
+  sub->add_option("-o,--config-out", args->out,
+                  "write the config here and the summary to stdout (default: config to stdout, summary "
+                  "to stderr)")
+      ->option_text("FILE");
+  return {sub, [args](const Config& config, const std::atomic<bool>&) {
+            const Calibration c = run_calibration(*args, config);
+            const std::string toml = config_toml(c, args->log);
+            const std::string summary = log_summary(c, args->log) + calibration_summary(c);
+            if (args->out.empty()) {
+              std::fputs(toml.c_str(), stdout);
+              std::fputs(summary.c_str(), stderr);
+            } else {
+              std::ofstream f(args->out);
+              if (!f || !(f << toml) || !f.flush())
+                throw std::runtime_error(fmt::format("-o: cannot write '{}'", args->out));
+              std::fputs(summary.c_str(), stdout);
+              std::fputs(fmt::format("config written to {}\n", args->out).c_str(), stdout);
+            }
+            return 0;
+          }};
+}
+
+Subcommand add_compare_command(CLI::App& app) {
+  auto args = std::make_shared<Args>();
+  CLI::App* sub = app.add_subcommand(
+      "compare",
+      "calibrate every noise model to a stationary receiver's NMEA log, simulate each at the log's "
+      "rate, duration and resolution, and print real vs models side by side with a score");
+  add_common(sub, args);
+  sub->add_option("--csv", args->csv, "also write the real and each model's first simulated series (metres) as CSV")
+      ->option_text("FILE");
+  return {sub, [args](const Config& config, const std::atomic<bool>&) {
+            const Calibration c = run_calibration(*args, config);
+            std::string out = log_summary(c, args->log);
+            out += fmt::format("{} runs per model, seeds {}..{}; models simulated at the log's rate, length, "
+                               "gaps and resolution\n",
+                               args->runs, config.seed, config.seed + static_cast<std::uint64_t>(args->runs) - 1);
+            out += comparison_table(c);
+            std::fputs(out.c_str(), stdout);
+            if (!args->csv.empty()) write_csv(c, args->csv);
+            return 0;
+          }};
+}
+
+}  // namespace gpsemu::calibration

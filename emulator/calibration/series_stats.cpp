@@ -1,0 +1,201 @@
+#include "emulator/calibration/series_stats.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace gpsemu::calibration {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+struct Moments {
+  double n = 0, sum = 0, sum2 = 0, lo = std::numeric_limits<double>::infinity(),
+         hi = -std::numeric_limits<double>::infinity();
+  void add(double v) {
+    if (std::isnan(v)) return;
+    n += 1, sum += v, sum2 += v * v, lo = std::min(lo, v), hi = std::max(hi, v);
+  }
+  [[nodiscard]] double mean() const { return n > 0 ? sum / n : kNaN; }
+  [[nodiscard]] double range() const { return n > 0 ? hi - lo : 0.0; }
+};
+
+// Two-pass standard deviation of the non-NaN values.
+double sd_of(const std::vector<double>& v) {
+  Moments m;
+  for (double x : v) m.add(x);
+  if (m.n < 2) return 0.0;
+  const double mean = m.mean();
+  double ss = 0.0;
+  for (double x : v)
+    if (!std::isnan(x)) ss += (x - mean) * (x - mean);
+  return std::sqrt(ss / m.n);
+}
+
+std::vector<double> diff(std::span<const double> x) {
+  std::vector<double> d;
+  for (std::size_t i = 1; i < x.size(); ++i) d.push_back(x[i] - x[i - 1]);  // NaN propagates
+  return d;
+}
+
+double autocorrelation(std::span<const double> x, std::size_t lag) {
+  Moments m;
+  for (double v : x) m.add(v);
+  const double mean = m.mean();
+  // The usual (biased) estimator: sum over the lagged pairs both present / sum over all.
+  double den = 0.0, num = 0.0, pairs = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (std::isnan(x[i])) continue;
+    den += (x[i] - mean) * (x[i] - mean);
+    if (i >= lag && !std::isnan(x[i - lag])) num += (x[i] - mean) * (x[i - lag] - mean), pairs += 1;
+  }
+  if (den <= 0.0 || pairs == 0.0) return kNaN;
+  return num / den;
+}
+
+std::vector<double> fill_gaps(std::span<const double> x) {
+  std::vector<double> y(x.begin(), x.end());
+  std::size_t prev = y.size();
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    if (std::isnan(y[i])) continue;
+    if (prev < y.size() && i > prev + 1) {
+      for (std::size_t j = prev + 1; j < i; ++j)
+        y[j] = y[prev] + (y[i] - y[prev]) * static_cast<double>(j - prev) / static_cast<double>(i - prev);
+    }
+    prev = i;
+  }
+  // Leading or trailing gaps (not produced by to_enu_series): hold the nearest fix.
+  auto first = std::find_if(y.begin(), y.end(), [](double v) { return !std::isnan(v); });
+  if (first == y.end()) return y;
+  std::fill(y.begin(), first, *first);
+  for (std::size_t i = 1; i < y.size(); ++i)
+    if (std::isnan(y[i])) y[i] = y[i - 1];
+  return y;
+}
+
+std::optional<double> allan_deviation(const std::vector<double>& y, std::size_t m) {
+  const std::size_t n = y.size();
+  if (m == 0 || n < 3 * m) return std::nullopt;
+  std::vector<double> prefix(n + 1, 0.0);
+  for (std::size_t i = 0; i < n; ++i) prefix[i + 1] = prefix[i] + y[i];
+  const auto avg = [&](std::size_t j) { return (prefix[j + m] - prefix[j]) / static_cast<double>(m); };
+  double ss = 0.0;
+  const std::size_t terms = n - 2 * m + 1;
+  for (std::size_t j = 0; j < terms; ++j) {
+    const double d = avg(j + m) - avg(j);
+    ss += d * d;
+  }
+  return std::sqrt(ss / (2.0 * static_cast<double>(terms)));
+}
+
+}  // namespace
+
+noise::CgrwAxis measure_cgrw_with_gaps(std::span<const double> x) {
+  Moments p, d1, d2;
+  std::vector<double> second;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    p.add(x[i]);
+    if (i >= 1) d1.add(x[i] - x[i - 1]);
+    if (i >= 2) {
+      const double v = (x[i] - x[i - 1]) - (x[i - 1] - x[i - 2]);
+      d2.add(v);
+      second.push_back(v);
+    }
+  }
+  return {p.range(), d1.range(), d2.range(), sd_of(second)};
+}
+
+AxisStats measure_axis(std::span<const double> x, double rate_hz, std::size_t window_samples) {
+  AxisStats s;
+  Moments m;
+  for (double v : x) m.add(v);
+  s.range_m = m.range();
+  const std::vector<double> xv(x.begin(), x.end());
+  s.sd_m = sd_of(xv);
+  const std::vector<double> d1 = diff(x);
+  s.d1_sd_m = sd_of(d1);
+  s.d2_sd_m = sd_of(diff(d1));
+  for (std::size_t i = 0; i < kLags.size(); ++i) s.acf[i] = autocorrelation(x, kLags[i]);
+  const std::vector<double> filled = fill_gaps(x);
+  for (std::size_t i = 0; i < kAllanTimes_s.size(); ++i) {
+    const double samples = kAllanTimes_s[i] * rate_hz;
+    if (std::abs(samples - std::round(samples)) < 1e-9)
+      s.allan_m[i] = allan_deviation(filled, static_cast<std::size_t>(std::llround(samples)));
+  }
+  const std::size_t w = std::clamp<std::size_t>(window_samples, 3, std::max<std::size_t>(x.size(), 3));
+  const std::size_t windows = std::max<std::size_t>(x.size() / w, 1);
+  noise::CgrwAxis sum{0, 0, 0, 0};
+  for (std::size_t k = 0; k < windows; ++k) {
+    const noise::CgrwAxis c = measure_cgrw_with_gaps(x.subspan(k * w, std::min(w, x.size() - k * w)));
+    sum.width_m += c.width_m, sum.width_d1_m += c.width_d1_m, sum.width_d2_m += c.width_d2_m,
+        sum.sigma_d2_m += c.sigma_d2_m;
+  }
+  const double k = static_cast<double>(windows);
+  s.cgrw = {sum.width_m / k, sum.width_d1_m / k, sum.width_d2_m / k, sum.sigma_d2_m / k};
+  return s;
+}
+
+const std::vector<StatDef>& stat_defs() {
+  using O = std::optional<double>;
+  static const std::vector<StatDef> defs{
+      {"max-min (m)", [](const AxisStats& s) -> O { return s.range_m; },
+       [](const AxisStats& s) -> O { return s.range_m; }},
+      {"std (m)", [](const AxisStats& s) -> O { return s.sd_m; },
+       [](const AxisStats& s) -> O { return s.sd_m; }},
+      {"d1 std (m)", [](const AxisStats& s) -> O { return s.d1_sd_m; },
+       [](const AxisStats& s) -> O { return s.d1_sd_m; }},
+      {"d2 std (m)", [](const AxisStats& s) -> O { return s.d2_sd_m; },
+       [](const AxisStats& s) -> O { return s.d2_sd_m; }},
+      {"lag-1 acf", [](const AxisStats& s) -> O { return 1.0 - s.acf[0]; },
+       [](const AxisStats& s) -> O { return s.acf[0]; }},
+      {"lag-10 acf", [](const AxisStats& s) -> O { return 1.0 - s.acf[1]; },
+       [](const AxisStats& s) -> O { return s.acf[1]; }},
+      {"adev 1 s (m)", [](const AxisStats& s) { return s.allan_m[0]; },
+       [](const AxisStats& s) { return s.allan_m[0]; }},
+      {"adev 10 s (m)", [](const AxisStats& s) { return s.allan_m[1]; },
+       [](const AxisStats& s) { return s.allan_m[1]; }},
+      {"adev 100 s (m)", [](const AxisStats& s) { return s.allan_m[2]; },
+       [](const AxisStats& s) { return s.allan_m[2]; }},
+  };
+  return defs;
+}
+
+AxisStats mean_stats(const std::vector<AxisStats>& runs) {
+  AxisStats m;
+  if (runs.empty()) return m;
+  const double n = static_cast<double>(runs.size());
+  m.range_m = m.sd_m = m.d1_sd_m = m.d2_sd_m = 0.0;
+  m.cgrw = {0, 0, 0, 0};
+  std::array<double, 3> allan_sum{};
+  std::array<int, 3> allan_count{};
+  for (const AxisStats& r : runs) {
+    m.range_m += r.range_m / n, m.sd_m += r.sd_m / n, m.d1_sd_m += r.d1_sd_m / n,
+        m.d2_sd_m += r.d2_sd_m / n;
+    for (std::size_t i = 0; i < m.acf.size(); ++i) m.acf[i] += r.acf[i] / n;
+    for (std::size_t i = 0; i < 3; ++i)
+      if (r.allan_m[i]) allan_sum[i] += *r.allan_m[i], ++allan_count[i];
+    m.cgrw.width_m += r.cgrw.width_m / n, m.cgrw.width_d1_m += r.cgrw.width_d1_m / n,
+        m.cgrw.width_d2_m += r.cgrw.width_d2_m / n, m.cgrw.sigma_d2_m += r.cgrw.sigma_d2_m / n;
+  }
+  for (std::size_t i = 0; i < 3; ++i)
+    if (allan_count[i] == static_cast<int>(runs.size())) m.allan_m[i] = allan_sum[i] / n;
+  return m;
+}
+
+double score(const std::array<AxisStats, 3>& real, const std::array<AxisStats, 3>& model) {
+  constexpr double kFloor = 1e-6;
+  double sum = 0.0;
+  int count = 0;
+  for (std::size_t a = 0; a < 3; ++a) {
+    for (const StatDef& d : stat_defs()) {
+      const auto r = d.get(real[a]);
+      const auto m = d.get(model[a]);
+      if (!r || !m || std::isnan(*r) || std::isnan(*m)) continue;
+      sum += std::abs(std::log(std::max(*m, kFloor) / std::max(*r, kFloor)));
+      ++count;
+    }
+  }
+  return count > 0 ? sum / count : std::numeric_limits<double>::infinity();
+}
+
+}  // namespace gpsemu::calibration
