@@ -9,6 +9,7 @@
 #include <toml++/toml.h>
 
 #include "emulator/config_values.hpp"
+#include "transport/pps.hpp"
 
 namespace gpsemu {
 namespace {
@@ -168,8 +169,23 @@ std::vector<OptionDef> make_table() {
   add("time-decimals", "N", "decimals of seconds in NMEA times, 0..3 (default 2)",
       [](Config& c, V v) { c.format.time_decimals = static_cast<int>(parse_number("time-decimals", v.back(), 0, 3)); });
   // Outputs and logging
-  add("output", "SPEC", "where NMEA goes, repeatable: pty[:LINK] | file:PATH | stdout (default pty:/tmp/gpsemu)",
+  add("output", "SPEC", "where NMEA goes, repeatable: pty[:LINK] | file:PATH | stdout | serial:DEVICE[@BAUD] | "
+      "serial:usb:VID:PID[:SERIAL][@BAUD] (8N1; BAUD 4800..921600, default 9600) | tcp:[HOST:]PORT (server; HOST "
+      "default 127.0.0.1) | udp:HOST:PORT (default pty:/tmp/gpsemu)",
       [](Config& c, V v) { c.outputs = v; }, true);
+  // PPS
+  add("pps", "SPEC", "PPS pulse, leading edge at each whole UTC second: gpio:CHIP:LINE (libgpiod; CHIP "
+      "/dev/gpiochipN, name or label; LINE offset or name) | modem:RTS | modem:DTR (on the serial output) "
+      "(default: none)",
+      [](Config& c, V v) {
+        (void)transport::parse_pps_spec(v.back());
+        c.pps = v.back();
+      });
+  add("pps-width", "S", "PPS pulse width, seconds, 0.001..0.9 (default 0.1)",
+      [](Config& c, V v) { c.pps_width_s = parse_number("pps-width", v.back(), 0.001, 0.9); });
+  add("pps-polarity", "LEVEL", "PPS line level during the pulse: high (GPIO 1, modem line asserted) | low "
+      "(default high)",
+      [](Config& c, V v) { c.pps_active_low = parse_choice("pps-polarity", v.back(), {"high", "low"}) == "low"; });
   add("log-level", "LEVEL", "trace | debug | info | warn | error | off (default info)",
       [](Config& c, V v) {
         c.log_level = parse_choice("log-level", v.back(), {"trace", "debug", "info", "warn", "error", "off"});
@@ -209,6 +225,9 @@ std::vector<std::string> toml_to_strings(const toml::node& node, const std::stri
 }
 
 void finish(Config& c) {
+  if (c.pps && c.fast) {
+    throw ConfigError("pps: a PPS pulse marks real seconds; it cannot be used with --fast");
+  }
   if (c.pose_horizon_s > c.pose_timeout_s) {
     throw ConfigError(fmt::format("pose-horizon {} s is longer than pose-timeout {} s: a pose cannot be "
                                   "extrapolated past the time it goes stale", c.pose_horizon_s, c.pose_timeout_s));

@@ -42,6 +42,10 @@ struct Config {
   nmea::FormatOptions format;
   // Outputs
   std::vector<std::string> outputs{"pty:/tmp/gpsemu"};
+  // PPS
+  std::optional<std::string> pps;                ///< gpio:CHIP:LINE | modem:RTS | modem:DTR; default none
+  double pps_width_s = 0.1;                      ///< pulse width (seconds)
+  bool pps_active_low = false;                   ///< line low (GPIO 0, modem line cleared) during the pulse
   std::string log_level = "info";
 };
 

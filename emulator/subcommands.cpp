@@ -1,6 +1,7 @@
 #include "emulator/subcommands.hpp"
 
 #include "emulator/calibration/commands.hpp"
+#include "emulator/ports_command.hpp"
 
 namespace gpsemu {
 
@@ -9,6 +10,7 @@ std::vector<Subcommand> add_subcommands(CLI::App& app) {
   // each subcommand adds its line here
   all.push_back(calibration::add_calibrate_command(app));
   all.push_back(calibration::add_compare_command(app));
+  all.push_back(add_ports_command(app));
   return all;
 }
 

@@ -1,0 +1,56 @@
+// Test support: split received bytes into NMEA sentences and check each one's frame and checksum,
+// so a test can assert that only whole, valid sentences (and whole epochs) arrived.
+#pragma once
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace gpsemu::test {
+
+/// True when `line` (without CR LF) is `$BODY*hh` with the right checksum.
+inline bool valid_sentence(const std::string& line) {
+  if (line.size() < 4 || line[0] != '$') return false;
+  const auto star = line.rfind('*');
+  if (star == std::string::npos || star + 3 != line.size()) return false;
+  unsigned sum = 0;
+  for (std::size_t i = 1; i < star; ++i) sum ^= static_cast<unsigned char>(line[i]);
+  char hex[3];
+  std::snprintf(hex, sizeof hex, "%02X", sum);
+  return line.compare(star + 1, 2, hex) == 0;
+}
+
+struct SplitResult {
+  std::vector<std::string> sentences;  ///< whole lines, without CR LF
+  std::size_t invalid = 0;             ///< lines that are not valid sentences
+  std::string rest;                    ///< bytes after the last CR LF (a partial sentence)
+};
+
+/// Splits `text` at CR LF and checks every line.
+inline SplitResult split_sentences(const std::string& text) {
+  SplitResult r;
+  std::size_t pos = 0;
+  for (;;) {
+    const auto end = text.find("\r\n", pos);
+    if (end == std::string::npos) break;
+    std::string line = text.substr(pos, end - pos);
+    if (!valid_sentence(line)) ++r.invalid;
+    r.sentences.push_back(std::move(line));
+    pos = end + 2;
+  }
+  r.rest = text.substr(pos);
+  return r;
+}
+
+/// The sentence type after the talker: "GGA" for "$GPGGA,...".
+inline std::string sentence_type(const std::string& s) { return s.size() >= 6 ? s.substr(3, 3) : std::string(); }
+
+/// The time field (field 1) of a GGA or RMC sentence: "120000.10".
+inline std::string time_field(const std::string& s) {
+  const auto a = s.find(',');
+  if (a == std::string::npos) return {};
+  const auto b = s.find(',', a + 1);
+  return s.substr(a + 1, b == std::string::npos ? std::string::npos : b - a - 1);
+}
+
+}  // namespace gpsemu::test

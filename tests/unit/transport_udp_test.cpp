@@ -1,0 +1,83 @@
+// UDP output with real sockets on loopback: one datagram an epoch, nobody listening is not an
+// error, specs and start-up errors.
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <stdexcept>
+#include <string>
+
+#include "transport/output_spec.hpp"
+#include "transport/udp_output.hpp"
+
+namespace gpsemu::transport {
+namespace {
+
+/// A bound UDP socket on 127.0.0.1 (any port); returns {fd, port}.
+std::pair<int, std::uint16_t> bind_receiver() {
+  const int fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr);
+  socklen_t len = sizeof addr;
+  ::getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
+  return {fd, ntohs(addr.sin_port)};
+}
+
+std::string receive_datagram(int fd) {
+  pollfd pfd{fd, POLLIN, 0};
+  if (::poll(&pfd, 1, 2000) <= 0) return "(nothing)";
+  char buf[65536];
+  const ssize_t n = ::recv(fd, buf, sizeof buf, 0);
+  return n < 0 ? "(error)" : std::string(buf, static_cast<std::size_t>(n));
+}
+
+TEST(UdpOutputTest, OneDatagramAnEpoch) {
+  const auto [fd, port] = bind_receiver();
+  UdpOutput out("127.0.0.1", port);
+  EXPECT_EQ(out.describe(), "udp:127.0.0.1:" + std::to_string(port));
+  const std::string epochs[] = {"$GPGGA,a*00\r\n$GPRMC,a*00\r\n", "$GPGGA,bb*00\r\n$GPRMC,bb*00\r\n",
+                                std::string(4000, 'x')};
+  for (const auto& e : epochs) ASSERT_EQ(out.write_epoch(e), WriteStatus::ok);
+  for (const auto& e : epochs) EXPECT_EQ(receive_datagram(fd), e);
+  EXPECT_EQ(out.stats().epochs_written, 3u);
+  ::close(fd);
+}
+
+TEST(UdpOutputTest, NobodyListeningIsNotAnError) {
+  auto [fd, port] = bind_receiver();
+  ::close(fd);  // the port is free now: datagrams get ICMP port unreachable
+  UdpOutput out("127.0.0.1", port);
+  for (int i = 0; i < 20; ++i) EXPECT_EQ(out.write_epoch("$GPGGA,x*00\r\n"), WriteStatus::ok) << i;
+  EXPECT_EQ(out.stats().epochs_failed, 0u);
+}
+
+TEST(UdpOutputTest, SpecsParseAndErrorsNameTheHost) {
+  const OutputSpec spec = parse_output_spec("udp:127.0.0.1:10110");
+  EXPECT_EQ(spec.kind, OutputKind::udp);
+  EXPECT_EQ(spec.host, "127.0.0.1");
+  EXPECT_EQ(spec.port, 10110);
+  EXPECT_EQ(to_string(spec), "udp:127.0.0.1:10110");
+  EXPECT_EQ(to_string(parse_output_spec("udp:[::1]:10110")), "udp:[::1]:10110");
+  for (const std::string bad : {"udp", "udp:", "udp:10110", "udp:127.0.0.1:0", "udp:127.0.0.1:x"}) {
+    try {
+      (void)parse_output_spec(bad);
+      ADD_FAILURE() << bad << " accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("'" + bad + "'"), std::string::npos) << e.what();
+    }
+  }
+  try {
+    UdpOutput out("no-such-host.invalid", 10110);
+    ADD_FAILURE() << "resolved";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("no-such-host.invalid"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace gpsemu::transport
