@@ -1,0 +1,182 @@
+// The library facade (emulator/gpsemu.hpp): wires config, receiver, source and formatter exactly
+// as emulator/runner.cpp does for --fast, without outputs, PPS or a wall clock.
+#include "emulator/gpsemu.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "emulator/config.hpp"
+#include "emulator/epoch_text.hpp"
+#include "emulator/geo.hpp"
+#include "emulator/receiver.hpp"
+#include "emulator/receiver_config.hpp"
+#include "emulator/sources/make_source.hpp"
+#include "emulator/time.hpp"
+
+namespace gpsemu::api {
+namespace {
+
+Config make_config(const Options& options, const std::optional<std::string>& config_file) {
+  try {
+    return build_config(config_file, options);
+  } catch (const std::exception& e) {
+    throw Error(e.what());
+  }
+}
+
+gpsemu::Enu to_internal(const Enu& v) { return {v[0], v[1], v[2]}; }
+Enu to_api(const gpsemu::Enu& v) { return {v.east_m, v.north_m, v.up_m}; }
+
+UtcNs wall_now() {
+  return std::chrono::time_point_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now());
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+struct NoiseGenerator::Impl {
+  std::unique_ptr<noise::NoiseModel> model;
+  std::int64_t next_ns = 0;  ///< time of the next generate() sample
+  std::int64_t last_ns = std::numeric_limits<std::int64_t>::min();
+};
+
+NoiseGenerator::NoiseGenerator(const Options& options, const std::optional<std::string>& config_file)
+    : impl_(std::make_unique<Impl>()) {
+  const Config config = make_config(options, config_file);
+  try {
+    impl_->model = noise::make_noise_model(config.noise, config.seed);
+  } catch (const std::exception& e) {
+    throw Error(e.what());
+  }
+}
+NoiseGenerator::~NoiseGenerator() = default;
+NoiseGenerator::NoiseGenerator(NoiseGenerator&&) noexcept = default;
+NoiseGenerator& NoiseGenerator::operator=(NoiseGenerator&&) noexcept = default;
+
+Enu NoiseGenerator::at(std::int64_t since_start_ns) {
+  if (since_start_ns < impl_->last_ns) throw Error("NoiseGenerator: query times must not decrease");
+  impl_->last_ns = since_start_ns;
+  return to_api(impl_->model->offset_at(std::chrono::nanoseconds{since_start_ns}));
+}
+
+void NoiseGenerator::generate(std::size_t n, double rate_hz, double* out_enu_m) {
+  if (!(rate_hz > 0.0) || rate_hz > 1e6) throw Error("generate: rate must be > 0 and <= 1e6 Hz");
+  const double period_ns = 1e9 / rate_hz;
+  const std::int64_t start = impl_->next_ns;
+  for (std::size_t k = 0; k < n; ++k) {
+    const Enu e = at(start + std::llround(static_cast<double>(k) * period_ns));
+    out_enu_m[3 * k] = e[0];
+    out_enu_m[3 * k + 1] = e[1];
+    out_enu_m[3 * k + 2] = e[2];
+  }
+  impl_->next_ns = start + std::llround(static_cast<double>(n) * period_ns);
+}
+
+// ---------------------------------------------------------------------------------------------
+struct Receiver::Impl {
+  explicit Impl(const Config& c) : config(c), grid(c.rate_hz), frame(c.origin) {}
+  Config config;
+  EpochGrid grid;
+  LocalFrame frame;  ///< referenced by receiver: Impl never moves (held by unique_ptr)
+  std::int64_t first_index = 0;
+  std::int64_t k = 0;  ///< epochs reported so far
+  std::unique_ptr<gpsemu::Receiver> receiver;
+  std::unique_ptr<sources::PoseSource> source;  ///< sim sources only; made on the first step()
+  std::string text;
+
+  Epoch report(const std::optional<sources::Truth>& truth) {
+    const UtcNs t = grid.time_of(first_index + k);
+    ++k;
+    const nmea::Fix fix = receiver->fix_at(t, truth);
+    format_epoch(fix, config.format, text);
+    Epoch e;
+    e.time_ns = t.time_since_epoch().count();
+    e.has_fix = fix.has_fix();
+    e.nmea = text;
+    if (e.has_fix) {
+      e.position = {fix.lat_deg, fix.lon_deg, fix.alt_msl_m};
+      e.position_enu_m = to_api(frame.to_enu({fix.lat_deg, fix.lon_deg, fix.alt_msl_m}));
+      e.speed_mps = fix.speed_mps;
+      e.satellites_used = fix.satellites_used;
+      e.hdop = fix.hdop;
+    } else {
+      constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+      e.position = {nan, nan, nan};
+      e.position_enu_m = {nan, nan, nan};
+    }
+    return e;
+  }
+};
+
+Receiver::Receiver(const Options& options, const std::optional<std::string>& config_file) {
+  const Config config = make_config(options, config_file);
+  try {
+    impl_ = std::make_unique<Impl>(config);
+    // The first epoch as the runner chooses it: the first grid epoch at or after --start-time,
+    // else the next one after now.
+    impl_->first_index = config.start_time ? impl_->grid.index_at_or_after(*config.start_time)
+                                           : impl_->grid.index_at_or_after(wall_now() + std::chrono::milliseconds(1));
+    impl_->receiver = std::make_unique<gpsemu::Receiver>(
+        impl_->frame, receiver_options(config), noise::make_noise_model(config.noise, config.seed),
+        impl_->grid.time_of(impl_->first_index));
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw Error(e.what());
+  }
+}
+Receiver::~Receiver() = default;
+Receiver::Receiver(Receiver&&) noexcept = default;
+Receiver& Receiver::operator=(Receiver&&) noexcept = default;
+
+Epoch Receiver::step() {
+  Impl& s = *impl_;
+  if (!s.source) {
+    if (s.config.source.rfind("sim:", 0) != 0) {
+      throw Error("step(): source '" + s.config.source +
+                  "' is not a simulator scenario (sim:...); give the truth with step_enu or step_geodetic");
+    }
+    try {
+      s.source = sources::make_source(s.config, s.frame, s.grid.time_of(s.first_index));
+    } catch (const std::exception& e) {
+      throw Error(e.what());
+    }
+  }
+  const UtcNs t = s.grid.time_of(s.first_index + s.k);
+  return s.report(s.source->truth_at(t));
+}
+
+Epoch Receiver::step_enu(const Enu& position_m, const Enu& velocity_mps) {
+  return impl_->report(sources::Truth{to_internal(position_m), to_internal(velocity_mps)});
+}
+
+Epoch Receiver::step_geodetic(const LatLonAlt& position, const Enu& velocity_mps) {
+  return step_enu(to_enu(position), velocity_mps);
+}
+
+Epoch Receiver::step_no_fix() { return impl_->report(std::nullopt); }
+
+std::int64_t Receiver::next_epoch_ns() const {
+  return impl_->grid.time_of(impl_->first_index + impl_->k).time_since_epoch().count();
+}
+double Receiver::rate_hz() const { return impl_->config.rate_hz; }
+LatLonAlt Receiver::origin() const {
+  const Geodetic& o = impl_->frame.origin();
+  return {o.lat_deg, o.lon_deg, o.alt_m};
+}
+Enu Receiver::to_enu(const LatLonAlt& p) const { return to_api(impl_->frame.to_enu({p[0], p[1], p[2]})); }
+LatLonAlt Receiver::to_geodetic(const Enu& p) const {
+  const Geodetic g = impl_->frame.to_geodetic(to_internal(p));
+  return {g.lat_deg, g.lon_deg, g.alt_m};
+}
+
+std::vector<OptionInfo> option_info() {
+  std::vector<OptionInfo> out;
+  for (const OptionDef& o : option_table()) out.push_back({o.name, o.value_name, o.help, o.repeatable});
+  return out;
+}
+
+std::string version() { return GPSEMU_VERSION; }
+
+}  // namespace gpsemu::api

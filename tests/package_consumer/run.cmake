@@ -1,0 +1,29 @@
+# cmake -DBUILD_DIR=... -DCONSUMER_SOURCE=... -DWORK_DIR=... -DGENERATOR=... -P run.cmake
+# Installs the gpsemu build into WORK_DIR/prefix, then configures, builds and runs the example
+# consumer against it with find_package(gpsemu) (CMAKE_PREFIX_PATH = that prefix only).
+function(step)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    string(JOIN " " cmd ${ARGN})
+    message(FATAL_ERROR "failed (${rc}): ${cmd}\n${out}\n${err}")
+  endif()
+  set(step_output "${out}" PARENT_SCOPE)
+endfunction()
+
+file(REMOVE_RECURSE ${WORK_DIR})
+step(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${WORK_DIR}/prefix)
+foreach(f include/gpsemu/emulator/gpsemu.hpp include/gpsemu/nmea/parse.hpp lib/cmake/gpsemu/gpsemuConfig.cmake)
+  if(NOT EXISTS ${WORK_DIR}/prefix/${f})
+    message(FATAL_ERROR "not installed: ${f}")
+  endif()
+endforeach()
+step(${CMAKE_COMMAND} -S ${CONSUMER_SOURCE} -B ${WORK_DIR}/build -G ${GENERATOR}
+     -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DCMAKE_FIND_PACKAGE_NO_PACKAGE_REGISTRY=ON)
+step(${CMAKE_COMMAND} --build ${WORK_DIR}/build -j 1)
+step(${WORK_DIR}/build/consumer)
+message("${step_output}")
+if(NOT step_output MATCHES "\\$GPRMC,120000\\.00,A,[^\n]*\n\\$GPGGA,120000\\.00,4304\\.[0-9]+,N,08924\\.[0-9]+,W,1,"
+   OR NOT step_output MATCHES "gpsemu [0-9]+\\.[0-9]+\\.[0-9]+: 3 GGA parsed")
+  message(FATAL_ERROR "unexpected consumer output")
+endif()
+message("package consumer: OK")

@@ -1,0 +1,155 @@
+"""The gpsemu Python module: configured with the CLI's keys, deterministic, and byte-identical
+with the CLI (`gpsemu --fast --output stdout`) for the same seed, settings and start time."""
+import math
+import os
+import select
+import subprocess
+
+import numpy as np
+import pytest
+
+import gpsemu
+
+START = "2024-05-01T12:00:00Z"
+KEYS = {"noise": "cgrw", "width": 1.0, "seed": 7, "rate": 10, "origin": "43.07,-89.41,260",
+        "start-time": START}
+
+
+def cli_nmea(keys, epochs):
+    """The CLI's NMEA for `keys` over `epochs` epochs (stdout, --fast)."""
+    binary = os.environ.get("GPSEMU_BINARY")
+    if not binary:
+        pytest.skip("GPSEMU_BINARY not set (run through CTest)")
+    args = [binary, "--fast", "--output", "stdout", "--log-level", "off",
+            "--duration", repr(epochs / float(keys.get("rate", 1)))]
+    for key, value in keys.items():
+        args += ["--" + key, value if isinstance(value, str) else repr(value)]
+    return subprocess.run(args, check=True, capture_output=True, timeout=60).stdout
+
+
+def test_import_and_version():
+    assert gpsemu.__version__.count(".") == 2
+    assert {"rate", "origin", "noise", "width", "seed", "start-time"} <= set(gpsemu.option_names())
+
+
+@pytest.mark.parametrize("extra", [
+    {},
+    {"noise": "chrono", "chrono": "0,0.047,100,0.016,0.152"},
+    {"noise": "gaussian", "gaussian-sigma": "1,1,2"},
+    {"noise": "gauss-markov", "gm-sigma": 0.8, "gm-tau": 30},
+    {"noise": "none", "rate": 1, "sentences": "RMC,VTG,GGA,GSA,GSV,GLL,GST,ZDA"},
+    {"fix-quality": "rtk-fixed", "cold-start": "3,2"},
+])
+def test_step_is_the_cli_output(extra):
+    keys = {**KEYS, **extra}
+    epochs = 100
+    expected = cli_nmea(keys, epochs)
+    assert expected.count(b"GGA") == epochs
+    assert gpsemu.Receiver(keys).run(epochs) == expected
+    # The same truth given by the caller (sim:stationary is the origin, at rest).
+    rx = gpsemu.Receiver(keys)
+    assert b"".join(rx.step_enu((0.0, 0.0, 0.0)).nmea for _ in range(epochs)) == expected
+    track = gpsemu.Receiver(keys).track(np.zeros((epochs, 3)))
+    assert track["nmea"] == expected
+
+
+def test_moving_scenario_is_the_cli_output():
+    keys = {**KEYS, "source": "sim:circle", "seed": 3}
+    assert gpsemu.Receiver(keys).run(50) == cli_nmea(keys, 50)
+
+
+def test_keyword_arguments_use_underscores_for_dashes():
+    a = gpsemu.Receiver(KEYS).run(5)
+    b = gpsemu.Receiver(noise="cgrw", width=1.0, seed=7, rate=10, origin=(43.07, -89.41, 260),
+                        start_time=START).run(5)
+    assert a == b
+
+
+def test_epoch_times_follow_the_grid():
+    rx = gpsemu.Receiver(KEYS)
+    first = rx.next_epoch_ns
+    assert first == 1714564800 * 10**9
+    times = [rx.step().time_ns for _ in range(3)]
+    assert times == [first, first + 10**8, first + 2 * 10**8]
+    assert rx.rate_hz == 10.0
+
+
+def test_noise_is_seeded_and_deterministic():
+    a = gpsemu.generate(600, 10, KEYS)
+    b = gpsemu.Noise(KEYS).generate(600, 10)
+    assert a.shape == (600, 3) and a.dtype == np.float64
+    assert np.array_equal(a, b)
+    assert not np.array_equal(a, gpsemu.generate(600, 10, {**KEYS, "seed": 8}))
+    # Successive calls continue the same process.
+    n = gpsemu.Noise(KEYS)
+    assert np.array_equal(np.vstack([n.generate(200, 10), n.generate(400, 10)]), a)
+    assert np.ptp(a[:, 0]) > 0.0
+
+
+def test_receiver_position_is_truth_plus_noise():
+    noise = gpsemu.generate(50, 10, KEYS)
+    rx = gpsemu.Receiver(KEYS)
+    truth = np.column_stack([np.arange(50) * 0.5, np.zeros(50), np.full(50, 2.0)])
+    out = rx.track(truth, np.tile([5.0, 0.0, 0.0], (50, 1)))
+    assert out["enu"].shape == (50, 3) and out["lla"].shape == (50, 3)
+    np.testing.assert_allclose(out["enu"] - truth, noise, atol=1e-6)
+    assert out["nmea"].count(b"$GPGGA") == 50
+
+
+def test_geodetic_truth_equals_enu_truth():
+    a, b = gpsemu.Receiver(KEYS), gpsemu.Receiver(KEYS)
+    lat, lon, alt = a.origin
+    assert (lat, lon, alt) == (43.07, -89.41, 260.0)
+    g = a.to_geodetic(10.0, -5.0, 1.0)
+    np.testing.assert_allclose(a.to_enu(*g), (10.0, -5.0, 1.0), atol=1e-6)
+    for _ in range(5):
+        ea = a.step_geodetic(*g, velocity=(1.0, 0.0, 0.0))
+        eb = b.step_enu((10.0, -5.0, 1.0), (1.0, 0.0, 0.0))
+        assert ea.nmea == eb.nmea
+        assert ea.has_fix and abs(ea.speed_mps - 1.0) < 1e-9
+
+
+def test_no_truth_is_no_fix():
+    rx = gpsemu.Receiver({**KEYS, "sentences": "RMC,GGA"})
+    e = rx.step_no_fix()
+    assert not e.has_fix
+    assert all(math.isnan(x) for x in e.position + e.position_enu)
+    assert b",V," in e.nmea.split(b"\r\n")[0]
+    assert rx.step_enu((0, 0, 0)).has_fix
+
+
+def test_bad_keys_and_values_name_the_key():
+    with pytest.raises(gpsemu.Error, match="widht"):
+        gpsemu.Receiver({"widht": 2})
+    with pytest.raises(ValueError, match="rate"):
+        gpsemu.Receiver(rate=0)
+    with pytest.raises(gpsemu.Error, match="pink"):
+        gpsemu.Noise(noise="pink")
+    with pytest.raises(gpsemu.Error, match="sim:"):
+        gpsemu.Receiver(source="udp:5000").step()
+
+
+def test_config_file_keys(tmp_path):
+    toml = tmp_path / "rx.toml"
+    toml.write_text('rate = 10\nseed = 7\nwidth = 1.0\norigin = "43.07,-89.41,260"\n')
+    a = gpsemu.Receiver({"start-time": START}, config_file=toml).run(10)
+    assert a == gpsemu.Receiver(KEYS).run(10)
+
+
+def test_epoch_bytes_through_a_pty():
+    """The README loop: the receiver's bytes written to a pseudo-terminal a client reads."""
+    master, slave = os.openpty()
+    try:
+        import tty
+        tty.setraw(slave)
+        epoch = gpsemu.Receiver(KEYS).step_enu((0, 0, 0)).nmea
+        os.write(master, epoch)
+        got = b""
+        while len(got) < len(epoch):
+            ready, _, _ = select.select([slave], [], [], 5.0)
+            assert ready, "pty read timed out"
+            got += os.read(slave, 4096)
+        assert got == epoch
+    finally:
+        os.close(master)
+        os.close(slave)
