@@ -10,9 +10,16 @@
 #include "emulator/epoch_text.hpp"
 #include "emulator/geo.hpp"
 #include "emulator/receiver.hpp"
-#include "emulator/receiver_config.hpp"
 #include "emulator/sources/make_source.hpp"
 #include "emulator/time.hpp"
+// The receiver options as the runner derives them (measured noise sigma, sky seed) where that step
+// exists; before it, the runner passes config.receiver as it is.
+#if __has_include("emulator/receiver_config.hpp")
+#include "emulator/receiver_config.hpp"
+#define GPSEMU_API_RECEIVER_OPTIONS(config) receiver_options(config)
+#else
+#define GPSEMU_API_RECEIVER_OPTIONS(config) (config).receiver
+#endif
 
 namespace gpsemu::api {
 namespace {
@@ -118,7 +125,7 @@ Receiver::Receiver(const Options& options, const std::optional<std::string>& con
     impl_->first_index = config.start_time ? impl_->grid.index_at_or_after(*config.start_time)
                                            : impl_->grid.index_at_or_after(wall_now() + std::chrono::milliseconds(1));
     impl_->receiver = std::make_unique<gpsemu::Receiver>(
-        impl_->frame, receiver_options(config), noise::make_noise_model(config.noise, config.seed),
+        impl_->frame, GPSEMU_API_RECEIVER_OPTIONS(config), noise::make_noise_model(config.noise, config.seed),
         impl_->grid.time_of(impl_->first_index));
   } catch (const Error&) {
     throw;
