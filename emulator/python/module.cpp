@@ -34,8 +34,13 @@ bool repeatable(const std::string& key) {
 std::string scalar_text(const py::handle& v) {
   if (py::isinstance<py::str>(v)) return v.cast<std::string>();
   if (py::isinstance<py::bool_>(v)) return v.cast<bool>() ? "true" : "false";
-  if (py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v)) return py::repr(v).cast<std::string>();
-  if (py::hasattr(v, "__float__")) return py::repr(py::float_(py::reinterpret_borrow<py::object>(v))).cast<std::string>();
+  // numpy scalars too: integers through __index__, the rest through float().
+  if (py::isinstance<py::int_>(v) || py::hasattr(v, "__index__")) {
+    return py::str(py::int_(py::reinterpret_borrow<py::object>(v))).cast<std::string>();
+  }
+  if (py::isinstance<py::float_>(v) || py::hasattr(v, "__float__")) {
+    return py::repr(py::float_(py::reinterpret_borrow<py::object>(v))).cast<std::string>();
+  }
   throw py::type_error("gpsemu: option values are str, bool, int, float or a list of them; got " +
                        py::repr(v).cast<std::string>());
 }
