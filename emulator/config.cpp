@@ -186,6 +186,14 @@ std::vector<OptionDef> make_table() {
   add("pps-polarity", "LEVEL", "PPS line level during the pulse: high (GPIO 1, modem line asserted) | low "
       "(default high)",
       [](Config& c, V v) { c.pps_active_low = parse_choice("pps-polarity", v.back(), {"high", "low"}) == "low"; });
+  // Scheduling (real-time pacing)
+  add("realtime-priority", "N", "run with SCHED_FIFO priority N, 1..99, where permitted (else a warning and normal "
+      "scheduling) (default: normal scheduling)",
+      [](Config& c, V v) { c.realtime.fifo_priority = static_cast<int>(parse_number("realtime-priority", v.back(), 1, 99)); });
+  add("lock-memory", "", "lock the process's memory (mlockall) where permitted: no page faults in the loop (default off)",
+      [](Config& c, V v) { c.realtime.lock_memory = parse_bool("lock-memory", v.back()); });
+  add("timer-slack", "NS", "timer slack, nanoseconds, 1..50000000 (1: wake at the deadline; kernel default 50000)",
+      [](Config& c, V v) { c.realtime.timer_slack_ns = static_cast<long>(parse_number("timer-slack", v.back(), 1, 5e7)); });
   add("log-level", "LEVEL", "trace | debug | info | warn | error | off (default info)",
       [](Config& c, V v) {
         c.log_level = parse_choice("log-level", v.back(), {"trace", "debug", "info", "warn", "error", "off"});

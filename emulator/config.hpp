@@ -11,6 +11,7 @@
 
 #include "emulator/geo.hpp"
 #include "emulator/noise/noise_model.hpp"
+#include "emulator/realtime.hpp"
 #include "emulator/receiver.hpp"
 #include "emulator/sources/sim.hpp"
 #include "emulator/time.hpp"
@@ -47,6 +48,7 @@ struct Config {
   double pps_width_s = 0.1;                      ///< pulse width (seconds)
   bool pps_active_low = false;                   ///< line low (GPIO 0, modem line cleared) during the pulse
   std::string log_level = "info";
+  RealtimeSettings realtime;                     ///< SCHED_FIFO priority, mlockall, timer slack (realtime.hpp)
 };
 
 /// One option, usable as `--name VALUE` and as `name = VALUE` in the config file.

@@ -113,5 +113,6 @@ int main(int argc, char** argv) {
     spdlog::error("{}", e.what());
     return 2;
   }
+  for (const std::string& line : gpsemu::apply_realtime_settings(config.realtime)) spdlog::info("{}", line);
   return runner->run(g_stop);
 }

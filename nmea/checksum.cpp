@@ -1,6 +1,7 @@
 #include <fmt/format.h>
 
 #include "nmea/sentences.hpp"
+#include "nmea/text_append.hpp"
 
 namespace gpsemu::nmea {
 
@@ -11,7 +12,12 @@ unsigned char checksum(std::string_view body) {
 }
 
 std::string frame(std::string_view body) {
-  return fmt::format("${}*{:02X}\r\n", body, checksum(body));
+  std::string sentence;
+  sentence.reserve(body.size() + 6);
+  sentence += '$';
+  sentence += body;
+  text::close_sentence(sentence);
+  return sentence;
 }
 
 }  // namespace gpsemu::nmea

@@ -8,6 +8,8 @@
 #include <cstdint>
 #include <string_view>
 
+#include "nmea/text_append.hpp"
+
 namespace gpsemu::nmea::fields {
 namespace {
 
@@ -28,8 +30,10 @@ CoordinateFields format_angle(double angle_deg, int minute_decimals, int degree_
   const std::int64_t degrees = units / units_per_degree;
   const std::int64_t minute_units = units % units_per_degree;
   CoordinateFields out;
-  out.value = fmt::format("{:0{}}{:02}.{:0{}}", degrees, degree_digits, minute_units / units_per_minute,
-                          minute_units % units_per_minute, decimals);
+  text::append_uint(out.value, static_cast<std::uint64_t>(degrees), degree_digits);
+  text::append_uint(out.value, static_cast<std::uint64_t>(minute_units / units_per_minute), 2);
+  out.value += '.';
+  text::append_uint(out.value, static_cast<std::uint64_t>(minute_units % units_per_minute), decimals);
   out.hemisphere = std::string(angle_deg < 0.0 && units != 0 ? negative : positive);
   return out;
 }
@@ -50,30 +54,45 @@ CoordinateFields format_longitude(double lon_deg, int minute_decimals) {
 std::string format_time_of_day(UtcTime time_utc, int decimals) {
   using namespace std::chrono;
   const hh_mm_ss<milliseconds> hms{time_utc - floor<days>(time_utc)};
-  std::string text = fmt::format("{:02}{:02}{:02}", hms.hours().count(), hms.minutes().count(),
-                                 hms.seconds().count());
+  std::string out;
+  text::append_uint(out, static_cast<std::uint64_t>(hms.hours().count()), 2);
+  text::append_uint(out, static_cast<std::uint64_t>(hms.minutes().count()), 2);
+  text::append_uint(out, static_cast<std::uint64_t>(hms.seconds().count()), 2);
   const int digits = std::clamp(decimals, 0, 3);
   if (digits > 0) {
     const std::int64_t fraction = hms.subseconds().count() / pow10(3 - digits);
-    text += fmt::format(".{:0{}}", fraction, digits);
+    out += '.';
+    text::append_uint(out, static_cast<std::uint64_t>(fraction), digits);
   }
-  return text;
+  return out;
 }
 
 std::string format_date_ddmmyy(UtcTime time_utc) {
   using namespace std::chrono;
   const year_month_day date{floor<days>(time_utc)};
   const int two_digit_year = (static_cast<int>(date.year()) % 100 + 100) % 100;
-  return fmt::format("{:02}{:02}{:02}", static_cast<unsigned>(date.day()),
-                     static_cast<unsigned>(date.month()), two_digit_year);
+  std::string out;
+  text::append_uint(out, static_cast<unsigned>(date.day()), 2);
+  text::append_uint(out, static_cast<unsigned>(date.month()), 2);
+  text::append_uint(out, static_cast<std::uint64_t>(two_digit_year), 2);
+  return out;
 }
 
 std::string format_fixed(double value, int decimals, double max_abs) {
   if (!std::isfinite(value) || std::fabs(value) >= max_abs) return {};
   const int digits = std::clamp(decimals, 0, 8);
   const double scale = static_cast<double>(pow10(digits));
-  double rounded = std::round(value * scale) / scale;
+  const double units = std::round(value * scale);
+  double rounded = units / scale;
   if (rounded == 0.0) rounded = 0.0;  // -0.0 would print as "-0.0"
+  // Below 10^15 units, the double nearest units/10^digits prints (correctly rounded to `digits`
+  // decimals) as exactly those units: its error, under 0.12 of the last digit, cannot round away.
+  // Written with integers then, byte for byte what fmt writes, without its cost.
+  if (std::fabs(units) < 1e15) {
+    std::string out;
+    text::append_scaled(out, rounded == 0.0 ? 0 : static_cast<std::int64_t>(units), digits);
+    return out;
+  }
   return fmt::format("{:.{}f}", rounded, digits);
 }
 

@@ -1,0 +1,23 @@
+// Scheduling settings for the real-time clock: a SCHED_FIFO priority, locked memory and the
+// smallest timer slack, so an epoch's bytes leave at their deadline even on a loaded machine.
+// Each is best effort: where the process is not permitted (no CAP_SYS_NICE / RLIMIT_RTPRIO, no
+// CAP_IPC_LOCK / RLIMIT_MEMLOCK), it says so once and the emulator runs on without it.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace gpsemu {
+
+struct RealtimeSettings {
+  std::optional<int> fifo_priority;     ///< SCHED_FIFO priority 1..99; empty: normal scheduling
+  bool lock_memory = false;             ///< mlockall(MCL_CURRENT | MCL_FUTURE): no page faults in the loop
+  std::optional<long> timer_slack_ns;   ///< prctl(PR_SET_TIMERSLACK) in nanoseconds (1 = minimal; kernel default 50 000)
+};
+
+/// Applies `settings` to the calling process (thread) and returns one line per setting saying what
+/// was done or why not (for the log); never throws for a refused permission.
+[[nodiscard]] std::vector<std::string> apply_realtime_settings(const RealtimeSettings& settings);
+
+}  // namespace gpsemu
