@@ -1,5 +1,7 @@
 #include "emulator/config.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <set>
@@ -23,6 +25,49 @@ noise::CgrwAxis parse_cgrw_axis(const std::string& key, const std::string& text)
     if (!(x > 0.0)) throw std::invalid_argument(fmt::format("{}: every width must be > 0 metres, got '{}'", key, text));
   }
   return {v[0], v[1], v[2], v[3]};
+}
+
+nmea::FixQuality parse_fix_quality(const std::string& text) {
+  const std::string q = parse_choice("fix-quality", text, {"gps", "dgps", "rtk-float", "rtk-fixed"});
+  if (q == "dgps") return nmea::FixQuality::dgps;
+  if (q == "rtk-float") return nmea::FixQuality::rtk_float;
+  if (q == "rtk-fixed") return nmea::FixQuality::rtk_fixed;
+  return nmea::FixQuality::gps;
+}
+
+// "START+DURATION" in seconds, e.g. "30+5".
+Outage parse_outage(const std::string& text) {
+  const auto plus = text.find('+', 1);  // a leading '+' is the sign of START
+  if (plus == std::string::npos) {
+    throw std::invalid_argument(fmt::format("outage: expected START+DURATION in seconds, e.g. 30+5, got '{}'", text));
+  }
+  const double start_s = parse_number("outage START", text.substr(0, plus), 0.0, 1e9);
+  const double duration_s = parse_number("outage DURATION", text.substr(plus + 1), 0.0, 1e9);
+  if (!(duration_s > 0.0)) throw std::invalid_argument(fmt::format("outage: DURATION must be > 0 seconds, got '{}'", text));
+  return {start_s, duration_s};
+}
+
+// Comma-separated sentence names (case-insensitive), from one or several values.
+nmea::SentenceSet parse_sentence_set(const std::vector<std::string>& values) {
+  nmea::SentenceSet set;
+  for (const std::string& value : values) {
+    std::size_t start = 0;
+    while (start <= value.size()) {
+      const std::size_t comma = std::min(value.find(',', start), value.size());
+      std::string token = value.substr(start, comma - start);
+      std::erase_if(token, [](unsigned char ch) { return std::isspace(ch) != 0; });
+      std::transform(token.begin(), token.end(), token.begin(), [](unsigned char ch) { return std::toupper(ch); });
+      const auto type = nmea::sentence_type_from_name(token);
+      if (!type) {
+        throw std::invalid_argument(fmt::format("sentences: unknown sentence '{}' in '{}' (accepted: RMC, VTG, GGA, "
+                                                "GSA, GSV, GLL, GST, ZDA)", token, value));
+      }
+      set.insert(*type);
+      start = comma + 1;
+    }
+  }
+  if (set.empty()) throw std::invalid_argument("sentences: at least one sentence type is needed");
+  return set;
 }
 
 std::vector<OptionDef> make_table() {
@@ -151,10 +196,34 @@ std::vector<OptionDef> make_table() {
           throw std::invalid_argument(fmt::format("gm-order must be 1 or 2, got '{}'", v.back()));
       });
   // Receiver and sentences
-  add("satellites", "N", "satellites in use reported with a fix, 4..32 (default 12)",
+  add("satellites", "N", "satellites used in a 3-D fix, 4..32 (default: round((3/HDOP)^2) in 5..16; "
+      "in view: used + 2 + used/4)",
       [](Config& c, V v) { c.receiver.satellites_used = static_cast<int>(parse_number("satellites", v.back(), 4, 32)); });
-  add("hdop", "X", "HDOP reported with a fix, 0.5..50 (default 0.8)",
+  add("hdop", "X", "HDOP reported with a fix, 0.5..50 (default: the noise's horizontal sigma / 0.4 m, "
+      "in 0.5..20)",
       [](Config& c, V v) { c.receiver.hdop = parse_number("hdop", v.back(), 0.5, 50.0); });
+  add("fix-quality", "Q", "fix quality: gps | dgps | rtk-float | rtk-fixed; scales the noise by 1, 0.4, 0.1, "
+      "0.01 (default gps)",
+      [](Config& c, V v) { c.receiver.quality = parse_fix_quality(v.back()); });
+  add("cold-start", "S[,S2D]", "cold start: no fix for S seconds (satellites acquired one by one), then a "
+      "2-D fix for S2D seconds (default 2 when S > 0), then 3-D; seconds after the first epoch (default 0,0)",
+      [](Config& c, V v) {
+        const auto x = parse_list("cold-start", v.back(), 1, 2);
+        if (x[0] < 0.0 || (x.size() > 1 && x[1] < 0.0) || x[0] > 1e6 || (x.size() > 1 && x[1] > 1e6)) {
+          throw std::invalid_argument(fmt::format("cold-start: seconds must be 0..1e6, got '{}'", v.back()));
+        }
+        c.receiver.cold_start_s = x[0];
+        c.receiver.cold_start_2d_s = x.size() > 1 ? x[1] : (x[0] > 0.0 ? 2.0 : 0.0);
+      });
+  add("outage", "START+DURATION", "scheduled outage (tunnel): no satellites and no fix from START for "
+      "DURATION seconds, START in seconds after the first epoch; repeatable (default none)",
+      [](Config& c, V v) {
+        c.receiver.outages.clear();
+        for (const auto& text : v) c.receiver.outages.push_back(parse_outage(text));
+      }, true);
+  add("sentences", "LIST", "NMEA sentences of each epoch, comma-separated, from RMC VTG GGA GSA GSV GLL GST "
+      "ZDA; written in that (u-blox) order whatever the order given (default RMC,VTG,GGA,GSA,GSV,GLL)",
+      [](Config& c, V v) { c.format.sentences = parse_sentence_set(v); });
   add("geoid-separation", "M", "geoid separation in GGA, metres (default 0)",
       [](Config& c, V v) { c.receiver.geoid_sep_m = parse_number("geoid-separation", v.back(), -120.0, 120.0); });
   add("talker", "ID", "NMEA talker ID: GP or GN (default GP)",

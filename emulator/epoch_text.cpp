@@ -6,8 +6,7 @@ namespace gpsemu {
 
 void format_epoch(const nmea::Fix& fix, const nmea::FormatOptions& options, std::string& out) {
   out.clear();
-  out += nmea::format_gga(fix, options);
-  out += nmea::format_rmc(fix, options);
+  nmea::append_epoch(fix, options, out);
 }
 
 }  // namespace gpsemu

@@ -8,7 +8,8 @@
 
 namespace gpsemu {
 
-/// Appends the epoch's sentences (GGA then RMC) to `out` (cleared first; its capacity is reused).
+/// Writes the epoch's sentences (options.sentences, in receiver order: RMC VTG GGA GSA GSV GLL GST
+/// ZDA) to `out` (cleared first; its capacity is reused).
 void format_epoch(const nmea::Fix& fix, const nmea::FormatOptions& options, std::string& out);
 
 }  // namespace gpsemu

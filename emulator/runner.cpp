@@ -10,6 +10,7 @@
 #include <spdlog/spdlog.h>
 
 #include "emulator/epoch_text.hpp"
+#include "emulator/receiver_config.hpp"
 #include "emulator/serial_line_check.hpp"
 #include "emulator/sources/make_source.hpp"
 #include "transport/gpio_pps.hpp"
@@ -59,7 +60,7 @@ void Runner::init(std::optional<RunnerIo> io) {
   const UtcNs first_epoch = grid_.time_of(first_index_);
 
   source_ = sources::make_source(config, frame_, first_epoch);
-  receiver_ = std::make_unique<Receiver>(frame_, config.receiver,
+  receiver_ = std::make_unique<Receiver>(frame_, receiver_options(config),
                                          noise::make_noise_model(config.noise, config.seed), first_epoch);
   if (io) {
     outputs_ = std::move(io->outputs);
@@ -72,6 +73,11 @@ void Runner::init(std::optional<RunnerIo> io) {
   spdlog::info("source {}; noise {}; {} Hz, latency {} ms; first epoch {}", source_->describe(),
                noise::to_string(config.noise.model), config.rate_hz, config.latency_s * 1000.0,
                format_iso8601_utc(first_epoch));
+  const Geometry& g = receiver_->geometry();
+  spdlog::info("receiver: GGA quality {} (noise x{}), {} of {} satellites used, HDOP {:.2f}; {} bytes an epoch at most",
+               static_cast<int>(config.receiver.quality), noise_scale(config.receiver.quality), g.satellites_used,
+               g.satellites_in_view, g.hdop,
+               nmea::line_budget(config.format, g.satellites_in_view, g.satellites_used, config.rate_hz).bytes_per_epoch);
   for (const auto& out : outputs_) spdlog::info("NMEA on {}", out->describe());
   if (pps_) {
     spdlog::info("PPS on {}: leading edge at each whole UTC second, {} ms wide, {}", pps_->describe(),

@@ -96,4 +96,12 @@ std::string format_fixed(double value, int decimals, double max_abs) {
   return fmt::format("{:.{}f}", rounded, digits);
 }
 
+std::string format_course(const std::optional<double>& course_deg_true) {
+  if (!course_deg_true || !std::isfinite(*course_deg_true)) return {};
+  const double normalised_deg = std::fmod(*course_deg_true, 360.0);
+  std::int64_t centidegrees = std::llround(normalised_deg * 100.0) % 36000;
+  if (centidegrees < 0) centidegrees += 36000;
+  return fmt::format("{}.{:02}", centidegrees / 100, centidegrees % 100);
+}
+
 }  // namespace gpsemu::nmea::fields

@@ -3,6 +3,7 @@
 // sentence formatters in sentences.cpp are the public interface). Pure functions.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "nmea/fix.hpp"
@@ -37,5 +38,12 @@ struct CoordinateFields {
 /// `value` rounded half away from zero to `decimals` (0..8) decimals, fixed notation, never
 /// "-0.0". Empty when `value` is not finite or |value| >= `max_abs` (a field that would not fit).
 [[nodiscard]] std::string format_fixed(double value, int decimals, double max_abs = 1e9);
+
+/// Knots per metre per second (1 kn = 1852 m / 3600 s).
+inline constexpr double knots_per_mps = 3600.0 / 1852.0;
+
+/// Course over ground "c.cc" in degrees true, normalised into [0, 360) after rounding (359.999 is
+/// "0.00"); empty when unknown or not finite. (RMC, VTG.)
+[[nodiscard]] std::string format_course(const std::optional<double>& course_deg_true);
 
 }  // namespace gpsemu::nmea::fields

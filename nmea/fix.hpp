@@ -2,9 +2,13 @@
 // parser produces. Plain data with units in every name; no behaviour.
 #pragma once
 
+#include <array>
 #include <chrono>
+#include <cstddef>
 #include <optional>
 #include <string>
+
+#include "nmea/sentence_set.hpp"
 
 namespace gpsemu::nmea {
 
@@ -22,8 +26,21 @@ enum class FixQuality : int {
   estimated = 6,  ///< dead reckoning
 };
 
-/// 2-D or 3-D (GSA field 2). A 2-D fix has no usable altitude.
+/// 2-D or 3-D (GSA field 2). A 2-D fix has no usable altitude: GGA leaves it empty. A fix whose
+/// dimension is `none` (not set) is written as 3-D.
 enum class FixDimension : int { none = 1, two_d = 2, three_d = 3 };
+
+/// Most satellites one Fix carries (fixed-size storage: a Fix never allocates).
+inline constexpr std::size_t max_satellites = 32;
+
+/// One satellite in view (a GSV entry; `used` ones are listed in GSA).
+struct SatelliteInView {
+  int prn = 0;                   ///< NMEA satellite ID (GPS PRN 1..32)
+  int elevation_deg = 0;         ///< elevation above the horizon (degrees), 0..90
+  int azimuth_deg = 0;           ///< azimuth (degrees true), 0..359
+  std::optional<int> snr_dbhz;   ///< carrier-to-noise density (dB-Hz), 0..99; empty when not tracked
+  bool used = false;             ///< used in the navigation solution
+};
 
 /// One epoch of receiver output. When `quality == FixQuality::none` only `time_utc` is
 /// meaningful and formatters leave every position, speed and accuracy field empty.
@@ -44,6 +61,10 @@ struct Fix {
   double sigma_lat_m = 0.0;  ///< 1-sigma latitude error estimate (metres), for GST
   double sigma_lon_m = 0.0;  ///< 1-sigma longitude error estimate (metres), for GST
   double sigma_alt_m = 0.0;  ///< 1-sigma altitude error estimate (metres), for GST
+  double range_rms_m = 0.0;  ///< RMS of the pseudorange residuals (metres), GST field 2
+  /// Satellites in view; the first `satellites_in_view` entries are valid (GSV, GSA).
+  std::array<SatelliteInView, max_satellites> satellites{};
+  int satellites_in_view = 0;  ///< valid entries of `satellites`, 0..max_satellites
 
   [[nodiscard]] bool has_fix() const { return quality != FixQuality::none; }
 };
@@ -57,6 +78,7 @@ struct FormatOptions {
   int minute_decimals = 5;    ///< decimals of minutes in lat/lon, 1..8 (u-blox: 5, about 1.85 cm)
   int time_decimals = 2;      ///< decimals of seconds in hhmmss.ss, 0..3
   NmeaVersion version = NmeaVersion::v4_1;
+  SentenceSet sentences = SentenceSet::ublox_default();  ///< sentence types of each epoch
 };
 
 }  // namespace gpsemu::nmea

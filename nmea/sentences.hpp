@@ -2,10 +2,12 @@
 // Every function returns one complete sentence: "$" talker type "," fields "*hh" CR LF.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 
 #include "nmea/fix.hpp"
+#include "nmea/sentence_set.hpp"
 
 namespace gpsemu::nmea {
 
@@ -25,6 +27,9 @@ namespace gpsemu::nmea {
 /// separation 1 decimal. No fix: $GPGGA,hhmmss.ss,,,,,0,00,99.99,,,,,,*hh (time still present).
 [[nodiscard]] std::string format_gga(const Fix& fix, const FormatOptions& options);
 
+/// GGA in a 2-D fix (fix.dimension == two_d): altitude and geoid separation are left empty, as
+/// receivers do, so consumers (gpsd) report mode 2.
+///
 /// RMC: time, status A/V, position, speed (knots), course (degrees true), date, mode (2.3+),
 /// navigational status (4.1):
 ///   $GPRMC,hhmmss.ss,A,ddmm.mmmmm,N,dddmm.mmmmm,E,k.kkk,c.cc,ddmmyy,,,A[,V]*hh
@@ -33,5 +38,74 @@ namespace gpsemu::nmea {
 /// Status is "A" for every fix quality but none. No fix: status V, position, speed and course
 /// empty, mode N, time and date still present.
 [[nodiscard]] std::string format_rmc(const Fix& fix, const FormatOptions& options);
+
+/// VTG: course over ground (degrees true), magnetic course (empty), speed in knots and km/h, mode
+/// indicator (u-blox style; every supported NMEA version has it):
+///   $GPVTG,c.cc,T,,M,k.kkk,N,k.kkk,K,A*hh
+/// course as in RMC (empty when unknown), speeds 3 decimals. No fix: $GPVTG,,T,,M,,N,,K,N*hh.
+[[nodiscard]] std::string format_vtg(const Fix& fix, const FormatOptions& options);
+
+/// GLL: position, time, status, mode indicator:
+///   $GPGLL,ddmm.mmmmm,N,dddmm.mmmmm,E,hhmmss.ss,A,A*hh
+/// No fix: $GPGLL,,,,,hhmmss.ss,V,N*hh (time still present, as u-blox).
+[[nodiscard]] std::string format_gll(const Fix& fix, const FormatOptions& options);
+
+/// ZDA: UTC time and date, local zone hours and minutes (always 00,00):
+///   $GPZDA,hhmmss.ss,dd,mm,yyyy,00,00*hh
+/// Written with or without a fix: the receiver's clock is always set here.
+[[nodiscard]] std::string format_zda(const Fix& fix, const FormatOptions& options);
+
+/// GST: pseudorange error statistics, all 1-sigma in metres:
+///   $GPGST,hhmmss.ss,rms,major,minor,orient,lat,lon,alt*hh
+/// rms = fix.range_rms_m; lat/lon/alt = fix.sigma_lat_m/sigma_lon_m/sigma_alt_m; the error
+/// ellipse of independent north and east errors: major = max(lat, lon), minor = min(lat, lon),
+/// orientation of the major axis 0.0 (north) when lat >= lon, else 90.0 degrees true. Metres with
+/// 3 decimals (RTK errors are millimetres), orientation 1 decimal; a value that does not fit
+/// (>= 1000 m) is empty. No fix: $GPGST,hhmmss.ss,,,,,,,*hh.
+[[nodiscard]] std::string format_gst(const Fix& fix, const FormatOptions& options);
+
+/// GSA: mode A (automatic), fix type 1/2/3, the PRNs of the satellites used (12 slots per
+/// sentence), PDOP, HDOP, VDOP with 2 decimals (capped at 99.99); NMEA 4.1 adds the system ID (1,
+/// GPS). More than 12 satellites used give several GSA sentences (u-blox does so per
+/// constellation), each with the same fix type and DOPs:
+///   $GPGSA,A,3,02,05,...,,,1.61,0.88,1.35,1*hh
+/// No fix: $GPGSA,A,1,,,,,,,,,,,,,99.99,99.99,99.99,1*hh. Talker: options.talker.
+[[nodiscard]] std::string format_gsa(const Fix& fix, const FormatOptions& options);
+
+/// GSV: satellites in view, 4 per sentence, as many sentences as needed (up to 8 for 32):
+///   $GPGSV,total,number,in_view,prn,elev,azim,snr,...[,1]*hh
+/// PRN 2 digits, elevation 2 digits, azimuth 3 digits, SNR 2 digits (empty when not tracked); the
+/// last sentence carries only the satellites left (no empty padding, as u-blox). NMEA 4.1 adds the
+/// signal ID (1, GPS L1 C/A). None in view: $GPGSV,1,1,00[,1]*hh. The satellites are GPS, so the
+/// talker is GP when options.talker is GN (u-blox writes GSV per constellation), else options.talker.
+[[nodiscard]] std::string format_gsv(const Fix& fix, const FormatOptions& options);
+
+/// Every sentence of `type` for one epoch (GSA and GSV may be several).
+[[nodiscard]] std::string format_sentences(SentenceType type, const Fix& fix, const FormatOptions& options);
+
+/// Appends every sentence type in options.sentences, in receiver order, to `out` (not cleared).
+void append_epoch(const Fix& fix, const FormatOptions& options, std::string& out);
+
+/// What a sentence set needs from a serial line (8N1: 10 bits on the wire per byte).
+struct LineBudget {
+  std::size_t bytes_per_epoch = 0;  ///< the longest epoch of the set (bytes, CR LF included)
+  double bytes_per_second = 0.0;    ///< bytes_per_epoch x rate (bytes per second)
+  double min_baud = 0.0;            ///< bits per second the line needs: 10 x bytes_per_second
+  /// True when a line of `baud` bits per second carries every epoch within its period.
+  [[nodiscard]] bool fits(double baud) const { return baud >= min_baud; }
+};
+
+/// The line budget of options.sentences at `rate_hz`, from the longest epoch a receiver with
+/// `satellites_in_view` satellites in view (all tracked) and `satellites_used` used can write:
+/// every field at its widest realistic value (23:59:59.99, 89°59.99999' S, 179°59.99999' W,
+/// HDOP/PDOP/VDOP 99.99, 50 000 m altitude, -106.9 m geoid separation, 500 m/s, course 359.99,
+/// GST values 999.999 m), with options' talker, decimals and version. Counts are clamped to
+/// 0..max_satellites and used <= in view. Pure (formats that epoch and measures it).
+[[nodiscard]] LineBudget line_budget(const FormatOptions& options, int satellites_in_view, int satellites_used,
+                                     double rate_hz);
+
+/// The smallest standard baud rate (4800, 9600, 19200, 38400, 57600, 115200, 230400, 460800,
+/// 921600) that carries `budget`; 0 when none does.
+[[nodiscard]] int smallest_standard_baud(const LineBudget& budget);
 
 }  // namespace gpsemu::nmea

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numeric>
 
 #include "emulator/geo.hpp"
@@ -33,6 +34,7 @@ std::vector<Epoch> run_and_parse(std::vector<std::string> args) {
   EXPECT_EQ(reader.stats().bad_checksum + reader.stats().malformed + reader.stats().garbage_bytes, 0u);
   const LocalFrame frame(kOrigin);
   std::vector<Epoch> epochs;
+  std::map<std::int64_t, nmea::RmcData> rmc_by_time;  // RMC precedes GGA (u-blox order): pair by time
   for (const auto& s : sentences) {
     if (s.type == "GGA") {
       const auto gga = nmea::parse_gga(s);
@@ -40,13 +42,15 @@ std::vector<Epoch> run_and_parse(std::vector<std::string> args) {
       if (!gga.ok() || !gga->lat_deg) continue;
       epochs.push_back({gga->time_of_day->count() / 1000.0,
                         frame.to_enu({*gga->lat_deg, *gga->lon_deg, *gga->alt_msl_m}), 0.0, std::nullopt});
+      const auto rmc = rmc_by_time.find(gga->time_of_day->count());
+      if (rmc != rmc_by_time.end() && rmc->second.speed_mps) {
+        epochs.back().speed_mps = *rmc->second.speed_mps;
+        epochs.back().course_deg = rmc->second.course_deg_true;
+      }
     } else if (s.type == "RMC") {
       const auto rmc = nmea::parse_rmc(s);
       EXPECT_TRUE(rmc.ok());
-      if (rmc.ok() && !epochs.empty() && rmc->speed_mps) {
-        epochs.back().speed_mps = *rmc->speed_mps;
-        epochs.back().course_deg = rmc->course_deg_true;
-      }
+      if (rmc.ok() && rmc->time_of_day) rmc_by_time[rmc->time_of_day->count()] = *rmc;
     }
   }
   return epochs;

@@ -1,0 +1,68 @@
+// Which sentence types an epoch carries, and the order a receiver writes them in. u-blox (M8, F9)
+// writes RMC, VTG, GGA, GSA, GSV..., GLL, then the optional GST and ZDA (ZED-F9P log in
+// data/real: RMC VTG GGA GLL with GSA/GSV off); that is the order here whatever order the user
+// lists them in. Pure value types, no allocation.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string_view>
+
+namespace gpsemu::nmea {
+
+/// One sentence type. The enumerators are in receiver (u-blox) output order.
+enum class SentenceType : std::uint8_t { rmc, vtg, gga, gsa, gsv, gll, gst, zda };
+
+/// Every type, in output order.
+inline constexpr std::array<SentenceType, 8> all_sentence_types = {
+    SentenceType::rmc, SentenceType::vtg, SentenceType::gga, SentenceType::gsa,
+    SentenceType::gsv, SentenceType::gll, SentenceType::gst, SentenceType::zda};
+
+/// "RMC", "VTG", ...
+[[nodiscard]] constexpr std::string_view sentence_name(SentenceType type) {
+  constexpr std::array<std::string_view, 8> names = {"RMC", "VTG", "GGA", "GSA", "GSV", "GLL", "GST", "ZDA"};
+  return names[static_cast<std::size_t>(type)];
+}
+
+/// The type named `text` (three upper-case letters, "GGA"); nullopt for anything else.
+[[nodiscard]] constexpr std::optional<SentenceType> sentence_type_from_name(std::string_view text) {
+  for (const SentenceType t : all_sentence_types) {
+    if (sentence_name(t) == text) return t;
+  }
+  return std::nullopt;
+}
+
+/// A set of sentence types; iterating it (for_each) visits them in output order.
+class SentenceSet {
+ public:
+  constexpr SentenceSet() = default;
+  /// u-blox's factory default: RMC, VTG, GGA, GSA, GSV, GLL (GST and ZDA off).
+  [[nodiscard]] static constexpr SentenceSet ublox_default() {
+    SentenceSet s;
+    for (const SentenceType t : {SentenceType::rmc, SentenceType::vtg, SentenceType::gga, SentenceType::gsa,
+                                 SentenceType::gsv, SentenceType::gll}) {
+      s.insert(t);
+    }
+    return s;
+  }
+  constexpr void insert(SentenceType type) { bits_ |= bit(type); }
+  [[nodiscard]] constexpr bool contains(SentenceType type) const { return (bits_ & bit(type)) != 0; }
+  [[nodiscard]] constexpr bool empty() const { return bits_ == 0; }
+  /// Calls `f(type)` for each type in the set, in output order.
+  template <class F>
+  constexpr void for_each(F&& f) const {
+    for (const SentenceType t : all_sentence_types) {
+      if (contains(t)) f(t);
+    }
+  }
+  friend constexpr bool operator==(SentenceSet, SentenceSet) = default;
+
+ private:
+  static constexpr std::uint8_t bit(SentenceType type) {
+    return static_cast<std::uint8_t>(1u << static_cast<unsigned>(type));
+  }
+  std::uint8_t bits_ = 0;
+};
+
+}  // namespace gpsemu::nmea

@@ -1,0 +1,132 @@
+#!/usr/bin/python3
+"""Parses every sentence of a gpsemu NMEA file with python3-nmea2 (pynmea2), checksum checking on,
+and checks that the sentences of each epoch agree with each other. Run by core_clients_tools_test.
+
+Usage: pynmea2_check.py FILE
+Prints one JSON line (counts per type, epochs, epochs with a fix); exits 1 with the reasons on
+any failure. An epoch starts at each RMC (u-blox order: RMC VTG GGA GSA GSV... GLL GST ZDA).
+"""
+import json
+import sys
+
+import pynmea2
+
+
+def fail(problems):
+    for p in problems[:20]:
+        print(p, file=sys.stderr)
+    print(f"{len(problems)} problems", file=sys.stderr)
+    sys.exit(1)
+
+
+def gsv_satellites(msg):
+    """PRNs of one GSV: 4 fields per satellite after the 3 header fields; an odd trailing field is
+    the NMEA 4.1 signal ID (pynmea2 1.15 does not know it, so read the raw fields)."""
+    body = msg.data[3:]
+    if len(body) % 4 == 1:
+        body = body[:-1]
+    if len(body) % 4 != 0:
+        raise ValueError(f"GSV with {len(msg.data)} fields")
+    return [int(body[i]) for i in range(0, len(body), 4)]
+
+
+def check_epoch(index, epoch, problems):
+    by_type = {}
+    for msg in epoch:
+        by_type.setdefault(msg.sentence_type, []).append(msg)
+    rmc = by_type.get("RMC", [None])[0]
+    gga = by_type.get("GGA", [None])[0]
+    gll = by_type.get("GLL", [None])[0]
+    where = f"epoch {index} ({rmc.timestamp if rmc else '?'})"
+    # One time for the whole epoch.
+    times = {m.timestamp for t in ("RMC", "GGA", "GLL", "GST", "ZDA") for m in by_type.get(t, [])}
+    if len(times) > 1:
+        problems.append(f"{where}: several times {times}")
+    has_fix = gga.gps_qual > 0 if gga else (rmc.status == "A" if rmc else False)
+    if rmc and (rmc.status == "A") != has_fix:
+        problems.append(f"{where}: RMC status {rmc.status} but GGA quality {gga.gps_qual}")
+    if has_fix:
+        positions = [(round(m.latitude, 9), round(m.longitude, 9)) for m in (rmc, gga, gll) if m]
+        if len(set(positions)) != 1:
+            problems.append(f"{where}: positions differ {positions}")
+    else:
+        for m in (rmc, gga, gll):
+            if m and (m.lat or m.lon):
+                problems.append(f"{where}: position in a no-fix {m.sentence_type}")
+    if "ZDA" in by_type and rmc:
+        zda = by_type["ZDA"][0]
+        if (zda.day, zda.month, zda.year) != (rmc.datestamp.day, rmc.datestamp.month, rmc.datestamp.year):
+            problems.append(f"{where}: ZDA date differs from RMC")
+    in_view = []
+    if "GSV" in by_type:
+        gsv = by_type["GSV"]
+        total = int(gsv[0].num_messages)
+        if [int(m.msg_num) for m in gsv] != list(range(1, total + 1)):
+            problems.append(f"{where}: GSV messages {[m.msg_num for m in gsv]} of {total}")
+        for m in gsv:
+            in_view += gsv_satellites(m)
+        if len(in_view) != int(gsv[0].num_sv_in_view):
+            problems.append(f"{where}: GSV lists {len(in_view)} satellites, says {gsv[0].num_sv_in_view}")
+        if len(set(in_view)) != len(in_view) or any(not 1 <= p <= 32 for p in in_view):
+            problems.append(f"{where}: GSV PRNs {in_view}")
+        for m in gsv:
+            body = m.data[3:]
+            for i in range(0, len(body) - len(body) % 4, 4):
+                el, az, snr = body[i + 1], body[i + 2], body[i + 3]
+                if not (0 <= int(el) <= 90 and 0 <= int(az) < 360 and (snr == "" or 0 <= int(snr) <= 99)):
+                    problems.append(f"{where}: implausible satellite {body[i:i + 4]}")
+    if "GSA" in by_type:
+        used = [int(getattr(m, f"sv_id{k:02}")) for m in by_type["GSA"] for k in range(1, 13)
+                if getattr(m, f"sv_id{k:02}")]
+        fix_type = by_type["GSA"][0].mode_fix_type
+        if (fix_type != "1") != has_fix:
+            problems.append(f"{where}: GSA fix type {fix_type}")
+        if gga and has_fix and len(used) != int(gga.num_sats):
+            problems.append(f"{where}: GSA lists {len(used)} used, GGA says {gga.num_sats}")
+        if in_view and not set(used) <= set(in_view):
+            problems.append(f"{where}: used {used} not all in view {in_view}")
+        if has_fix and gga and abs(float(by_type["GSA"][0].hdop) - float(gga.horizontal_dil)) > 0.005:
+            problems.append(f"{where}: GSA HDOP differs from GGA")
+    if "GST" in by_type and has_fix:
+        gst = by_type["GST"][0]
+        if not (gst.std_dev_latitude > 0 and gst.std_dev_longitude > 0 and gst.rms > 0):
+            problems.append(f"{where}: GST without error estimates")
+    return has_fix
+
+
+def main():
+    lines = open(sys.argv[1], "rb").read().split(b"\r\n")
+    if lines[-1] != b"":
+        fail(["file does not end in CR LF"])
+    problems = []
+    counts = {}
+    epochs = []
+    for number, raw in enumerate(lines[:-1], 1):
+        line = raw.decode("ascii")
+        if len(line) + 2 > 82:
+            problems.append(f"line {number}: {len(line) + 2} characters: {line}")
+        try:
+            msg = pynmea2.parse(line, check=True)
+        except pynmea2.ParseError as e:
+            problems.append(f"line {number}: {type(e).__name__}: {e}")
+            continue
+        counts[msg.sentence_type] = counts.get(msg.sentence_type, 0) + 1
+        if msg.sentence_type == "RMC" or not epochs:
+            epochs.append([])
+        epochs[-1].append(msg)
+    # Checksum checking is really on: a corrupted checksum must be refused.
+    sample = lines[0].decode("ascii")
+    corrupted = sample[:-2] + ("00" if sample[-2:] != "00" else "01")
+    try:
+        pynmea2.parse(corrupted, check=True)
+        problems.append("pynmea2 accepted a corrupted checksum")
+    except pynmea2.ChecksumError:
+        pass
+    fixes = sum(check_epoch(i, e, problems) for i, e in enumerate(epochs))
+    if problems:
+        fail(problems)
+    print(json.dumps({"counts": counts, "epochs": len(epochs), "fix_epochs": fixes}, sort_keys=True))
+
+
+if __name__ == "__main__":
+    main()
