@@ -212,6 +212,7 @@ void Runner::wait_until(UtcNs wall_deadline, const std::atomic<bool>& stop) {
       if (out->poll_fd() >= 0) fds.push_back({out->poll_fd(), POLLIN, 0});
     }
     if (source_->poll_fd() >= 0) fds.push_back({source_->poll_fd(), POLLIN, 0});
+    if (fds.empty()) break;  // nothing to service: one wake-up, the absolute sleep below
     const int timeout_ms =
         static_cast<int>(std::chrono::duration_cast<std::chrono::milliseconds>(remaining - kMargin).count());
     const int ready = ::poll(fds.data(), fds.size(), std::max(timeout_ms, 0));
