@@ -101,7 +101,9 @@ std::string format_course(const std::optional<double>& course_deg_true) {
   const double normalised_deg = std::fmod(*course_deg_true, 360.0);
   std::int64_t centidegrees = std::llround(normalised_deg * 100.0) % 36000;
   if (centidegrees < 0) centidegrees += 36000;
-  return fmt::format("{}.{:02}", centidegrees / 100, centidegrees % 100);
+  std::string out;
+  text::append_scaled(out, centidegrees, 2);
+  return out;
 }
 
 }  // namespace gpsemu::nmea::fields
