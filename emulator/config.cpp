@@ -77,7 +77,7 @@ std::vector<OptionDef> make_table() {
     t.push_back({std::move(name), std::move(value_name), std::move(help), repeatable, std::move(apply)});
   };
   // Pose source
-  add("source", "SPEC", "pose source: sim:stationary | sim:line | sim:circle | sim:waypoints:FILE | udp:[HOST:]PORT | tcp:[HOST:]PORT (JSON poses from a simulator; HOST default 127.0.0.1) (default sim:stationary)",
+  add("source", "SPEC", "pose source: sim:stationary | sim:line | sim:circle | sim:waypoints:FILE | replay:FILE.csv (a recorded truth trajectory) | udp:[HOST:]PORT | tcp:[HOST:]PORT (JSON poses from a simulator; HOST default 127.0.0.1) (default sim:stationary)",
       [](Config& c, V v) { c.source = v.back(); });
   add("origin", "LAT,LON,ALT", "local frame origin: degrees, degrees, metres above MSL (default 43.0725,-89.4125,260)",
       [](Config& c, V v) {
@@ -116,6 +116,23 @@ std::vector<OptionDef> make_table() {
       [](Config& c, V v) { c.duration_s = parse_number("duration", v.back(), 0.0, 1e9); });
   add("fast", "", "no pacing: generate epochs as fast as possible (batch generation, tests)",
       [](Config& c, V v) { c.fast = parse_bool("fast", v.back()); });
+  add("clock", "CLOCK", "epoch clock: realtime | scaled:K (paced at K x real time, K 0.01..1000; NMEA times still "
+      "one epoch period apart) | fast (as --fast) | lockstep (an epoch leaves when the 't' of udp:/tcp: poses "
+      "reaches it; t = 0 is --start-time or the first epoch) (default realtime)",
+      [](Config& c, V v) { c.clock = parse_clock_spec(v.back()); });
+  // Replay (gpsemu replay LOG)
+  add("speed", "K", "replay: speed factor, 0.1..100; 10 sends 1 s of log every 100 ms (default 1)",
+      [](Config& c, V v) { c.replay.speed = parse_number("speed", v.back(), 0.1, 100.0); });
+  add("loop", "", "replay: start over after the last epoch (default off)",
+      [](Config& c, V v) { c.replay.loop = parse_bool("loop", v.back()); });
+  add("from", "WHEN", "replay: first epoch sent: time of day hh:mm:ss[.ss] (UTC, as in the log) or epoch index "
+      "from 0 (default: the first)",
+      [](Config& c, V v) { c.replay.from = replay::parse_log_position("from", v.back()); });
+  add("to", "WHEN", "replay: last epoch sent (included): hh:mm:ss[.ss] or epoch index (default: the last)",
+      [](Config& c, V v) { c.replay.to = replay::parse_log_position("to", v.back()); });
+  add("retime", "", "replay: rewrite time and date fields to the present (or --start-time) and recompute "
+      "checksums, so clients see a live receiver (default off: bytes sent unchanged)",
+      [](Config& c, V v) { c.replay.retime = parse_bool("retime", v.back()); });
   // Noise
   add("noise", "MODEL", "noise model: cgrw | chrono | gaussian | gauss-markov | none (default cgrw)",
       [](Config& c, V v) { c.noise.model = noise::parse_model(v.back()); });
@@ -242,6 +259,9 @@ std::vector<OptionDef> make_table() {
       "serial:usb:VID:PID[:SERIAL][@BAUD] (8N1; BAUD 4800..921600, default 9600) | tcp:[HOST:]PORT (server; HOST "
       "default 127.0.0.1) | udp:HOST:PORT (default pty:/tmp/gpsemu)",
       [](Config& c, V v) { c.outputs = v; }, true);
+  add("tee", "FILE", "also write everything sent to FILE, each epoch after a '# sent <UTC send time>' line "
+      "(gpsemu replay reads it back) (default none)",
+      [](Config& c, V v) { c.tee = v.back(); });
   // PPS
   add("pps", "SPEC", "PPS pulse, leading edge at each whole UTC second: gpio:CHIP:LINE (libgpiod; CHIP "
       "/dev/gpiochipN, name or label; LINE offset or name) | modem:RTS | modem:DTR (on the serial output) "
@@ -302,6 +322,15 @@ std::vector<std::string> toml_to_strings(const toml::node& node, const std::stri
 }
 
 void finish(Config& c) {
+  if (c.clock.kind == ClockKind::fast) c.fast = true;
+  if (c.fast && c.clock.kind != ClockKind::realtime && c.clock.kind != ClockKind::fast) {
+    throw ConfigError(fmt::format("clock: --fast and --clock {} are two different clocks: give one", to_string(c.clock)));
+  }
+  if (c.fast) c.clock.kind = ClockKind::fast;
+  if (c.pps && (c.clock.kind == ClockKind::scaled || c.clock.kind == ClockKind::lockstep)) {
+    throw ConfigError(fmt::format("pps: a PPS pulse marks real seconds; it cannot be used with --clock {}",
+                                  to_string(c.clock)));
+  }
   if (c.pps && c.fast) {
     throw ConfigError("pps: a PPS pulse marks real seconds; it cannot be used with --fast");
   }

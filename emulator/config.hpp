@@ -9,10 +9,12 @@
 #include <string>
 #include <vector>
 
+#include "emulator/clock.hpp"
 #include "emulator/geo.hpp"
 #include "emulator/noise/noise_model.hpp"
 #include "emulator/realtime.hpp"
 #include "emulator/receiver.hpp"
+#include "emulator/replay/replay_options.hpp"
 #include "emulator/sources/sim.hpp"
 #include "emulator/time.hpp"
 #include "nmea/fix.hpp"
@@ -32,6 +34,9 @@ struct Config {
   std::optional<UtcNs> start_time;               ///< first epoch; default: the next epoch after now
   std::optional<double> duration_s;              ///< stop after this much epoch time; default: run until stopped
   bool fast = false;                             ///< no pacing: generate as fast as possible
+  ClockSpec clock;                               ///< realtime | scaled:K | fast | lockstep (clock.hpp)
+  replay::ReplayOptions replay;                  ///< gpsemu replay: speed, loop, from/to, retime
+  std::optional<std::string> tee;                ///< copy of everything sent, with send times (default none)
   // Noise
   noise::NoiseConfig noise;
   double width_m = 1.0;                          ///< cgrw one-knob horizontal width (metres)

@@ -9,6 +9,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "emulator/clock.hpp"
 #include "emulator/epoch_text.hpp"
 #include "emulator/receiver_config.hpp"
 #include "emulator/serial_line_check.hpp"
@@ -17,6 +18,7 @@
 #include "transport/modem_pps.hpp"
 #include "transport/output_spec.hpp"
 #include "transport/serial_output.hpp"
+#include "transport/tee_output.hpp"
 
 namespace gpsemu {
 namespace {
@@ -100,6 +102,7 @@ void Runner::open_outputs() {
     outputs_.push_back(transport::make_output(
         spec, transport::OutputOptions{.realtime = !config_.fast, .rate_hz = config_.rate_hz}));
   }
+  if (config_.tee) outputs_.push_back(std::make_unique<transport::TeeOutput>(*config_.tee, !config_.fast));
 }
 
 void Runner::open_pps() {
@@ -135,9 +138,22 @@ int Runner::run(const std::atomic<bool>& stop) {
     const UtcNs first_wall = grid_.time_of(first_index_) - sim_minus_wall_;
     next_edge_ = {std::chrono::ceil<std::chrono::seconds>(first_wall), true};
   }
+  // --clock scaled:K / lockstep pace the epochs instead of the real-time code below (clock.hpp).
+  SystemClockIo clock_io = clock_io_for(outputs_, *source_);
+  const auto clock = make_epoch_clock(config_.clock, clock_io, *source_, grid_.time_of(first_index_),
+                                      grid_.time_of(first_index_) - sim_minus_wall_ + latency, grid_.nominal_period());
+  if (clock) spdlog::info("{}", clock->describe());
   for (std::int64_t k = 0; !stop.load() && k < count; ++k) {
     const UtcNs t = grid_.time_of(first_index_ + k);
-    if (!config_.fast) {
+    if (source_->ended_at(t)) break;
+    if (clock) {
+      const EpochWait wait = clock->wait_for(t, stop);
+      if (wait == EpochWait::stopped) break;
+      if (wait == EpochWait::skip) {
+        ++stats_.epochs_late_skipped;
+        continue;
+      }
+    } else if (!config_.fast) {
       const UtcNs deadline = t - sim_minus_wall_ + latency;
       // Every PPS edge due before the epoch's bytes goes first (a leading edge at the same
       // instant too: the NMEA of second S follows pulse S).

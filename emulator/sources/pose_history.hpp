@@ -6,6 +6,8 @@
 // Time base: each pose holds at its arrival time (CLOCK_REALTIME, i.e. UTC; the kernel's receive
 // time stamp for UDP). The sender's own time `t`, when given, is only used to refuse reordered
 // datagrams and to compute speed from the track; see readme_pose_input.md for the trade-off.
+// Lockstep time base (--clock lockstep): the caller places each pose at base + `t` instead, so
+// the history is keyed by sender time; nothing here changes (every time is the caller's).
 #pragma once
 
 #include <chrono>
@@ -22,7 +24,7 @@ namespace gpsemu::sources {
 
 /// One pose placed in time, in local ENU metres about the origin.
 struct TimedPose {
-  UtcNs time{};                         ///< when the pose holds: its arrival time (UTC)
+  UtcNs time{};                         ///< when the pose holds: its arrival time, or base + t in lockstep (UTC)
   std::optional<double> sender_time_s;  ///< the sender's `t` (seconds), when given
   Enu position_m;                       ///< East/North/Up position (metres)
   std::optional<Enu> velocity_mps;      ///< East/North/Up velocity (metres per second), when given

@@ -29,6 +29,12 @@ class PoseSource {
   [[nodiscard]] virtual int poll_fd() const { return -1; }
   /// One line for the start-up banner: "sim:circle (radius 20 m, 2 m/s)".
   [[nodiscard]] virtual std::string describe() const = 0;
+  /// Sources on the simulator's time base (--clock lockstep): the newest time the simulator has
+  /// reached (its newest pose's `t` as UTC), nothing before the first pose. Others: nothing.
+  [[nodiscard]] virtual std::optional<UtcNs> sim_time() const { return std::nullopt; }
+  /// True when the source has no truth from `t` on and never will (a recorded trajectory past its
+  /// end): the runner stops there.
+  [[nodiscard]] virtual bool ended_at(UtcNs /*t*/) const { return false; }
 };
 
 }  // namespace gpsemu::sources

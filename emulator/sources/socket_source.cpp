@@ -1,6 +1,7 @@
 #include "emulator/sources/socket_source.hpp"
 
 #include <cctype>
+#include <cmath>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -10,6 +11,9 @@ namespace gpsemu::sources {
 namespace {
 
 double seconds(std::chrono::nanoseconds d) { return std::chrono::duration<double>(d).count(); }
+
+/// Largest |t| a lockstep pose may carry (seconds, about 127 years): base + t stays representable.
+constexpr double kMaxLockstepTimeS = 4.0e9;
 
 /// The start of a refused message for the log: printable, at most 48 characters.
 std::string excerpt(std::string_view bytes) {
@@ -49,8 +53,19 @@ SocketPoseSource::~SocketPoseSource() {
 }
 
 std::string SocketPoseSource::describe() const {
+  if (options_.sender_time_base) {
+    return fmt::format("{} (JSON poses with 't', lockstep: t = 0 is {}; no fix after {} s of sim time without "
+                       "one, extrapolation up to {} s)", socket_->describe(),
+                       format_iso8601_utc(*options_.sender_time_base), seconds(options_.history.timeout),
+                       seconds(options_.history.horizon));
+  }
   return fmt::format("{} (JSON poses; no fix after {} s without one, extrapolation up to {} s)",
                      socket_->describe(), seconds(options_.history.timeout), seconds(options_.history.horizon));
+}
+
+std::optional<UtcNs> SocketPoseSource::sim_time() const {
+  if (!options_.sender_time_base || history_.empty()) return std::nullopt;
+  return history_.newest().time;
 }
 
 void SocketPoseSource::service() {
@@ -101,6 +116,11 @@ void SocketPoseSource::handle_message(const transport::ReceivedMessage& m) {
   const PoseDecodeResult decoded = decode_pose(m.bytes);
   if (const auto* why = std::get_if<PoseReject>(&decoded)) return reject(*why, m);
   const auto& pose = std::get<PoseMessage>(decoded);
+  // Lockstep: the sender's time is the time base, so a pose without one cannot be placed.
+  if (options_.sender_time_base && !pose.sender_time_s) return reject(PoseReject::missing_key, m);
+  if (options_.sender_time_base && std::abs(*pose.sender_time_s) > kMaxLockstepTimeS) {
+    return reject(PoseReject::out_of_range, m);
+  }
 
   if (owner_ != m.sender) {
     if (owner_ && m.arrival - owner_last_ <= options_.history.timeout) return reject(PoseReject::other_sender, m);
@@ -115,7 +135,11 @@ void SocketPoseSource::handle_message(const transport::ReceivedMessage& m) {
     owner_name_.assign(m.sender_name);
   }
 
-  const TimedPose timed{m.arrival, pose.sender_time_s, to_local(pose), pose.velocity_mps};
+  const UtcNs time = options_.sender_time_base
+                         ? *options_.sender_time_base +
+                               std::chrono::nanoseconds{std::llround(*pose.sender_time_s * 1e9)}
+                         : m.arrival;
+  const TimedPose timed{time, pose.sender_time_s, to_local(pose), pose.velocity_mps};
   switch (history_.push(timed)) {
     case PushResult::out_of_order: return reject(PoseReject::out_of_order, m);
     case PushResult::flood: return reject(PoseReject::flood, m);

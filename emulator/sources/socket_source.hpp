@@ -4,6 +4,9 @@
 //
 // - Time base: a pose holds at its arrival time on CLOCK_REALTIME (UTC), so epoch t reports the
 //   pose the simulator sent around t (interpolated; the epoch is sampled at t + latency).
+//   Lockstep time base (--clock lockstep, SocketSourceOptions::sender_time_base): a pose holds at
+//   base + its `t` instead, poses without `t` are refused (missing_key), and sim_time() tells the
+//   lockstep clock how far the simulator has got.
 // - One sender at a time: the first sender (UDP source address:port, or TCP connection) owns the
 //   stream; another sender's poses are dropped (other_sender) until the owner has been silent for
 //   the pose timeout or, over TCP, has disconnected. Then the next sender takes over with a fresh
@@ -31,6 +34,8 @@ namespace gpsemu::sources {
 struct SocketSourceOptions {
   PoseHistoryOptions history;                   ///< timeout, extrapolation horizon, capacity
   std::size_t max_messages_per_service = 256;   ///< socket events handled per service() call
+  /// Lockstep: poses hold at this UTC + their `t` (seconds) instead of their arrival time.
+  std::optional<UtcNs> sender_time_base;
 };
 
 /// Counters of a socket pose source.
@@ -52,6 +57,8 @@ class SocketPoseSource final : public PoseSource {
   void service() override;
   int poll_fd() const override { return socket_->poll_fd(); }
   std::string describe() const override;
+  /// Lockstep: the newest pose's time (base + t); otherwise nothing.
+  std::optional<UtcNs> sim_time() const override;
 
   [[nodiscard]] const SocketSourceStats& stats() const { return stats_; }
 

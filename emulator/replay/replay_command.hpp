@@ -1,0 +1,83 @@
+// `gpsemu replay LOG`: sends a recorded NMEA log epoch by epoch (replay_log.hpp) to every
+// configured output (--output, plus --tee), paced by the sentences' own time fields, not by a
+// fixed delay per line:
+//
+// - Epoch i leaves at wall_0 + (log_time_i - log_time_first) / speed, on absolute deadlines
+//   (CLOCK_REALTIME), so nothing drifts; each epoch's bytes go out in one write, unchanged. An
+//   epoch whose time went back is sent right after the previous one; a gap in the log is a wait.
+//   Nothing is skipped when late: the worst delay is reported.
+// - --from/--to pick a range, --loop starts over (one nominal period after the last epoch),
+//   --duration stops after that much log time, --fast sends without pacing.
+// - --retime rewrites time and date fields (checksums recomputed): epoch i is stamped T_0 +
+//   (log_time_i - log_time_first), where T_0 is --start-time, or the first whole-second shift
+//   of the log's first time that lies in the future (its sub-second phase kept); without
+//   --start-time the first epoch then leaves at T_0 + latency, as a live receiver's would.
+// At the end the counts are logged: epochs and bytes sent, what the reader skipped (binary,
+// bad checksums, malformed, comments), epochs without a time, gaps, steps back, rollovers.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "emulator/clock.hpp"
+#include "emulator/config.hpp"
+#include "emulator/replay/replay_log.hpp"
+#include "emulator/subcommands.hpp"
+#include "transport/output.hpp"
+
+namespace gpsemu::replay {
+
+struct ReplayStats {
+  std::uint64_t epochs_sent = 0;
+  std::uint64_t sentences_sent = 0;
+  std::uint64_t bytes_sent = 0;
+  std::uint64_t passes = 0;                 ///< times the range was started (--loop)
+  std::chrono::nanoseconds worst_delay{0};  ///< latest an epoch was handed to the outputs after its deadline
+  std::chrono::nanoseconds total_delay{0};  ///< sum of the delays (for the mean)
+};
+
+class Replayer {
+ public:
+  /// Checks the options against the log (range, clock); throws std::invalid_argument naming the
+  /// option. `io` paces and services; `outputs` receive the epochs.
+  Replayer(const Config& config, ReplayLog log, std::string log_name,
+           std::vector<std::unique_ptr<transport::Output>> outputs, ClockIo& io);
+
+  /// Sends the range (again and again with --loop) until done or `stop`. Returns 0.
+  int run(const std::atomic<bool>& stop);
+
+  [[nodiscard]] const ReplayStats& stats() const { return stats_; }
+  [[nodiscard]] const EpochRange& range() const { return range_; }
+  /// Retimed stamp of the range's first epoch (meaningful with --retime).
+  [[nodiscard]] UtcNs first_stamp() const { return first_stamp_; }
+
+ private:
+  void log_summary() const;
+
+  Config config_;
+  ReplayLog log_;
+  std::string name_;
+  std::vector<std::unique_ptr<transport::Output>> outputs_;
+  ClockIo& io_;
+  EpochRange range_;
+  UtcNs first_stamp_{};
+  ReplayStats stats_;
+};
+
+/// Checks the options against the log: the clock (replay has its own pacing) and the --from/--to
+/// range, which it returns. Throws std::invalid_argument naming the option.
+[[nodiscard]] EpochRange check_replay_options(const Config& config, const ReplayLog& log, const std::string& log_name);
+
+/// Opens the configured outputs (--output, then --tee) for a replay of `log`; refuses a serial
+/// line that cannot carry the log's epochs at the replay speed.
+[[nodiscard]] std::vector<std::unique_ptr<transport::Output>> open_replay_outputs(const Config& config,
+                                                                                  const ReplayLog& log);
+
+[[nodiscard]] Subcommand add_replay_command(CLI::App& app);
+
+}  // namespace gpsemu::replay

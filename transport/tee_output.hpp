@@ -1,0 +1,50 @@
+// `--tee FILE`: a copy of everything the emulator sends, each epoch preceded by a comment line
+// with the time it was handed to the outputs, so a session can be replayed exactly
+// (`gpsemu replay FILE` skips the comment lines and paces by the sentences' own times):
+//
+//   # sent 2024-05-01T12:00:00.050123Z
+//   $GPRMC,120000.00,A,...*hh
+//   $GPGGA,120000.00,...*hh
+//
+// The send time is CLOCK_REALTIME (UTC, microseconds) when write_epoch() is called; the runner
+// and the replay add this output last, so it is stamped after the other outputs were written.
+// Writes like a file output (file_output.hpp): each epoch at once in real time, buffered in
+// large blocks with --fast.
+#pragma once
+
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "transport/file_output.hpp"
+#include "transport/output.hpp"
+
+namespace gpsemu::transport {
+
+class TeeOutput final : public Output {
+ public:
+  using WallClock = std::function<std::chrono::system_clock::time_point()>;
+
+  /// Creates or truncates `path`. `now` (tests) replaces the system clock. Throws
+  /// std::runtime_error naming the path when it cannot be opened for writing.
+  TeeOutput(const std::filesystem::path& path, bool flush_each_epoch, WallClock now = {});
+
+  [[nodiscard]] std::string describe() const override { return "tee " + path_; }
+  void flush() override { file_.flush(); }
+
+  /// "# sent 2024-05-01T12:00:00.050123Z\n" for `time` (microseconds, truncated).
+  [[nodiscard]] static std::string sent_line(std::chrono::system_clock::time_point time);
+
+ protected:
+  WriteStatus write_bytes(std::string_view bytes, std::string& error_text) override;
+
+ private:
+  std::string path_;
+  FileOutput file_;
+  WallClock now_;
+  std::string buffer_;
+};
+
+}  // namespace gpsemu::transport
