@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "emulator/realtime.hpp"
 #include "emulator/serial_line_check.hpp"
 #include "transport/output_spec.hpp"
 #include "transport/tee_output.hpp"
@@ -182,6 +183,8 @@ Subcommand add_replay_command(CLI::App& app) {
                   for (auto* out : raw) out->service();
                 });
             Replayer replayer(config, std::move(log), *path, std::move(outputs), io);
+            // --realtime-priority, --lock-memory, --timer-slack: as for the emulator's loop.
+            for (const std::string& line : apply_realtime_settings(config.realtime)) spdlog::info("{}", line);
             return replayer.run(stop);
           }};
 }
