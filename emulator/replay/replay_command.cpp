@@ -36,6 +36,9 @@ EpochRange check_replay_options(const Config& config, const ReplayLog& log, cons
                                             "--clock {}", to_string(config.clock)));
   }
   if (log.epochs.empty()) throw std::invalid_argument(fmt::format("NMEA log '{}' has no epochs", log_name));
+  if (config.replay.loop && config.fast && !config.duration_s) {
+    throw std::invalid_argument("--loop with --fast would never end: give --duration S (seconds of log time)");
+  }
   try {
     return select_range(log, config.replay.from, config.replay.to);
   } catch (const std::invalid_argument& e) {

@@ -62,6 +62,8 @@ TEST(ReplayCli, BadOptionsExitWithStatus2NamingTheOption) {
                "replay paces by the log's own times: use --speed K (or --fast), not --clock scaled:2");
   expect_error({"replay", log, "--output", "stdout", "--tee", "/nonexistent/dir/session.tee"}, "/nonexistent/dir/session.tee");
   expect_error({"replay", log, "--output", "bogus:thing"}, "bogus:thing");
+  expect_error({"replay", log, "--loop", "--fast", "--output", "stdout"},
+               "--loop with --fast would never end: give --duration S");
 }
 
 TEST(ReplayCli, HelpListsTheReplayAndClockOptions) {
