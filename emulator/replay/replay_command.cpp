@@ -86,6 +86,7 @@ int Replayer::run(const std::atomic<bool>& stop) {
 
   std::string retimed;
   bool done = false;
+  UtcNs latest_deadline = wall_0;
   for (std::uint64_t pass = 0; !done && !stop.load(); ++pass) {
     ++stats_.passes;
     for (std::size_t i = range_.first; i <= range_.last; ++i) {
@@ -104,7 +105,10 @@ int Replayer::run(const std::atomic<bool>& stop) {
         bytes = retimed;
       }
       if (!config_.fast) {
-        const nanoseconds delay = std::max(io_.now() - deadline, nanoseconds::zero());
+        // Against the deadline it could be met at: an epoch whose time went back is due with
+        // the previous one, not at its own (past) deadline.
+        latest_deadline = std::max(latest_deadline, deadline);
+        const nanoseconds delay = std::max(io_.now() - latest_deadline, nanoseconds::zero());
         stats_.worst_delay = std::max(stats_.worst_delay, delay);
         stats_.total_delay += delay;
       } else if ((stats_.epochs_sent & 0x3ff) == 0) {

@@ -37,7 +37,9 @@ struct ReplayStats {
   std::uint64_t sentences_sent = 0;
   std::uint64_t bytes_sent = 0;
   std::uint64_t passes = 0;                 ///< times the range was started (--loop)
-  std::chrono::nanoseconds worst_delay{0};  ///< latest an epoch was handed to the outputs after its deadline
+  /// Latest an epoch was handed to the outputs after its deadline (an epoch whose time went back:
+  /// after the previous epoch's deadline).
+  std::chrono::nanoseconds worst_delay{0};
   std::chrono::nanoseconds total_delay{0};  ///< sum of the delays (for the mean)
 };
 

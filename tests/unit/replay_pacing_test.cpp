@@ -76,7 +76,7 @@ TEST(ReplayPacing, AtSpeed10EpochsAreDue100msApartAndSentUnchangedWithGapsAndSte
   const auto got = offsets_ms(run.sleeps);
   for (std::size_t i = 0; i < 6; ++i) EXPECT_NEAR(got[i], expected[i], 1e-6) << i;
   EXPECT_EQ(run.sleeps.front(), run.start) << "the first epoch goes out at once";
-  EXPECT_EQ(run.stats.worst_delay, milliseconds(50)) << "the step back is sent right after the previous epoch";
+  EXPECT_EQ(run.stats.worst_delay, nanoseconds::zero()) << "the step back is due with the previous epoch: not late";
 }
 
 TEST(ReplayPacing, LoopStartsOverOnePeriodAfterTheLastEpochAndDurationStopsIt) {

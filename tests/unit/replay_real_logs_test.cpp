@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -81,7 +82,13 @@ void replay_real_log(const std::string& name, std::size_t expected_epochs) {
   ASSERT_EQ(expected_all, valid_sentences(log_bytes)) << "the epochs hold exactly the log's valid sentences";
   const double log_span_s = duration<double>(log.epochs.back().log_time - log.epochs.front().log_time).count();
 
-  test::TimedProcess gpsemu({GPSEMU_BINARY, "replay", path.string(), "--speed", "10", "--output", "stdout"});
+  std::vector<std::string> argv{GPSEMU_BINARY, "replay", path.string(), "--speed", "10", "--output", "stdout"};
+  // GPSEMU_TEST_REPLAY_ARGS (space-separated) adds options, e.g. "--realtime-priority 10 --timer-slack 1".
+  if (const char* extra = std::getenv("GPSEMU_TEST_REPLAY_ARGS")) {
+    std::istringstream words(extra);
+    for (std::string w; words >> w;) argv.push_back(w);
+  }
+  test::TimedProcess gpsemu(argv);
   ASSERT_EQ(gpsemu.wait(milliseconds(static_cast<int>(log_span_s * 100.0) + 30'000)), 0) << gpsemu.stderr_text();
   std::string all;
   std::vector<std::pair<std::size_t, double>> starts;
