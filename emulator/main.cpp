@@ -57,6 +57,9 @@ int main(int argc, char** argv) {
       opt = app.add_flag("--" + def.name, def.help);
     } else {
       opt = app.add_option("--" + def.name, store, def.help)->type_name(def.value_name);
+      // One value per occurrence: a value option never swallows a subcommand's positional
+      // argument (`gpsemu replay --speed 10 LOG`).
+      opt->allow_extra_args(false);
       if (!def.repeatable) opt->expected(1)->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     }
     options[def.name] = opt;

@@ -45,3 +45,9 @@ gpsemu_cli_test(outage_has_empty_fields 0 "\\$GPGGA,000001\\.00,,,,,0,00,99\\.99
                 --fast --duration 3 --output stdout --outage 1+1 --start-time 2024-01-01T00:00:00Z --log-level warn)
 gpsemu_cli_test(rtk_fixed_quality 0 "\\$GPGGA,[0-9.]+,[0-9.]+,N,[0-9.]+,W,4,.*\\$GPGLL,[^$]*,A,R\\*"
                 --fast --duration 1 --output stdout --fix-quality rtk-fixed --log-level warn)
+
+# A value option before a subcommand's positional argument takes one value, not the argument too.
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/two_epochs.nmea
+     "$GPGGA,120000.00,4304.35012,N,08924.75027,W,1,11,0.92,260.1,M,0.0,M,,*75\n$GPGGA,120001.00,4304.35012,N,08924.75027,W,1,11,0.92,260.1,M,0.0,M,,*74\n")
+gpsemu_cli_test(replay_option_before_log 0 "GPGGA,120000\\.00.*GPGGA,120001\\.00"
+                replay --speed 10 ${CMAKE_CURRENT_BINARY_DIR}/two_epochs.nmea --output stdout)
