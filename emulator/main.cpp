@@ -109,6 +109,14 @@ int main(int argc, char** argv) {
     }
   }
 
+  // Replay's options mean nothing to the emulator loop: say so instead of ignoring them.
+  for (const auto& [name, values] : command_line) {
+    if (name == "speed" || name == "loop" || name == "from" || name == "to" || name == "retime") {
+      std::fprintf(stderr, "gpsemu: --%s applies to 'gpsemu replay LOG' only\n", name.c_str());
+      return 2;
+    }
+  }
+
   std::unique_ptr<gpsemu::Runner> runner;
   try {
     runner = std::make_unique<gpsemu::Runner>(config);

@@ -51,3 +51,4 @@ file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/two_epochs.nmea
      "$GPGGA,120000.00,4304.35012,N,08924.75027,W,1,11,0.92,260.1,M,0.0,M,,*75\n$GPGGA,120001.00,4304.35012,N,08924.75027,W,1,11,0.92,260.1,M,0.0,M,,*74\n")
 gpsemu_cli_test(replay_option_before_log 0 "GPGGA,120000\\.00.*GPGGA,120001\\.00"
                 replay --speed 10 ${CMAKE_CURRENT_BINARY_DIR}/two_epochs.nmea --output stdout)
+gpsemu_cli_test(replay_option_without_replay 2 "--speed applies to 'gpsemu replay LOG' only" --speed 10 --fast --duration 1)
