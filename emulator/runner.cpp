@@ -217,7 +217,7 @@ void Runner::run_pps_until(UtcNs wall_deadline, const std::atomic<bool>& stop) {
 void Runner::wait_until(UtcNs wall_deadline, const std::atomic<bool>& stop) {
   // Sleep in poll() while far from the deadline, servicing client input and sockets; the last
   // stretch is an absolute clock_nanosleep on CLOCK_REALTIME, so the deadline does not drift.
-  std::vector<pollfd> fds;
+  std::vector<pollfd>& fds = poll_fds_;  // capacity kept between epochs
   constexpr auto kMargin = std::chrono::milliseconds(2);
   while (!stop.load()) {
     const auto remaining = wall_deadline - wall_now();

@@ -5,6 +5,8 @@
 // at S + latency after it, trailing edge at S + width.
 #pragma once
 
+#include <poll.h>
+
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -73,6 +75,7 @@ class Runner {
   std::unique_ptr<sources::PoseSource> source_;
   std::unique_ptr<Receiver> receiver_;
   std::vector<std::unique_ptr<transport::Output>> outputs_;
+  std::vector<pollfd> poll_fds_;  ///< reused by wait_until: no allocation per epoch
   std::unique_ptr<transport::PpsLine> pps_;  ///< after outputs_: a modem PPS line uses a serial output
   std::chrono::nanoseconds pps_width_{0};
   transport::PpsEdge next_edge_{};
