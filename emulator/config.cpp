@@ -19,6 +19,25 @@ namespace {
 using V = const std::vector<std::string>&;
 using namespace config_values;
 
+constexpr int kMaxReceivers = 1024;
+
+/// Why a key cannot go in a [[receiver]] table (nullptr: it can).
+const char* why_not_per_receiver(const std::string& name) {
+  static const std::set<std::string> timeline{"rate", "latency", "start-time", "duration", "fast", "clock"};
+  static const std::set<std::string> pps{"pps", "pps-width", "pps-polarity"};
+  static const std::set<std::string> process{"realtime-priority", "lock-memory", "timer-slack", "log-level"};
+  static const std::set<std::string> replay{"speed", "loop", "from", "to", "retime"};
+  if (timeline.count(name)) {
+    return "all receivers of a process share one epoch timeline (rate, latency, start-time, duration, fast, clock)";
+  }
+  if (pps.count(name)) return "a process drives at most one PPS line, for all its receivers";
+  if (process.count(name)) return "it is a setting of the whole process";
+  if (replay.count(name)) return "it applies to 'gpsemu replay' only";
+  if (name == "receivers") return "the number of receivers is the number of [[receiver]] tables";
+  if (name == "config" || name == "receiver") return "a [[receiver]] table holds option keys only";
+  return nullptr;
+}
+
 noise::CgrwAxis parse_cgrw_axis(const std::string& key, const std::string& text) {
   const auto v = parse_list(key, text, 4, 4);
   for (const double x : v) {
@@ -287,6 +306,16 @@ std::vector<OptionDef> make_table() {
       [](Config& c, V v) {
         c.log_level = parse_choice("log-level", v.back(), {"trace", "debug", "info", "warn", "error", "off"});
       });
+  // Many receivers in one process
+  add("receivers", "N", "number of independent receivers in this process, 1..1024, each with its own outputs, "
+      "source and seed: {i} in output, source and tee is the receiver's index (0..N-1), {B+i} is B plus it, "
+      "and receiver i's seed is seed + i; or one [[receiver]] table each in the config file (default 1)",
+      [](Config& c, V v) {
+        const double n = parse_number("receivers", v.back(), 1, kMaxReceivers);
+        if (n != std::floor(n)) throw std::invalid_argument(fmt::format("receivers must be a whole number, got '{}'", v.back()));
+        c.receivers = static_cast<int>(n);
+        c.receivers_given = true;
+      });
   return t;
 }
 
@@ -319,6 +348,44 @@ std::vector<std::string> toml_to_strings(const toml::node& node, const std::stri
     out.push_back(scalar(node));
   }
   return out;
+}
+
+/// The file's `[[receiver]]` tables: every key known and allowed per receiver, every value valid.
+std::vector<ReceiverTable> parse_receiver_tables(const std::string& file, const toml::node& node) {
+  const int line = static_cast<int>(node.source().begin.line);
+  const auto* array = node.as_array();
+  if (!array || !array->is_array_of_tables() || array->empty()) {
+    throw ConfigError(fmt::format("config file {}:{}: 'receiver' must be [[receiver]] tables, one per receiver, "
+                                  "each holding the option keys of that receiver", file, line));
+  }
+  std::vector<ReceiverTable> tables;
+  for (const auto& item : *array) {
+    const toml::table& t = *item.as_table();
+    ReceiverTable table{file, static_cast<int>(t.source().begin.line), {}};
+    Config scratch;  // each value is checked now, so a bad one is reported before anything opens
+    for (const auto& [key, value] : t) {
+      const std::string name{key.str()};
+      const int key_line = static_cast<int>(value.source().begin.line);
+      if (const char* why = why_not_per_receiver(name)) {
+        throw ConfigError(fmt::format("config file {}:{}: key '{}' cannot be set in a [[receiver]] table: {}; "
+                                      "set it at the top level", file, key_line, name, why));
+      }
+      const OptionDef* option = find_option(name);
+      if (!option) {
+        throw ConfigError(fmt::format("config file {}:{}: unknown key '{}' in a [[receiver]] table (keys are the "
+                                      "long flag names, see gpsemu --help)", file, key_line, name));
+      }
+      try {
+        std::vector<std::string> values = toml_to_strings(value, name);
+        option->apply(scratch, values);
+        table.keys.push_back({name, key_line, std::move(values)});
+      } catch (const std::exception& e) {
+        throw ConfigError(fmt::format("config file {}:{}: [[receiver]] key '{}': {}", file, key_line, name, e.what()));
+      }
+    }
+    tables.push_back(std::move(table));
+  }
+  return tables;
 }
 
 void finish(Config& c) {
@@ -383,6 +450,10 @@ Config build_config(const std::optional<std::string>& config_file, const RawOpti
     for (const auto& [key, node] : file) {
       const std::string name{key.str()};
       const int line = static_cast<int>(node.source().begin.line);
+      if (name == "receiver") {
+        config.receiver_tables = parse_receiver_tables(*config_file, node);
+        continue;
+      }
       const OptionDef* option = find_option(name);
       if (!option || name == "config") {
         throw ConfigError(fmt::format("config file {}:{}: unknown key '{}' (keys are the long flag names, "
@@ -405,6 +476,19 @@ Config build_config(const std::optional<std::string>& config_file, const RawOpti
       throw ConfigError(fmt::format("--{}: {}", name, e.what()));
     }
   }
+  if (!config.receiver_tables.empty()) {
+    const int tables = static_cast<int>(config.receiver_tables.size());
+    if (tables > kMaxReceivers) {
+      throw ConfigError(fmt::format("config file {}: {} [[receiver]] tables: at most {} receivers in one process",
+                                    *config_file, tables, kMaxReceivers));
+    }
+    if (config.receivers_given && config.receivers != tables) {
+      throw ConfigError(fmt::format("receivers is {} but config file {} has {} [[receiver]] tables: the tables make "
+                                    "the receivers, so give one table per receiver or leave receivers out",
+                                    config.receivers, *config_file, tables));
+    }
+    config.receivers = tables;
+  }
   try {
     finish(config);
   } catch (const ConfigError&) {
@@ -413,6 +497,26 @@ Config build_config(const std::optional<std::string>& config_file, const RawOpti
     throw ConfigError(e.what());
   }
   return config;
+}
+
+void apply_receiver_table(Config& config, const ReceiverTable& table) {
+  for (const auto& key : table.keys) {
+    const OptionDef* option = find_option(key.name);
+    try {
+      if (!option) throw std::invalid_argument("unknown key");
+      option->apply(config, key.values);
+    } catch (const std::exception& e) {
+      throw ConfigError(fmt::format("config file {}:{}: [[receiver]] key '{}': {}", table.file, key.line, key.name,
+                                    e.what()));
+    }
+  }
+  try {
+    finish(config);
+  } catch (const ConfigError& e) {
+    throw ConfigError(fmt::format("config file {}:{}: [[receiver]]: {}", table.file, table.line, e.what()));
+  } catch (const std::exception& e) {
+    throw ConfigError(fmt::format("config file {}:{}: [[receiver]]: {}", table.file, table.line, e.what()));
+  }
 }
 
 }  // namespace gpsemu

@@ -21,6 +21,19 @@
 
 namespace gpsemu {
 
+/// One `[[receiver]]` table of the config file: option keys that override the shared settings for
+/// one receiver of a fleet (see fleet_config.hpp). Values are kept as text and applied per receiver.
+struct ReceiverTable {
+  struct Key {
+    std::string name;                 ///< option name (the long flag without dashes)
+    int line = 0;                     ///< line in the config file
+    std::vector<std::string> values;  ///< as an option's apply() takes them
+  };
+  std::string file;  ///< the config file
+  int line = 0;      ///< line of the table's `[[receiver]]` header
+  std::vector<Key> keys;
+};
+
 struct Config {
   // Pose source
   std::string source = "sim:stationary";        ///< sim:NAME, udp:[HOST:]PORT, tcp:[HOST:]PORT
@@ -53,6 +66,10 @@ struct Config {
   double pps_width_s = 0.1;                      ///< pulse width (seconds)
   bool pps_active_low = false;                   ///< line low (GPIO 0, modem line cleared) during the pulse
   std::string log_level = "info";
+  // Many receivers in one process (fleet_config.hpp)
+  int receivers = 1;                             ///< receivers built from these settings, 1..1024
+  bool receivers_given = false;                  ///< --receivers (or the file's `receivers`) was given
+  std::vector<ReceiverTable> receiver_tables;    ///< the file's [[receiver]] tables; when any, one receiver each
   RealtimeSettings realtime;                     ///< SCHED_FIFO priority, mlockall, timer slack (realtime.hpp)
 };
 
@@ -80,5 +97,9 @@ using RawOptions = std::vector<std::pair<std::string, std::vector<std::string>>>
 /// command line's. Also applies derived settings (the cgrw preset from width). Throws ConfigError.
 [[nodiscard]] Config build_config(const std::optional<std::string>& config_file,
                                   const RawOptions& command_line);
+
+/// Applies one [[receiver]] table's keys to `config` (a copy of the shared settings), then the
+/// derived settings as build_config() does. Throws ConfigError naming the file, line and key.
+void apply_receiver_table(Config& config, const ReceiverTable& table);
 
 }  // namespace gpsemu

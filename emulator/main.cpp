@@ -10,6 +10,7 @@
 #include <spdlog/spdlog.h>
 
 #include "emulator/config.hpp"
+#include "emulator/fleet_config.hpp"
 #include "emulator/runner.hpp"
 #include "emulator/subcommands.hpp"
 
@@ -92,6 +93,7 @@ int main(int argc, char** argv) {
   gpsemu::Config config;
   try {
     config = gpsemu::build_config(config_file.empty() ? std::nullopt : std::optional{config_file}, command_line);
+    (void)gpsemu::receiver_configs(config);  // templates and shared outputs are checked before anything opens
   } catch (const std::exception& e) {
     std::fprintf(stderr, "gpsemu: %s\n", e.what());
     return 2;
@@ -101,6 +103,11 @@ int main(int argc, char** argv) {
 
   for (const auto& sc : subcommands) {
     if (!sc.app->parsed()) continue;
+    if (gpsemu::receiver_count(config) > 1) {
+      std::fprintf(stderr, "gpsemu: --receivers and [[receiver]] tables apply to the emulator loop, not to 'gpsemu %s'\n",
+                   sc.app->get_name().c_str());
+      return 2;
+    }
     try {
       return sc.run(config, g_stop);
     } catch (const std::exception& e) {
@@ -117,6 +124,10 @@ int main(int argc, char** argv) {
     }
   }
 
+  if (gpsemu::receiver_count(config) > 1) {  // FLEET-RUNNER: removed when the runner runs several receivers
+    std::fprintf(stderr, "gpsemu: several receivers are configured, but this build runs one\n");
+    return 2;
+  }
   std::unique_ptr<gpsemu::Runner> runner;
   try {
     runner = std::make_unique<gpsemu::Runner>(config);

@@ -52,3 +52,23 @@ file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/two_epochs.nmea
 gpsemu_cli_test(replay_option_before_log 0 "GPGGA,120000\\.00.*GPGGA,120001\\.00"
                 replay --speed 10 ${CMAKE_CURRENT_BINARY_DIR}/two_epochs.nmea --output stdout)
 gpsemu_cli_test(replay_option_without_replay 2 "--speed applies to 'gpsemu replay LOG' only" --speed 10 --fast --duration 1)
+
+# Many receivers in one process (core_fleet_test and core_fleet_e2e_test for the details).
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/fleet_rate.toml "[[receiver]]\nsource = \"sim:line\"\nrate = 5\n")
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/fleet_two.toml
+     "[[receiver]]\noutput = \"file:fleet_a.nmea\"\n[[receiver]]\noutput = \"file:fleet_b.nmea\"\n")
+gpsemu_cli_test(fleet_shared_output 2 "output 'pty:/tmp/gpsemu' would be shared by all 3 receivers.*put [{]i[}]"
+                --receivers 3 --fast --duration 1)
+gpsemu_cli_test(fleet_shared_source 2 "source 'udp:5600' would be shared by all 2 receivers.*udp:[{]5600[+]i[}]"
+                --receivers 2 --source udp:5600 --output pty:/tmp/gpsemu-cli-fleet{i} --duration 1)
+gpsemu_cli_test(fleet_duplicate_port 2 "receiver 0 [(]source 'tcp:7001'[)] and receiver 1 [(]output 'tcp:7001'[)] would both listen on tcp port 7001"
+                --receivers 3 --output tcp:{7000+i} --source tcp:{7001+i} --duration 1)
+gpsemu_cli_test(fleet_bad_template 2 "output 'file:out[{]j[}]': '[{]j[}]' is not a receiver template"
+                --receivers 2 --output file:out{j} --fast --duration 1)
+gpsemu_cli_test(fleet_process_key_in_table 2
+                "fleet_rate.toml:3: key 'rate' cannot be set in a \\[\\[receiver\\]\\] table: all receivers of a process share one epoch timeline"
+                --config ${CMAKE_CURRENT_BINARY_DIR}/fleet_rate.toml --fast --duration 1)
+gpsemu_cli_test(fleet_receivers_not_tables 2 "receivers is 3 but config file .*fleet_two.toml has 2 \\[\\[receiver\\]\\] tables"
+                --config ${CMAKE_CURRENT_BINARY_DIR}/fleet_two.toml --receivers 3 --fast --duration 1)
+gpsemu_cli_test(fleet_not_for_replay 2 "apply to the emulator loop, not to 'gpsemu replay'"
+                replay --receivers 2 --output file:fleet{i}.nmea ${CMAKE_CURRENT_BINARY_DIR}/two_epochs.nmea)
