@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string>
 
+#include "nmea/epoch_fields.hpp"
 #include "nmea/sentences.hpp"
 
 namespace gpsemu::nmea {
@@ -48,7 +49,17 @@ std::string format_sentences(SentenceType type, const Fix& fix, const FormatOpti
 }
 
 void append_epoch(const Fix& fix, const FormatOptions& options, std::string& out) {
-  options.sentences.for_each([&](SentenceType type) { out += format_sentences(type, fix, options); });
+  // GGA and RMC share the time and position fields: formatted once, written straight into `out`.
+  const bool with_gga = options.sentences.contains(SentenceType::gga);
+  const bool with_rmc = options.sentences.contains(SentenceType::rmc);
+  const EpochFields fields = with_gga || with_rmc ? epoch_fields(fix, options, with_rmc) : EpochFields{};
+  options.sentences.for_each([&](SentenceType type) {
+    switch (type) {
+      case SentenceType::gga: append_gga(fix, options, fields, out); break;
+      case SentenceType::rmc: append_rmc(fix, options, fields, out); break;
+      default: out += format_sentences(type, fix, options); break;
+    }
+  });
 }
 
 LineBudget line_budget(const FormatOptions& options, int satellites_in_view, int satellites_used, double rate_hz) {

@@ -19,91 +19,161 @@ constexpr std::int64_t pow10(int exponent) {
   return result;
 }
 
-// |angle_deg| in units of 10^-decimals minutes, rounded once, then split with integers.
-CoordinateFields format_angle(double angle_deg, int minute_decimals, int degree_digits,
-                              std::string_view positive, std::string_view negative) {
+// Writes |angle_deg| as degrees (`degree_digits` digits), minutes and `minute_decimals` (clamped
+// to 1..8) decimals: rounded once in units of 10^-decimals minutes, then split with integers.
+// Returns the end; `negative` is set when the angle is below zero and does not round to zero.
+char* put_angle(char* p, double angle_deg, int minute_decimals, int degree_digits, bool& negative) {
   const int decimals = std::clamp(minute_decimals, 1, 8);
   const std::int64_t units_per_minute = pow10(decimals);
   const std::int64_t units_per_degree = 60 * units_per_minute;
   // |angle| <= 180 and decimals <= 8: at most 1.08e12 units, exact in a double and an int64.
-  const std::int64_t units = std::llround(std::fabs(angle_deg) * static_cast<double>(units_per_degree));
+  const std::int64_t units = text::round_half_away(std::fabs(angle_deg) * static_cast<double>(units_per_degree));
   const std::int64_t degrees = units / units_per_degree;
   const std::int64_t minute_units = units % units_per_degree;
-  CoordinateFields out;
-  text::append_uint(out.value, static_cast<std::uint64_t>(degrees), degree_digits);
-  text::append_uint(out.value, static_cast<std::uint64_t>(minute_units / units_per_minute), 2);
-  out.value += '.';
-  text::append_uint(out.value, static_cast<std::uint64_t>(minute_units % units_per_minute), decimals);
-  out.hemisphere = std::string(angle_deg < 0.0 && units != 0 ? negative : positive);
-  return out;
+  p = text::put_digits(p, static_cast<std::uint64_t>(degrees), degree_digits);
+  p = text::put_digits(p, static_cast<std::uint64_t>(minute_units / units_per_minute), 2);
+  *p++ = '.';
+  p = text::put_digits(p, static_cast<std::uint64_t>(minute_units % units_per_minute), decimals);
+  negative = angle_deg < 0.0 && units != 0;
+  return p;
+}
+
+bool latitude_in_range(double lat_deg) { return std::isfinite(lat_deg) && std::fabs(lat_deg) <= 90.0; }
+
+// Longitude brought into [-180, 180] (190 is -170).
+double wrap_longitude(double lon_deg) {
+  return std::fabs(lon_deg) <= 180.0 ? lon_deg : std::remainder(lon_deg, 360.0);
+}
+
+CoordinateFields format_angle(double angle_deg, int minute_decimals, int degree_digits, char positive,
+                              char negative) {
+  char text[max_coordinate_chars];
+  bool is_negative = false;
+  char* const end = put_angle(text, angle_deg, minute_decimals, degree_digits, is_negative);
+  return {std::string(text, end), std::string(1, is_negative ? negative : positive)};
+}
+
+char* put_coordinate(char* p, double angle_deg, int minute_decimals, int degree_digits, char positive,
+                     char negative) {
+  bool is_negative = false;
+  p = put_angle(p, angle_deg, minute_decimals, degree_digits, is_negative);
+  *p++ = ',';
+  *p++ = is_negative ? negative : positive;
+  return p;
+}
+
+// Fixed decimals without fmt when the rounded value has fewer than 10^15 units of its last digit:
+// the double nearest units/10^digits prints (correctly rounded to `digits` decimals) as exactly
+// those units (its error, under 0.12 of the last digit, cannot round away), so writing the units
+// with integers gives byte for byte what fmt writes. False (nothing written) beyond.
+bool put_fixed_units(char*& p, double value, int digits) {
+  const double units = value * static_cast<double>(pow10(digits));
+  if (!(std::fabs(units) < 1e15)) return false;
+  const std::int64_t rounded = text::round_half_away(units);  // as std::round; -0 becomes 0
+  if (rounded <= -1'000'000'000'000'000 || rounded >= 1'000'000'000'000'000) return false;
+  p = text::put_scaled(p, rounded, digits);
+  return true;
+}
+
+// The general case: fmt, after the same rounding half away from zero.
+std::string format_fixed_with_fmt(double value, int digits) {
+  const double scale = static_cast<double>(pow10(digits));
+  double rounded = std::round(value * scale) / scale;
+  if (rounded == 0.0) rounded = 0.0;  // -0.0 would print as "-0.0"
+  return fmt::format("{:.{}f}", rounded, digits);
 }
 
 }  // namespace
 
 CoordinateFields format_latitude(double lat_deg, int minute_decimals) {
-  if (!std::isfinite(lat_deg) || std::fabs(lat_deg) > 90.0) return {};
-  return format_angle(lat_deg, minute_decimals, 2, "N", "S");
+  if (!latitude_in_range(lat_deg)) return {};
+  return format_angle(lat_deg, minute_decimals, 2, 'N', 'S');
 }
 
 CoordinateFields format_longitude(double lon_deg, int minute_decimals) {
   if (!std::isfinite(lon_deg)) return {};
-  const double wrapped_deg = std::fabs(lon_deg) <= 180.0 ? lon_deg : std::remainder(lon_deg, 360.0);
-  return format_angle(wrapped_deg, minute_decimals, 3, "E", "W");
+  return format_angle(wrap_longitude(lon_deg), minute_decimals, 3, 'E', 'W');
+}
+
+char* put_latitude(char* p, double lat_deg, int minute_decimals) {
+  if (!latitude_in_range(lat_deg)) {
+    *p++ = ',';
+    return p;
+  }
+  return put_coordinate(p, lat_deg, minute_decimals, 2, 'N', 'S');
+}
+
+char* put_longitude(char* p, double lon_deg, int minute_decimals) {
+  if (!std::isfinite(lon_deg)) {
+    *p++ = ',';
+    return p;
+  }
+  return put_coordinate(p, wrap_longitude(lon_deg), minute_decimals, 3, 'E', 'W');
+}
+
+char* put_time_of_day(char* p, UtcTime time_utc, int decimals) {
+  constexpr std::int64_t ms_per_day = 86'400'000;
+  std::int64_t ms = time_utc.time_since_epoch().count() % ms_per_day;  // of the day
+  if (ms < 0) ms += ms_per_day;
+  p = text::put_digits(p, static_cast<std::uint64_t>(ms / 3'600'000), 2);
+  p = text::put_digits(p, static_cast<std::uint64_t>(ms / 60'000 % 60), 2);
+  p = text::put_digits(p, static_cast<std::uint64_t>(ms / 1000 % 60), 2);
+  const int digits = std::clamp(decimals, 0, 3);
+  if (digits > 0) {
+    *p++ = '.';
+    p = text::put_digits(p, static_cast<std::uint64_t>(ms % 1000 / pow10(3 - digits)), digits);
+  }
+  return p;
 }
 
 std::string format_time_of_day(UtcTime time_utc, int decimals) {
-  using namespace std::chrono;
-  const hh_mm_ss<milliseconds> hms{time_utc - floor<days>(time_utc)};
-  std::string out;
-  text::append_uint(out, static_cast<std::uint64_t>(hms.hours().count()), 2);
-  text::append_uint(out, static_cast<std::uint64_t>(hms.minutes().count()), 2);
-  text::append_uint(out, static_cast<std::uint64_t>(hms.seconds().count()), 2);
-  const int digits = std::clamp(decimals, 0, 3);
-  if (digits > 0) {
-    const std::int64_t fraction = hms.subseconds().count() / pow10(3 - digits);
-    out += '.';
-    text::append_uint(out, static_cast<std::uint64_t>(fraction), digits);
-  }
-  return out;
+  char text[16];
+  return std::string(text, put_time_of_day(text, time_utc, decimals));
 }
 
-std::string format_date_ddmmyy(UtcTime time_utc) {
+char* put_date_ddmmyy(char* p, UtcTime time_utc) {
   using namespace std::chrono;
   const year_month_day date{floor<days>(time_utc)};
   const int two_digit_year = (static_cast<int>(date.year()) % 100 + 100) % 100;
-  std::string out;
-  text::append_uint(out, static_cast<unsigned>(date.day()), 2);
-  text::append_uint(out, static_cast<unsigned>(date.month()), 2);
-  text::append_uint(out, static_cast<std::uint64_t>(two_digit_year), 2);
-  return out;
+  p = text::put_digits(p, static_cast<unsigned>(date.day()), 2);
+  p = text::put_digits(p, static_cast<unsigned>(date.month()), 2);
+  return text::put_digits(p, static_cast<std::uint64_t>(two_digit_year), 2);
+}
+
+std::string format_date_ddmmyy(UtcTime time_utc) {
+  char text[8];
+  return std::string(text, put_date_ddmmyy(text, time_utc));
+}
+
+char* put_fixed(char* p, double value, int decimals, double max_abs) {
+  if (!std::isfinite(value) || std::fabs(value) >= max_abs) return p;
+  const int digits = std::clamp(decimals, 0, 8);
+  if (put_fixed_units(p, value, digits)) return p;
+  return text::put_chars(p, format_fixed_with_fmt(value, digits));
 }
 
 std::string format_fixed(double value, int decimals, double max_abs) {
   if (!std::isfinite(value) || std::fabs(value) >= max_abs) return {};
   const int digits = std::clamp(decimals, 0, 8);
-  const double scale = static_cast<double>(pow10(digits));
-  const double units = std::round(value * scale);
-  double rounded = units / scale;
-  if (rounded == 0.0) rounded = 0.0;  // -0.0 would print as "-0.0"
-  // Below 10^15 units, the double nearest units/10^digits prints (correctly rounded to `digits`
-  // decimals) as exactly those units: its error, under 0.12 of the last digit, cannot round away.
-  // Written with integers then, byte for byte what fmt writes, without its cost.
-  if (std::fabs(units) < 1e15) {
-    std::string out;
-    text::append_scaled(out, rounded == 0.0 ? 0 : static_cast<std::int64_t>(units), digits);
-    return out;
-  }
-  return fmt::format("{:.{}f}", rounded, digits);
+  char text[24];
+  char* end = text;
+  if (put_fixed_units(end, value, digits)) return std::string(text, end);
+  return format_fixed_with_fmt(value, digits);
+}
+
+char* put_course(char* p, const std::optional<double>& course_deg_true) {
+  if (!course_deg_true || !std::isfinite(*course_deg_true)) return p;
+  // fmod returns a value already in (-360, 360) unchanged: skip the call then.
+  const double course_deg = *course_deg_true;
+  const double normalised_deg = std::fabs(course_deg) < 360.0 ? course_deg : std::fmod(course_deg, 360.0);
+  std::int64_t centidegrees = text::round_half_away(normalised_deg * 100.0) % 36000;
+  if (centidegrees < 0) centidegrees += 36000;
+  return text::put_scaled(p, centidegrees, 2);
 }
 
 std::string format_course(const std::optional<double>& course_deg_true) {
-  if (!course_deg_true || !std::isfinite(*course_deg_true)) return {};
-  const double normalised_deg = std::fmod(*course_deg_true, 360.0);
-  std::int64_t centidegrees = std::llround(normalised_deg * 100.0) % 36000;
-  if (centidegrees < 0) centidegrees += 36000;
-  std::string out;
-  text::append_scaled(out, centidegrees, 2);
-  return out;
+  char text[16];
+  return std::string(text, put_course(text, course_deg_true));
 }
 
 }  // namespace gpsemu::nmea::fields

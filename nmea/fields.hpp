@@ -1,8 +1,13 @@
 // Field-level building blocks of the NMEA formatters: latitude/longitude as ddmm.mmmmm plus
 // hemisphere, hhmmss.ss times, ddmmyy dates and fixed-decimal numbers. Internal to nmea/ (the
 // sentence formatters in sentences.cpp are the public interface). Pure functions.
+//
+// Each field comes twice: format_* returns a std::string; put_* writes the same characters at `p`
+// into a buffer the caller has sized (the per-epoch GGA/RMC path, which allocates nothing) and
+// returns the end of what it wrote.
 #pragma once
 
+#include <cstddef>
 #include <optional>
 #include <string>
 
@@ -38,6 +43,23 @@ struct CoordinateFields {
 /// `value` rounded half away from zero to `decimals` (0..8) decimals, fixed notation, never
 /// "-0.0". Empty when `value` is not finite or |value| >= `max_abs` (a field that would not fit).
 [[nodiscard]] std::string format_fixed(double value, int decimals, double max_abs = 1e9);
+
+/// Most characters put_latitude or put_longitude writes ("18000.00000000,W").
+inline constexpr std::size_t max_coordinate_chars = 16;
+
+/// Writes format_latitude's value and hemisphere joined by a comma ("4717.11399,N"); "," when empty.
+char* put_latitude(char* p, double lat_deg, int minute_decimals);
+/// Writes format_longitude's value and hemisphere joined by a comma ("00833.91590,E"); "," when empty.
+char* put_longitude(char* p, double lon_deg, int minute_decimals);
+/// Writes format_time_of_day(time_utc, decimals): at most 10 characters.
+char* put_time_of_day(char* p, UtcTime time_utc, int decimals);
+/// Writes format_date_ddmmyy(time_utc): 6 characters.
+char* put_date_ddmmyy(char* p, UtcTime time_utc);
+/// Writes format_fixed(value, decimals, max_abs): at most 17 characters when
+/// max_abs x 10^decimals <= 10^15 (the caller's buffer must hold what format_fixed would return).
+char* put_fixed(char* p, double value, int decimals, double max_abs);
+/// Writes format_course(course_deg_true): at most 6 characters.
+char* put_course(char* p, const std::optional<double>& course_deg_true);
 
 /// Knots per metre per second (1 kn = 1852 m / 3600 s).
 inline constexpr double knots_per_mps = 3600.0 / 1852.0;

@@ -1,14 +1,14 @@
-// GGA and RMC formatters: field values from fields.hpp, framed with the checksum by frame().
+// GGA and RMC formatters: written straight into the output buffer from the epoch's shared
+// fields (epoch_fields.hpp), framed with the checksum by text::put_checksum.
 // (VTG, GLL, ZDA, GST: sentences_more.cpp; GSA, GSV: satellites.cpp; the epoch: epoch.cpp.)
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
-#include <optional>
 #include <string>
 #include <string_view>
 
+#include "nmea/epoch_fields.hpp"
 #include "nmea/fields.hpp"
 #include "nmea/sentences.hpp"
 #include "nmea/text_append.hpp"
@@ -21,30 +21,96 @@ constexpr double max_alt_m = 1e6;
 constexpr double max_geoid_sep_m = 1e4;
 constexpr double max_speed_knots = 1e6;
 
-// Appends ",value,unit" ("545.4,M"), or two empty fields when the value is empty.
-void append_with_unit(std::string& out, const std::string& value, char unit) {
-  out += ',';
-  out += value;
-  out += ',';
-  if (!value.empty()) out += unit;
+// Most bytes put_gga or put_rmc writes besides the talker (GGA: at most 109, with 8 decimals of
+// minutes, 3 of seconds, a 20-digit quality and "-1000000.0" altitudes; RMC fewer), plus the 16
+// bytes put_field may copy past the end of a field.
+constexpr std::size_t max_sentence_bytes = 112 + 16;
+
+// Writes ",value,unit" ("545.4,M") of a value with one decimal; two empty fields when the value
+// is left empty (a 2-D fix, or it does not fit below max_abs).
+char* put_with_unit(char* p, bool leave_empty, double value, double max_abs, char unit) {
+  *p++ = ',';
+  char* const value_start = p;
+  if (!leave_empty) p = fields::put_fixed(p, value, 1, max_abs);
+  const bool written = p != value_start;
+  *p++ = ',';
+  if (written) *p++ = unit;
+  return p;
 }
 
-// Appends ",value,hemisphere" of a latitude or longitude.
-void append_coordinate(std::string& out, const fields::CoordinateFields& coordinate) {
-  out += ',';
-  out += coordinate.value;
-  out += ',';
-  out += coordinate.hemisphere;
+// "$" + talker + type: the start of every sentence (the body ends with text::put_checksum).
+char* put_start(char* p, const FormatOptions& options, std::string_view type) {
+  *p++ = '$';
+  for (const char c : options.talker) *p++ = c;
+  return text::put_chars(p, type);
 }
 
-// "$" + talker + type: the start of every sentence (the body ends with close_sentence).
-std::string start_sentence(const FormatOptions& options, std::string_view type) {
-  std::string out;
-  out.reserve(96);  // GGA and RMC fit in 82 characters
-  out += '$';
-  out += options.talker;
-  out += type;
-  return out;
+// Appends the sentence `write(begin)` writes into `out`, sized for max_sentence_bytes + talker.
+template <typename Write>
+void append_sentence(std::string& out, const FormatOptions& options, Write write) {
+  const std::size_t start = out.size();
+  out.resize(start + max_sentence_bytes + options.talker.size());
+  char* const end = write(out.data() + start);
+  out.resize(static_cast<std::size_t>(end - out.data()));
+}
+
+char* put_gga(char* const begin, const Fix& fix, const FormatOptions& options, const EpochFields& fields) {
+  char* p = put_start(begin, options, "GGA,");
+  p = put_field(p, fields.time);
+  if (!fix.has_fix()) {
+    p = text::put_chars(p, ",,,,,0,00,99.99,,,,,,");
+    return text::put_checksum(begin, p);
+  }
+  const int satellites = std::clamp(fix.satellites_used, 0, 99);
+  const double hdop = std::clamp(fix.hdop, 0.0, 99.99);
+  const bool two_d = fix.dimension == FixDimension::two_d;  // no altitude in a 2-D fix
+  *p++ = ',';
+  p = put_field(p, fields.latitude);
+  *p++ = ',';
+  p = put_field(p, fields.longitude);
+  *p++ = ',';
+  p = text::put_uint(p, static_cast<std::uint64_t>(static_cast<int>(fix.quality)));
+  *p++ = ',';
+  p = text::put_uint(p, static_cast<std::uint64_t>(satellites), 2);
+  *p++ = ',';
+  p = fields::put_fixed(p, hdop, 2, 100.0);
+  p = put_with_unit(p, two_d, fix.alt_msl_m, max_alt_m, 'M');
+  p = put_with_unit(p, two_d, fix.geoid_sep_m, max_geoid_sep_m, 'M');
+  p = text::put_chars(p, ",,");
+  return text::put_checksum(begin, p);
+}
+
+char* put_rmc(char* const begin, const Fix& fix, const FormatOptions& options, const EpochFields& fields) {
+  const std::string_view nav_status = options.version == NmeaVersion::v4_1 ? ",V" : "";
+  char* p = put_start(begin, options, "RMC,");
+  p = put_field(p, fields.time);
+  if (!fix.has_fix()) {
+    p = text::put_chars(p, ",V,,,,,,,");
+    p = put_field(p, fields.date);
+    p = text::put_chars(p, ",,,N");
+    p = text::put_chars(p, nav_status);
+    return text::put_checksum(begin, p);
+  }
+  const double speed_knots = std::fabs(fix.speed_mps) * fields::knots_per_mps;
+  p = text::put_chars(p, ",A,");
+  p = put_field(p, fields.latitude);
+  *p++ = ',';
+  p = put_field(p, fields.longitude);
+  *p++ = ',';
+  p = fields::put_fixed(p, speed_knots, 3, max_speed_knots);
+  *p++ = ',';
+  p = fields::put_course(p, fix.course_deg_true);
+  *p++ = ',';
+  p = put_field(p, fields.date);
+  p = text::put_chars(p, ",,,");
+  *p++ = mode_indicator(fix.quality);
+  p = text::put_chars(p, nav_status);
+  return text::put_checksum(begin, p);
+}
+
+template <typename Put>
+void set_field(FieldText& field, Put put) {
+  field.size = static_cast<std::uint8_t>(put(field.chars.data()) - field.chars.data());
 }
 
 }  // namespace
@@ -62,69 +128,35 @@ char mode_indicator(FixQuality quality) {
   return 'N';
 }
 
-std::string format_gga(const Fix& fix, const FormatOptions& options) {
-  const std::string time = fields::format_time_of_day(fix.time_utc, options.time_decimals);
-  std::string out = start_sentence(options, "GGA,");
-  out += time;
-  if (!fix.has_fix()) {
-    out += ",,,,,0,00,99.99,,,,,,";
-    text::close_sentence(out);
-    return out;
+EpochFields epoch_fields(const Fix& fix, const FormatOptions& options, bool with_date) {
+  EpochFields out;
+  set_field(out.time, [&](char* p) { return fields::put_time_of_day(p, fix.time_utc, options.time_decimals); });
+  if (with_date) set_field(out.date, [&](char* p) { return fields::put_date_ddmmyy(p, fix.time_utc); });
+  if (fix.has_fix()) {
+    set_field(out.latitude, [&](char* p) { return fields::put_latitude(p, fix.lat_deg, options.minute_decimals); });
+    set_field(out.longitude,
+              [&](char* p) { return fields::put_longitude(p, fix.lon_deg, options.minute_decimals); });
   }
+  return out;
+}
 
-  const fields::CoordinateFields lat = fields::format_latitude(fix.lat_deg, options.minute_decimals);
-  const fields::CoordinateFields lon = fields::format_longitude(fix.lon_deg, options.minute_decimals);
-  const int satellites = std::clamp(fix.satellites_used, 0, 99);
-  const double hdop = std::clamp(fix.hdop, 0.0, 99.99);
-  const bool two_d = fix.dimension == FixDimension::two_d;  // no altitude in a 2-D fix
-  const std::string alt = two_d ? std::string{} : fields::format_fixed(fix.alt_msl_m, 1, max_alt_m);
-  const std::string sep = two_d ? std::string{} : fields::format_fixed(fix.geoid_sep_m, 1, max_geoid_sep_m);
-  append_coordinate(out, lat);
-  append_coordinate(out, lon);
-  out += ',';
-  text::append_uint(out, static_cast<std::uint64_t>(static_cast<int>(fix.quality)));
-  out += ',';
-  text::append_uint(out, static_cast<std::uint64_t>(satellites), 2);
-  out += ',';
-  out += fields::format_fixed(hdop, 2, 100.0);
-  append_with_unit(out, alt, 'M');
-  append_with_unit(out, sep, 'M');
-  out += ",,";
-  text::close_sentence(out);
+void append_gga(const Fix& fix, const FormatOptions& options, const EpochFields& fields, std::string& out) {
+  append_sentence(out, options, [&](char* p) { return put_gga(p, fix, options, fields); });
+}
+
+void append_rmc(const Fix& fix, const FormatOptions& options, const EpochFields& fields, std::string& out) {
+  append_sentence(out, options, [&](char* p) { return put_rmc(p, fix, options, fields); });
+}
+
+std::string format_gga(const Fix& fix, const FormatOptions& options) {
+  std::string out;
+  append_gga(fix, options, epoch_fields(fix, options, false), out);
   return out;
 }
 
 std::string format_rmc(const Fix& fix, const FormatOptions& options) {
-  const std::string time = fields::format_time_of_day(fix.time_utc, options.time_decimals);
-  const std::string date = fields::format_date_ddmmyy(fix.time_utc);
-  const std::string_view nav_status = options.version == NmeaVersion::v4_1 ? ",V" : "";
-  std::string out = start_sentence(options, "RMC,");
-  out += time;
-  if (!fix.has_fix()) {
-    out += ",V,,,,,,,";
-    out += date;
-    out += ",,,N";
-    out += nav_status;
-    text::close_sentence(out);
-    return out;
-  }
-
-  const fields::CoordinateFields lat = fields::format_latitude(fix.lat_deg, options.minute_decimals);
-  const fields::CoordinateFields lon = fields::format_longitude(fix.lon_deg, options.minute_decimals);
-  const double speed_knots = std::fabs(fix.speed_mps) * fields::knots_per_mps;
-  out += ",A";
-  append_coordinate(out, lat);
-  append_coordinate(out, lon);
-  out += ',';
-  out += fields::format_fixed(speed_knots, 3, max_speed_knots);
-  out += ',';
-  out += fields::format_course(fix.course_deg_true);
-  out += ',';
-  out += date;
-  out += ",,,";
-  out += mode_indicator(fix.quality);
-  out += nav_status;
-  text::close_sentence(out);
+  std::string out;
+  append_rmc(fix, options, epoch_fields(fix, options, true), out);
   return out;
 }
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "nmea/fields.hpp"
+#include "nmea/text_append.hpp"
 
 namespace gpsemu::nmea {
 namespace {
@@ -142,6 +143,50 @@ TEST(NmeaFields, FixedDecimalsNeverNegativeZero) {
   EXPECT_EQ(fields::format_fixed(19.43844, 3), "19.438");
   EXPECT_EQ(fields::format_fixed(std::nan(""), 1), "");
   EXPECT_EQ(fields::format_fixed(1e7, 1, 1e6), "");
+}
+
+TEST(NmeaText, RoundHalfAwayIsLlround) {
+  // The inline rounding of the per-epoch formatters against the libm function it replaces, on
+  // the halves, the doubles next to them, and magnitudes where every double is a whole number.
+  std::vector<double> values = {0.0, -0.0, 0.5, -0.5, 1.5, -1.5, 2.5, -2.5, 0.49999999999999994,
+                                -0.49999999999999994, 4503599627370495.5, -4503599627370495.5,
+                                4503599627370497.0, 9007199254740993.0, 1e15 - 0.5, 4.6e18, -4.6e18};
+  for (double v = -1000.0; v <= 1000.0; v += 0.125) {
+    values.push_back(v);
+    values.push_back(std::nextafter(v, 1e300));
+    values.push_back(std::nextafter(v, -1e300));
+  }
+  for (const double v : values) EXPECT_EQ(text::round_half_away(v), std::llround(v)) << v;
+}
+
+TEST(NmeaText, ChecksumOfEveryLengthAndByte) {
+  // xor_bytes works eight bytes at a time: every length 0..40 and every byte value in every lane.
+  std::string body;
+  for (int i = 0; i < 40; ++i) body += static_cast<char>(' ' + (i * 37) % 90);
+  for (std::size_t n = 0; n <= body.size(); ++n) {
+    unsigned char expected = 0;
+    for (std::size_t i = 0; i < n; ++i) expected ^= static_cast<unsigned char>(body[i]);
+    EXPECT_EQ(text::xor_bytes(body.data(), body.data() + n), expected) << n;
+  }
+  for (int byte = 0; byte < 256; ++byte) {
+    for (std::size_t lane = 0; lane < 9; ++lane) {
+      std::string bytes(9, '\0');
+      bytes[lane] = static_cast<char>(byte);
+      EXPECT_EQ(text::xor_bytes(bytes.data(), bytes.data() + bytes.size()), byte) << lane;
+    }
+  }
+}
+
+TEST(NmeaText, DigitsArePadded) {
+  char out[24];
+  EXPECT_EQ(std::string(out, text::put_uint(out, 0)), "0");
+  EXPECT_EQ(std::string(out, text::put_uint(out, 7, 2)), "07");
+  EXPECT_EQ(std::string(out, text::put_uint(out, 12345, 3)), "12345");
+  EXPECT_EQ(std::string(out, text::put_uint(out, 18446744073709551615ULL)), "18446744073709551615");
+  EXPECT_EQ(std::string(out, text::put_digits(out, 5, 8)), "00000005");
+  EXPECT_EQ(std::string(out, text::put_scaled(out, -1230, 2)), "-12.30");
+  EXPECT_EQ(std::string(out, text::put_scaled(out, 5, 3)), "0.005");
+  EXPECT_EQ(std::string(out, text::put_scaled(out, 42, 0)), "42");
 }
 
 }  // namespace
