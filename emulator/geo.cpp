@@ -32,8 +32,13 @@ Geodetic LocalFrame::to_geodetic(const Enu& point) const {
 }
 
 double wrap_lon_deg(double lon_deg) {
-  double x = std::fmod(lon_deg + 180.0, 360.0);
-  if (x < 0.0) x += 360.0;
+  double x = lon_deg + 180.0;
+  // fmod returns an x already in [0, 360) unchanged: the call is skipped then (every longitude
+  // GeographicLib returns).
+  if (!(x >= 0.0 && x < 360.0)) {
+    x = std::fmod(x, 360.0);
+    if (x < 0.0) x += 360.0;
+  }
   return x - 180.0;
 }
 

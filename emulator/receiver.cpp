@@ -69,7 +69,8 @@ Receiver::Receiver(const LocalFrame& frame, const ReceiverOptions& options,
       noise_(std::move(noise)),
       first_epoch_(first_epoch),
       geometry_(resolve_geometry(options)),
-      sky_(options.sky_seed, geometry_.satellites_in_view) {}
+      sky_(options.sky_seed, geometry_.satellites_in_view),
+      noise_sigma_h_m_(std::hypot(options.noise_sigma_m.east_m, options.noise_sigma_m.north_m)) {}
 
 nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) {
   nmea::Fix fix;
@@ -90,13 +91,16 @@ nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) 
   const bool fixing = truth && (phase == ReceiverPhase::two_d || phase == ReceiverPhase::three_d);
   const bool two_d = phase == ReceiverPhase::two_d;
   const int used = !fixing ? 0 : two_d ? std::min(kTwoDSatellites, in_view) : geometry_.satellites_used;
+  int satellites_used = 0;
   if (options_.satellite_details) {
     sky_.fill(since_s, acquired, used, fix);
+    for (int i = 0; i < fix.satellites_in_view; ++i) satellites_used += fix.satellites[static_cast<std::size_t>(i)].used;
   } else {
     // The counts Sky::fill gives: the first `acquired` of the acquisition order are listed, and
     // the `used` highest of them (distinct ranks) are used.
     fix.satellites_in_view = std::clamp(acquired, 0, in_view);
     for (int i = 0; i < fix.satellites_in_view; ++i) fix.satellites[static_cast<std::size_t>(i)].used = i < used;
+    satellites_used = std::clamp(used, 0, fix.satellites_in_view);
   }
   if (!fixing) return fix;
 
@@ -124,16 +128,16 @@ nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) 
     last_course_deg_ = course;
   }
   fix.course_deg_true = last_course_deg_;
-  fix.satellites_used = 0;
-  for (int i = 0; i < fix.satellites_in_view; ++i) fix.satellites_used += fix.satellites[static_cast<std::size_t>(i)].used;
+  fix.satellites_used = satellites_used;
   fix.hdop = hdop;
   fix.vdop = kVdopPerHdop * hdop;
-  fix.pdop = std::hypot(fix.hdop, fix.vdop);
+  // In 3-D, hdop is geometry_.hdop and the same arithmetic gave geometry_.pdop.
+  fix.pdop = two_d ? std::hypot(fix.hdop, fix.vdop) : geometry_.pdop;
   const Enu& sigma = options_.noise_sigma_m;
   fix.sigma_lat_m = h_scale * sigma.north_m;
   fix.sigma_lon_m = h_scale * sigma.east_m;
   fix.sigma_alt_m = scale * sigma.up_m;
-  fix.range_rms_m = h_scale * std::hypot(sigma.east_m, sigma.north_m) / hdop;
+  fix.range_rms_m = h_scale * noise_sigma_h_m_ / hdop;
   return fix;
 }
 

@@ -109,6 +109,7 @@ class Receiver {
   UtcNs first_epoch_;
   Geometry geometry_;
   Sky sky_;
+  double noise_sigma_h_m_;  ///< hypot(east, north) of options_.noise_sigma_m (metres)
   std::optional<double> last_course_deg_;
 };
 

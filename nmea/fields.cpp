@@ -13,11 +13,7 @@
 namespace gpsemu::nmea::fields {
 namespace {
 
-constexpr std::int64_t pow10(int exponent) {
-  std::int64_t result = 1;
-  for (int i = 0; i < exponent; ++i) result *= 10;
-  return result;
-}
+constexpr std::int64_t pow10(int exponent) { return static_cast<std::int64_t>(text::pow10(exponent)); }
 
 // Writes |angle_deg| as degrees (`degree_digits` digits), minutes and `minute_decimals` (clamped
 // to 1..8) decimals: rounded once in units of 10^-decimals minutes, then split with integers.
@@ -60,27 +56,6 @@ char* put_coordinate(char* p, double angle_deg, int minute_decimals, int degree_
   *p++ = ',';
   *p++ = is_negative ? negative : positive;
   return p;
-}
-
-// Fixed decimals without fmt when the rounded value has fewer than 10^15 units of its last digit:
-// the double nearest units/10^digits prints (correctly rounded to `digits` decimals) as exactly
-// those units (its error, under 0.12 of the last digit, cannot round away), so writing the units
-// with integers gives byte for byte what fmt writes. False (nothing written) beyond.
-bool put_fixed_units(char*& p, double value, int digits) {
-  const double units = value * static_cast<double>(pow10(digits));
-  if (!(std::fabs(units) < 1e15)) return false;
-  const std::int64_t rounded = text::round_half_away(units);  // as std::round; -0 becomes 0
-  if (rounded <= -1'000'000'000'000'000 || rounded >= 1'000'000'000'000'000) return false;
-  p = text::put_scaled(p, rounded, digits);
-  return true;
-}
-
-// The general case: fmt, after the same rounding half away from zero.
-std::string format_fixed_with_fmt(double value, int digits) {
-  const double scale = static_cast<double>(pow10(digits));
-  double rounded = std::round(value * scale) / scale;
-  if (rounded == 0.0) rounded = 0.0;  // -0.0 would print as "-0.0"
-  return fmt::format("{:.{}f}", rounded, digits);
 }
 
 }  // namespace
@@ -145,11 +120,12 @@ std::string format_date_ddmmyy(UtcTime time_utc) {
   return std::string(text, put_date_ddmmyy(text, time_utc));
 }
 
-char* put_fixed(char* p, double value, int decimals, double max_abs) {
-  if (!std::isfinite(value) || std::fabs(value) >= max_abs) return p;
-  const int digits = std::clamp(decimals, 0, 8);
-  if (put_fixed_units(p, value, digits)) return p;
-  return text::put_chars(p, format_fixed_with_fmt(value, digits));
+std::string format_fixed_with_fmt(double value, int digits) {
+  // The same rounding half away from zero as put_fixed_units, then fmt.
+  const double scale = static_cast<double>(pow10(digits));
+  double rounded = std::round(value * scale) / scale;
+  if (rounded == 0.0) rounded = 0.0;  // -0.0 would print as "-0.0"
+  return fmt::format("{:.{}f}", rounded, digits);
 }
 
 std::string format_fixed(double value, int decimals, double max_abs) {

@@ -7,11 +7,15 @@
 // returns the end of what it wrote.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 
 #include "nmea/fix.hpp"
+#include "nmea/text_append.hpp"
 
 namespace gpsemu::nmea::fields {
 
@@ -55,9 +59,34 @@ char* put_longitude(char* p, double lon_deg, int minute_decimals);
 char* put_time_of_day(char* p, UtcTime time_utc, int decimals);
 /// Writes format_date_ddmmyy(time_utc): 6 characters.
 char* put_date_ddmmyy(char* p, UtcTime time_utc);
+/// Writes `value` (finite) rounded half away from zero to `digits` (0..8) decimals, as
+/// format_fixed, when that is fewer than 10^15 units of the last digit (at most 17 characters);
+/// false, nothing written, beyond. Below 10^15 units the double nearest units/10^digits prints
+/// (correctly rounded to `digits` decimals) as exactly those units: its error, under 0.12 of the
+/// last digit, cannot round away; so writing the units with integers gives byte for byte what fmt
+/// writes, without its cost. Inline, so constant digits make the scaling and the split constant
+/// arithmetic.
+inline bool put_fixed_units(char*& p, double value, int digits) {
+  const double units = value * static_cast<double>(text::pow10(digits));
+  if (!(std::fabs(units) < 1e15)) return false;
+  const std::int64_t rounded = text::round_half_away(units);  // as std::round; -0 becomes 0
+  if (rounded <= -1'000'000'000'000'000 || rounded >= 1'000'000'000'000'000) return false;
+  p = text::put_scaled(p, rounded, digits);
+  return true;
+}
+
+/// format_fixed's general case (10^15 units of the last digit or more), with fmt.
+[[nodiscard]] std::string format_fixed_with_fmt(double value, int digits);
+
 /// Writes format_fixed(value, decimals, max_abs): at most 17 characters when
 /// max_abs x 10^decimals <= 10^15 (the caller's buffer must hold what format_fixed would return).
-char* put_fixed(char* p, double value, int decimals, double max_abs);
+inline char* put_fixed(char* p, double value, int decimals, double max_abs) {
+  if (!std::isfinite(value) || std::fabs(value) >= max_abs) return p;
+  const int digits = std::clamp(decimals, 0, 8);
+  if (put_fixed_units(p, value, digits)) return p;
+  return text::put_chars(p, format_fixed_with_fmt(value, digits));
+}
+
 /// Writes format_course(course_deg_true): at most 6 characters.
 char* put_course(char* p, const std::optional<double>& course_deg_true);
 

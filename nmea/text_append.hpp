@@ -7,6 +7,7 @@
 // the end of what they wrote; the append_* ones append to a std::string.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -14,12 +15,19 @@
 
 namespace gpsemu::nmea::text {
 
+/// 10^0 .. 10^19.
+inline constexpr std::array<std::uint64_t, 20> powers_of_10 = [] {
+  std::array<std::uint64_t, 20> powers{};
+  std::uint64_t power = 1;
+  for (std::uint64_t& p : powers) {
+    p = power;
+    power *= 10;
+  }
+  return powers;
+}();
+
 /// 10^exponent for exponent 0..19.
-[[nodiscard]] constexpr std::uint64_t pow10(int exponent) {
-  std::uint64_t result = 1;
-  for (int i = 0; i < exponent; ++i) result *= 10;
-  return result;
-}
+[[nodiscard]] constexpr std::uint64_t pow10(int exponent) { return powers_of_10[static_cast<std::size_t>(exponent)]; }
 
 /// `x` rounded half away from zero, as std::llround(x), for |x| < 2^62 (callers check; NaN is not
 /// allowed). Inline: the truncation toward zero and the remainder x - trunc(x) are exact in
@@ -35,10 +43,7 @@ namespace gpsemu::nmea::text {
 /// How many decimal digits `value` has (1 for 0).
 [[nodiscard]] inline int decimal_digits(std::uint64_t value) {
   int digits = 1;
-  while (value >= 10) {
-    value /= 10;
-    ++digits;
-  }
+  while (digits < 20 && value >= powers_of_10[static_cast<std::size_t>(digits)]) ++digits;
   return digits;
 }
 
