@@ -15,13 +15,13 @@ namespace {
 
 constexpr std::int64_t pow10(int exponent) { return static_cast<std::int64_t>(text::pow10(exponent)); }
 
-// Writes |angle_deg| as degrees (`degree_digits` digits), minutes and `minute_decimals` (clamped
-// to 1..8) decimals: rounded once in units of 10^-decimals minutes, then split with integers.
+// Writes |angle_deg| as degrees (`degree_digits` digits), minutes and `Decimals` decimals:
+// rounded once in units of 10^-Decimals minutes, then split with integers (constant divisors).
 // Returns the end; `negative` is set when the angle is below zero and does not round to zero.
-char* put_angle(char* p, double angle_deg, int minute_decimals, int degree_digits, bool& negative) {
-  const int decimals = std::clamp(minute_decimals, 1, 8);
-  const std::int64_t units_per_minute = pow10(decimals);
-  const std::int64_t units_per_degree = 60 * units_per_minute;
+template <int Decimals>
+char* put_angle(char* p, double angle_deg, int degree_digits, bool& negative) {
+  constexpr std::int64_t units_per_minute = pow10(Decimals);
+  constexpr std::int64_t units_per_degree = 60 * units_per_minute;
   // |angle| <= 180 and decimals <= 8: at most 1.08e12 units, exact in a double and an int64.
   const std::int64_t units = text::round_half_away(std::fabs(angle_deg) * static_cast<double>(units_per_degree));
   const std::int64_t degrees = units / units_per_degree;
@@ -29,9 +29,23 @@ char* put_angle(char* p, double angle_deg, int minute_decimals, int degree_digit
   p = text::put_digits(p, static_cast<std::uint64_t>(degrees), degree_digits);
   p = text::put_digits(p, static_cast<std::uint64_t>(minute_units / units_per_minute), 2);
   *p++ = '.';
-  p = text::put_digits(p, static_cast<std::uint64_t>(minute_units % units_per_minute), decimals);
+  p = text::put_digits(p, static_cast<std::uint64_t>(minute_units % units_per_minute), Decimals);
   negative = angle_deg < 0.0 && units != 0;
   return p;
+}
+
+// put_angle with `minute_decimals` clamped to 1..8.
+char* put_angle(char* p, double angle_deg, int minute_decimals, int degree_digits, bool& negative) {
+  switch (std::clamp(minute_decimals, 1, 8)) {
+    case 1: return put_angle<1>(p, angle_deg, degree_digits, negative);
+    case 2: return put_angle<2>(p, angle_deg, degree_digits, negative);
+    case 3: return put_angle<3>(p, angle_deg, degree_digits, negative);
+    case 4: return put_angle<4>(p, angle_deg, degree_digits, negative);
+    case 5: return put_angle<5>(p, angle_deg, degree_digits, negative);
+    case 6: return put_angle<6>(p, angle_deg, degree_digits, negative);
+    case 7: return put_angle<7>(p, angle_deg, degree_digits, negative);
+    default: return put_angle<8>(p, angle_deg, degree_digits, negative);
+  }
 }
 
 bool latitude_in_range(double lat_deg) { return std::isfinite(lat_deg) && std::fabs(lat_deg) <= 90.0; }

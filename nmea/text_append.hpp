@@ -105,11 +105,22 @@ inline char* put_chars(char* p, std::string_view s) {
 }
 
 /// Ends a sentence: [sentence, p) holds "$" + body; writes "*hh\r\n", hh the XOR of the body's
-/// bytes in two upper-case hex digits.
+/// bytes in two upper-case hex digits. The buffer needs 8 writable bytes at `p`: they are zeroed
+/// first, so the body is XORed in whole 8-byte words (zeros do not change an XOR), then overwritten.
 inline char* put_checksum(const char* sentence, char* p) {
   static constexpr char hex[] = "0123456789ABCDEF";
-  const unsigned char sum = xor_bytes(sentence + 1, p);
-  const char tail[] = {'*', hex[sum >> 4], hex[sum & 0x0f], '\r', '\n'};
+  std::memset(p, 0, 8);
+  std::uint64_t sum = 0;
+  for (const char* word = sentence + 1; word < p; word += 8) {
+    std::uint64_t bytes = 0;
+    std::memcpy(&bytes, word, sizeof bytes);
+    sum ^= bytes;
+  }
+  sum ^= sum >> 32;
+  sum ^= sum >> 16;
+  sum ^= sum >> 8;
+  const auto checksum = static_cast<unsigned char>(sum);
+  const char tail[] = {'*', hex[checksum >> 4], hex[checksum & 0x0f], '\r', '\n'};
   std::memcpy(p, tail, sizeof tail);
   return p + sizeof tail;
 }
