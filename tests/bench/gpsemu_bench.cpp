@@ -1,7 +1,10 @@
 // Google Benchmark for the pieces of one epoch: noise step, ENU -> WGS84 conversion, sentence
-// formatting, and a whole epoch (receiver model + formatting). Run: build/tests/bench/gpsemu_bench
+// formatting, and a whole epoch (receiver model + formatting [+ file output]), for the --fast
+// throughput figure (GGA+RMC, cgrw) and for the default sentence set.
+// Run: build/tests/bench/gpsemu_bench
 #include <benchmark/benchmark.h>
 
+#include <memory>
 #include <string>
 
 #include "emulator/epoch_text.hpp"
@@ -10,6 +13,7 @@
 #include "emulator/receiver.hpp"
 #include "emulator/sources/sim.hpp"
 #include "nmea/sentences.hpp"
+#include "transport/file_output.hpp"
 
 namespace {
 
@@ -69,27 +73,62 @@ void format_rmc(benchmark::State& state) {
 }
 BENCHMARK(format_rmc);
 
+gpsemu::nmea::FormatOptions gga_rmc_options() {
+  gpsemu::nmea::FormatOptions options;
+  options.sentences = {};
+  options.sentences.insert(gpsemu::nmea::SentenceType::rmc);
+  options.sentences.insert(gpsemu::nmea::SentenceType::gga);
+  return options;
+}
+
+/// GGA and RMC of one epoch into the reused epoch buffer (what the --fast loop formats).
+void format_epoch_gga_rmc(benchmark::State& state) {
+  auto fix = sample_fix();
+  const auto options = gga_rmc_options();
+  std::string text;
+  for (auto _ : state) {
+    gpsemu::format_epoch(fix, options, text);
+    benchmark::DoNotOptimize(text.data());
+    fix.time_utc += milliseconds(100);
+    fix.lat_deg += 1e-7;
+  }
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * text.size()));
+}
+BENCHMARK(format_epoch_gga_rmc);
+
 /// One whole epoch as the main loop does it: truth from the simulator, receiver model with cgrw
-/// noise and geodetic conversion, the configured sentences formatted into one buffer.
-void whole_epoch(benchmark::State& state) {
+/// noise and geodetic conversion, the sentences formatted into one buffer; with `to_file`, written
+/// to a buffered file output (/dev/null) as --fast --output file: does. Receiver options as the
+/// runner makes them (noise sigma estimated, satellite details only when GSA/GSV are written).
+void whole_epoch(benchmark::State& state, const std::string& scenario, gpsemu::nmea::FormatOptions options,
+                 bool to_file) {
   const gpsemu::LocalFrame frame(kOrigin);
   const gpsemu::UtcNs start{seconds(1714564800)};
-  auto source = gpsemu::sources::make_sim_source("circle", {}, frame, start);
+  auto source = gpsemu::sources::make_sim_source(scenario, {}, frame, start);
   gpsemu::noise::NoiseConfig config;
   config.cgrw = gpsemu::noise::cgrw_preset(1.0);
-  gpsemu::Receiver receiver(frame, {}, gpsemu::noise::make_noise_model(config, 1), start);
-  gpsemu::nmea::FormatOptions options;
+  gpsemu::ReceiverOptions receiver_options;
+  receiver_options.noise_sigma_m = gpsemu::estimate_noise_sigma_m(config, 1);
+  receiver_options.satellite_details = options.sentences.contains(gpsemu::nmea::SentenceType::gsa) ||
+                                       options.sentences.contains(gpsemu::nmea::SentenceType::gsv);
+  gpsemu::Receiver receiver(frame, receiver_options, gpsemu::noise::make_noise_model(config, 1), start);
+  const auto file = to_file ? std::make_unique<gpsemu::transport::FileOutput>("/dev/null", false) : nullptr;
   std::string text;
+  text.reserve(1024);
   gpsemu::UtcNs t = start;
   for (auto _ : state) {
+    source->service();
     const auto fix = receiver.fix_at(t, source->truth_at(t));
     gpsemu::format_epoch(fix, options, text);
+    if (file) (void)file->write_epoch(text);
     benchmark::DoNotOptimize(text.data());
     t += milliseconds(100);
   }
   state.SetItemsProcessed(state.iterations());
 }
-BENCHMARK(whole_epoch);
+BENCHMARK_CAPTURE(whole_epoch, gga_rmc_stationary_to_file, "stationary", gga_rmc_options(), true);
+BENCHMARK_CAPTURE(whole_epoch, gga_rmc_circle, "circle", gga_rmc_options(), false);
+BENCHMARK_CAPTURE(whole_epoch, default_set_circle, "circle", gpsemu::nmea::FormatOptions{}, false);
 
 }  // namespace
 
