@@ -77,6 +77,8 @@ class Process {
   }
 
   void signal(int sig) { kill(pid_, sig); }
+  /// The child's process id while it runs (-1 once waited for).
+  [[nodiscard]] pid_t pid() const { return pid_; }
 
   /// Waits for exit (polling the pipes so the child never blocks on a full pipe); returns the
   /// exit status, or -1 on timeout. Collects the rest of stdout and stderr.

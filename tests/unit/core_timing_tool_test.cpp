@@ -94,7 +94,7 @@ TEST_F(TimingToolTest, CountsEveryEpochOfThreeUdpOutputsAndAPty) {
                         "udp:127.0.0.1:" + std::to_string(base + 1), "--output",
                         "udp:127.0.0.1:" + std::to_string(base + 2), "--output", "pty:" + link.string(), "--output",
                         "file:" + file.string()});
-  ASSERT_TRUE(gpsemu.wait_for_stderr("NMEA on /dev/pts", 10s)) << gpsemu.stderr_text();
+  ASSERT_TRUE(gpsemu.wait_for_stderr("pty output: /dev/pts", 10s)) << gpsemu.stderr_text();
   // The pty reader ends when gpsemu exits and the pty goes away.
   test::Process pty_tool({GPSEMU_TIMING_BINARY, "--device", link.string(), "--latency", "0.05", "--duration", "30",
                           "--json", pty_json.string()});
