@@ -36,6 +36,11 @@ class Output {
   /// Non-blocking housekeeping between epochs: read and discard client input, accept clients.
   virtual void service() {}
 
+  /// Work that must precede the next write_epoch() but need not be on time (a pty discards the
+  /// bytes no client read). Many receivers in one process call it for every output ahead of the
+  /// deadline, so the writes at the deadline are short; otherwise write_epoch() does it itself.
+  virtual void prepare_epoch() {}
+
   /// A file descriptor to poll for readability before calling service(), or -1.
   [[nodiscard]] virtual int poll_fd() const { return -1; }
 

@@ -148,9 +148,18 @@ void PtyOutput::discard_stale_input() {
   }
 }
 
-WriteStatus PtyOutput::write_bytes(std::string_view bytes, std::string& error_text) {
+void PtyOutput::prepare_epoch() {
   discard_stale_input();
   report_discards();
+  prepared_ = true;
+}
+
+WriteStatus PtyOutput::write_bytes(std::string_view bytes, std::string& error_text) {
+  if (!prepared_) {
+    discard_stale_input();
+    report_discards();
+  }
+  prepared_ = false;
   for (;;) {
     const ssize_t n = ::write(master_fd_, bytes.data(), bytes.size());
     if (n >= 0 && static_cast<std::size_t>(n) == bytes.size()) return WriteStatus::ok;

@@ -33,6 +33,8 @@ class PtyOutput final : public Output {
   ~PtyOutput() override;
 
   void service() override;
+  /// Discards what no client read (else the next write does it first).
+  void prepare_epoch() override;
   [[nodiscard]] int poll_fd() const override { return master_fd_; }
   /// "/dev/pts/5 (link /tmp/gpsemu)" or "/dev/pts/5".
   [[nodiscard]] std::string describe() const override;
@@ -61,6 +63,7 @@ class PtyOutput final : public Output {
   PtyStats reported_;  ///< counters at the last log line, to log differences at most once a second
   std::chrono::steady_clock::time_point last_report_{};
   std::chrono::steady_clock::time_point last_service_error_{};
+  bool prepared_ = false;  ///< prepare_epoch() ran since the last write
 };
 
 }  // namespace gpsemu::transport
