@@ -15,11 +15,15 @@ namespace {
 
 constexpr std::int64_t pow10(int exponent) { return static_cast<std::int64_t>(text::pow10(exponent)); }
 
+struct PutAngle {
+  char* end;      // the end of what was written
+  bool negative;  // the angle is below zero and does not round to zero
+};
+
 // Writes |angle_deg| as degrees (`degree_digits` digits), minutes and `Decimals` decimals:
 // rounded once in units of 10^-Decimals minutes, then split with integers (constant divisors).
-// Returns the end; `negative` is set when the angle is below zero and does not round to zero.
 template <int Decimals>
-char* put_angle(char* p, double angle_deg, int degree_digits, bool& negative) {
+PutAngle put_angle(char* p, double angle_deg, int degree_digits) {
   constexpr std::int64_t units_per_minute = pow10(Decimals);
   constexpr std::int64_t units_per_degree = 60 * units_per_minute;
   // |angle| <= 180 and decimals <= 8: at most 1.08e12 units, exact in a double and an int64.
@@ -30,21 +34,20 @@ char* put_angle(char* p, double angle_deg, int degree_digits, bool& negative) {
   p = text::put_digits(p, static_cast<std::uint64_t>(minute_units / units_per_minute), 2);
   *p++ = '.';
   p = text::put_digits(p, static_cast<std::uint64_t>(minute_units % units_per_minute), Decimals);
-  negative = angle_deg < 0.0 && units != 0;
-  return p;
+  return {p, angle_deg < 0.0 && units != 0};
 }
 
 // put_angle with `minute_decimals` clamped to 1..8.
-char* put_angle(char* p, double angle_deg, int minute_decimals, int degree_digits, bool& negative) {
+PutAngle put_angle(char* p, double angle_deg, int minute_decimals, int degree_digits) {
   switch (std::clamp(minute_decimals, 1, 8)) {
-    case 1: return put_angle<1>(p, angle_deg, degree_digits, negative);
-    case 2: return put_angle<2>(p, angle_deg, degree_digits, negative);
-    case 3: return put_angle<3>(p, angle_deg, degree_digits, negative);
-    case 4: return put_angle<4>(p, angle_deg, degree_digits, negative);
-    case 5: return put_angle<5>(p, angle_deg, degree_digits, negative);
-    case 6: return put_angle<6>(p, angle_deg, degree_digits, negative);
-    case 7: return put_angle<7>(p, angle_deg, degree_digits, negative);
-    default: return put_angle<8>(p, angle_deg, degree_digits, negative);
+    case 1: return put_angle<1>(p, angle_deg, degree_digits);
+    case 2: return put_angle<2>(p, angle_deg, degree_digits);
+    case 3: return put_angle<3>(p, angle_deg, degree_digits);
+    case 4: return put_angle<4>(p, angle_deg, degree_digits);
+    case 5: return put_angle<5>(p, angle_deg, degree_digits);
+    case 6: return put_angle<6>(p, angle_deg, degree_digits);
+    case 7: return put_angle<7>(p, angle_deg, degree_digits);
+    default: return put_angle<8>(p, angle_deg, degree_digits);
   }
 }
 
@@ -58,17 +61,16 @@ double wrap_longitude(double lon_deg) {
 CoordinateFields format_angle(double angle_deg, int minute_decimals, int degree_digits, char positive,
                               char negative) {
   char text[max_coordinate_chars];
-  bool is_negative = false;
-  char* const end = put_angle(text, angle_deg, minute_decimals, degree_digits, is_negative);
-  return {std::string(text, end), std::string(1, is_negative ? negative : positive)};
+  const PutAngle angle = put_angle(text, angle_deg, minute_decimals, degree_digits);
+  return {std::string(text, angle.end), std::string(1, angle.negative ? negative : positive)};
 }
 
 char* put_coordinate(char* p, double angle_deg, int minute_decimals, int degree_digits, char positive,
                      char negative) {
-  bool is_negative = false;
-  p = put_angle(p, angle_deg, minute_decimals, degree_digits, is_negative);
+  const PutAngle angle = put_angle(p, angle_deg, minute_decimals, degree_digits);
+  p = angle.end;
   *p++ = ',';
-  *p++ = is_negative ? negative : positive;
+  *p++ = angle.negative ? negative : positive;
   return p;
 }
 
@@ -146,8 +148,7 @@ std::string format_fixed(double value, int decimals, double max_abs) {
   if (!std::isfinite(value) || std::fabs(value) >= max_abs) return {};
   const int digits = std::clamp(decimals, 0, 8);
   char text[24];
-  char* end = text;
-  if (put_fixed_units(end, value, digits)) return std::string(text, end);
+  if (char* const end = put_fixed_units(text, value, digits)) return std::string(text, end);
   return format_fixed_with_fmt(value, digits);
 }
 

@@ -60,19 +60,18 @@ char* put_time_of_day(char* p, UtcTime time_utc, int decimals);
 /// Writes format_date_ddmmyy(time_utc): 6 characters.
 char* put_date_ddmmyy(char* p, UtcTime time_utc);
 /// Writes `value` (finite) rounded half away from zero to `digits` (0..8) decimals, as
-/// format_fixed, when that is fewer than 10^15 units of the last digit (at most 17 characters);
-/// false, nothing written, beyond. Below 10^15 units the double nearest units/10^digits prints
-/// (correctly rounded to `digits` decimals) as exactly those units: its error, under 0.12 of the
-/// last digit, cannot round away; so writing the units with integers gives byte for byte what fmt
-/// writes, without its cost. Inline, so constant digits make the scaling and the split constant
-/// arithmetic.
-inline bool put_fixed_units(char*& p, double value, int digits) {
+/// format_fixed, when that is fewer than 10^15 units of the last digit (at most 17 characters),
+/// and returns the end; nullptr, nothing written, beyond. Below 10^15 units the double nearest
+/// units/10^digits prints (correctly rounded to `digits` decimals) as exactly those units: its
+/// error, under 0.12 of the last digit, cannot round away; so writing the units with integers gives
+/// byte for byte what fmt writes, without its cost. Inline, so constant digits make the scaling and
+/// the split constant arithmetic.
+inline char* put_fixed_units(char* p, double value, int digits) {
   const double units = value * static_cast<double>(text::pow10(digits));
-  if (!(std::fabs(units) < 1e15)) return false;
+  if (!(std::fabs(units) < 1e15)) return nullptr;
   const std::int64_t rounded = text::round_half_away(units);  // as std::round; -0 becomes 0
-  if (rounded <= -1'000'000'000'000'000 || rounded >= 1'000'000'000'000'000) return false;
-  p = text::put_scaled(p, rounded, digits);
-  return true;
+  if (rounded <= -1'000'000'000'000'000 || rounded >= 1'000'000'000'000'000) return nullptr;
+  return text::put_scaled(p, rounded, digits);
 }
 
 /// format_fixed's general case (10^15 units of the last digit or more), with fmt.
@@ -83,7 +82,7 @@ inline bool put_fixed_units(char*& p, double value, int digits) {
 inline char* put_fixed(char* p, double value, int decimals, double max_abs) {
   if (!std::isfinite(value) || std::fabs(value) >= max_abs) return p;
   const int digits = std::clamp(decimals, 0, 8);
-  if (put_fixed_units(p, value, digits)) return p;
+  if (char* const end = put_fixed_units(p, value, digits)) return end;
   return text::put_chars(p, format_fixed_with_fmt(value, digits));
 }
 
