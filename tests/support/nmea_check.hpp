@@ -1,5 +1,6 @@
 // Test support: split received bytes into NMEA sentences and check each one's frame and checksum,
-// so a test can assert that only whole, valid sentences (and whole epochs) arrived.
+// so a test can assert that only whole, valid sentences (and whole epochs) arrived; and build
+// checksummed test sentences and epochs to write.
 #pragma once
 
 #include <cstdio>
@@ -40,6 +41,24 @@ inline SplitResult split_sentences(const std::string& text) {
   }
   r.rest = text.substr(pos);
   return r;
+}
+
+/// "$BODY*hh" + CR LF with the right checksum.
+inline std::string sentence(const std::string& body) {
+  unsigned sum = 0;
+  for (const char c : body) sum ^= static_cast<unsigned char>(c);
+  char tail[8];
+  std::snprintf(tail, sizeof tail, "*%02X\r\n", sum);
+  return "$" + body + tail;
+}
+
+/// One 10 Hz test epoch (GGA + RMC, about 140 bytes) whose time field is 12:00:00.0 + k/10 s.
+inline std::string epoch(int k) {
+  char time[16];
+  std::snprintf(time, sizeof time, "12%02d%02d.%d0", (k / 600) % 60, (k / 10) % 60, k % 10);
+  const std::string t = time;
+  return sentence("GPGGA," + t + ",4717.11399,N,00833.91590,E,1,08,0.9,545.4,M,46.9,M,,") +
+         sentence("GPRMC," + t + ",A,4717.11399,N,00833.91590,E,0.004,77.52,091202,,,A");
 }
 
 /// The sentence type after the talker: "GGA" for "$GPGGA,...".

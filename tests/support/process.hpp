@@ -1,5 +1,7 @@
 // Test support: start the real gpsemu binary (or another program) with pipes on stdout/stderr,
-// wait for a line with poll() and a timeout, and stop it. No sleeps.
+// keep every stdout chunk with the CLOCK_REALTIME time it was read (to measure when epochs left),
+// wait for a stderr line or for exit with poll() and a timeout, and stop it. No sleeps. pump()
+// lets a test do its own work (send poses) between reads.
 #pragma once
 
 #include <fcntl.h>
@@ -7,10 +9,12 @@
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -18,28 +22,47 @@ extern char** environ;
 
 namespace gpsemu::test {
 
+inline double realtime_now_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_REALTIME, &ts);
+  return static_cast<double>(ts.tv_sec) + static_cast<double>(ts.tv_nsec) * 1e-9;
+}
+
+/// A chunk of standard output and when it was read (CLOCK_REALTIME, seconds).
+struct Chunk {
+  double read_s;
+  std::string bytes;
+};
+
 class Process {
  public:
   explicit Process(const std::vector<std::string>& argv) {
     int out[2], err[2];
-    if (pipe(out) != 0 || pipe(err) != 0) throw std::runtime_error("pipe failed");
+    // Close-on-exec: the child keeps only the copies dup2'ed onto its stdout and stderr.
+    if (pipe2(out, O_CLOEXEC) != 0) throw std::runtime_error("pipe failed");
+    if (pipe2(err, O_CLOEXEC) != 0) {
+      close(out[0]);
+      close(out[1]);
+      throw std::runtime_error("pipe failed");
+    }
     posix_spawn_file_actions_t fa;
     posix_spawn_file_actions_init(&fa);
     posix_spawn_file_actions_adddup2(&fa, out[1], 1);
     posix_spawn_file_actions_adddup2(&fa, err[1], 2);
-    posix_spawn_file_actions_addclose(&fa, out[0]);
-    posix_spawn_file_actions_addclose(&fa, err[0]);
     std::vector<char*> args;
     for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
     args.push_back(nullptr);
-    if (posix_spawn(&pid_, args[0], &fa, nullptr, args.data(), environ) != 0) {
-      throw std::runtime_error("cannot start " + argv[0]);
-    }
+    const int rc = posix_spawn(&pid_, args[0], &fa, nullptr, args.data(), environ);
     posix_spawn_file_actions_destroy(&fa);
     close(out[1]);
     close(err[1]);
     out_ = out[0];
     err_ = err[0];
+    if (rc != 0) {
+      close(out_);
+      close(err_);
+      throw std::runtime_error("cannot start " + argv[0]);
+    }
     fcntl(out_, F_SETFL, O_NONBLOCK);
     fcntl(err_, F_SETFL, O_NONBLOCK);
   }
@@ -54,66 +77,94 @@ class Process {
   Process(const Process&) = delete;
   Process& operator=(const Process&) = delete;
 
-  /// Reads stderr until a line containing `needle` arrives; returns that line, or nothing on timeout.
+  /// Reads what is available, waiting at most `timeout` for something; false once both pipes closed.
+  bool pump(std::chrono::milliseconds timeout) {
+    if (out_closed_ && err_closed_) return false;
+    pollfd p[2] = {{out_closed_ ? -1 : out_, POLLIN, 0}, {err_closed_ ? -1 : err_, POLLIN, 0}};
+    if (poll(p, 2, static_cast<int>(timeout.count())) <= 0) return true;
+    read_available();
+    return !(out_closed_ && err_closed_);
+  }
+
+  /// Reads until a stderr line containing `needle` arrives after the line the previous call
+  /// returned; returns that line (without its newline), or nothing on timeout or exit.
   std::optional<std::string> wait_for_stderr(const std::string& needle, std::chrono::milliseconds timeout) {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     while (true) {
       std::size_t nl;
-      while ((nl = err_buf_.find('\n')) != std::string::npos) {
-        std::string line = err_buf_.substr(0, nl);
-        stderr_text_ += line + "\n";
-        err_buf_.erase(0, nl + 1);
+      while ((nl = stderr_.find('\n', stderr_seen_)) != std::string::npos) {
+        std::string line = stderr_.substr(stderr_seen_, nl - stderr_seen_);
+        stderr_seen_ = nl + 1;
         if (line.find(needle) != std::string::npos) return line;
       }
       const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
       if (left.count() <= 0) return std::nullopt;
-      pollfd p{err_, POLLIN, 0};
-      if (poll(&p, 1, static_cast<int>(left.count())) <= 0) continue;
-      char buf[4096];
-      const ssize_t n = read(err_, buf, sizeof buf);
-      if (n <= 0) return std::nullopt;
-      err_buf_.append(buf, static_cast<std::size_t>(n));
+      if (!pump(left) && stderr_.find('\n', stderr_seen_) == std::string::npos) return std::nullopt;
     }
   }
 
-  void signal(int sig) { kill(pid_, sig); }
+  /// Waits for exit, reading the pipes meanwhile (so the child never blocks on a full pipe); the
+  /// exit status (128 + signal when killed), or -1 if it still runs after `timeout`.
+  int wait(std::chrono::milliseconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (true) {
+      int status = 0;
+      if (pid_ > 0 && waitpid(pid_, &status, WNOHANG) == pid_) {
+        pid_ = -1;
+        exit_status_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+      }
+      if (pid_ < 0) {
+        read_available();  // what it wrote before it exited (a daemon it started may hold the pipes)
+        return exit_status_;
+      }
+      if (std::chrono::steady_clock::now() >= deadline) return -1;
+      pump(std::chrono::milliseconds(20));
+    }
+  }
+
+  void signal(int sig) {
+    if (pid_ > 0) kill(pid_, sig);
+  }
   /// The child's process id while it runs (-1 once waited for).
   [[nodiscard]] pid_t pid() const { return pid_; }
 
-  /// Waits for exit (polling the pipes so the child never blocks on a full pipe); returns the
-  /// exit status, or -1 on timeout. Collects the rest of stdout and stderr.
-  int wait(std::chrono::milliseconds timeout) {
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    while (std::chrono::steady_clock::now() < deadline) {
-      drain();
-      int status = 0;
-      const pid_t r = waitpid(pid_, &status, WNOHANG);
-      if (r == pid_) {
-        pid_ = -1;
-        drain();
-        stderr_text_ += err_buf_;
-        err_buf_.clear();
-        return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-      }
-      pollfd p[2] = {{out_, POLLIN, 0}, {err_, POLLIN, 0}};
-      poll(p, 2, 20);
-    }
-    return -1;
-  }
-
-  const std::string& stdout_text() const { return stdout_text_; }
-  const std::string& stderr_text() const { return stderr_text_; }
+  /// Standard output as read so far, in chunks with their read times.
+  [[nodiscard]] const std::vector<Chunk>& chunks() const { return chunks_; }
+  [[nodiscard]] const std::string& stdout_text() const { return stdout_; }
+  /// Standard error as read so far.
+  [[nodiscard]] const std::string& stderr_text() const { return stderr_; }
 
  private:
-  void drain() {
+  void read_available() {
     char buf[65536];
-    ssize_t n;
-    while ((n = read(out_, buf, sizeof buf)) > 0) stdout_text_.append(buf, static_cast<std::size_t>(n));
-    while ((n = read(err_, buf, sizeof buf)) > 0) err_buf_.append(buf, static_cast<std::size_t>(n));
+    while (!out_closed_) {
+      const ssize_t n = read(out_, buf, sizeof buf);
+      if (n > 0) {
+        chunks_.push_back({realtime_now_s(), std::string(buf, static_cast<std::size_t>(n))});
+        stdout_.append(buf, static_cast<std::size_t>(n));
+        continue;
+      }
+      if (n == 0) out_closed_ = true;
+      break;  // EAGAIN: nothing more for now
+    }
+    while (!err_closed_) {
+      const ssize_t n = read(err_, buf, sizeof buf);
+      if (n > 0) {
+        stderr_.append(buf, static_cast<std::size_t>(n));
+        continue;
+      }
+      if (n == 0) err_closed_ = true;
+      break;
+    }
   }
+
   pid_t pid_ = -1;
   int out_ = -1, err_ = -1;
-  std::string err_buf_, stdout_text_, stderr_text_;
+  bool out_closed_ = false, err_closed_ = false;
+  int exit_status_ = -1;
+  std::vector<Chunk> chunks_;
+  std::string stdout_, stderr_;
+  std::size_t stderr_seen_ = 0;  ///< wait_for_stderr() has looked at the lines before this offset
 };
 
 /// Runs a program to completion; returns {exit status, stdout, stderr}.

@@ -5,7 +5,6 @@
 #pragma once
 
 #include <fcntl.h>
-#include <poll.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -72,29 +71,6 @@ inline int open_raw(const std::filesystem::path& path) {
   ::cfmakeraw(&tio);
   ::tcsetattr(fd, TCSANOW, &tio);
   return fd;
-}
-
-/// Reads what arrives on `fd` until `want` bytes came or nothing more came for `quiet`, or
-/// `timeout` passed (poll, no sleeps).
-inline std::string read_available(int fd, std::chrono::milliseconds quiet, std::chrono::milliseconds timeout,
-                                  std::size_t want = static_cast<std::size_t>(-1)) {
-  std::string got;
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (got.size() < want) {
-    const auto left =
-        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-    if (left.count() <= 0) break;
-    pollfd pfd{fd, POLLIN, 0};
-    if (::poll(&pfd, 1, static_cast<int>(std::min(left, quiet).count())) <= 0) break;
-    char buf[8192];
-    const ssize_t n = ::read(fd, buf, sizeof buf);
-    if (n > 0) {
-      got.append(buf, static_cast<std::size_t>(n));
-    } else if (n == 0 || (errno != EAGAIN && errno != EINTR)) {
-      break;
-    }
-  }
-  return got;
 }
 
 }  // namespace gpsemu::test

@@ -19,7 +19,7 @@
 #include "emulator/clock.hpp"
 #include "emulator/geo.hpp"
 #include "emulator/sources/socket_source.hpp"
-#include "tests/support/timed_process.hpp"
+#include "tests/support/process.hpp"
 
 namespace gpsemu {
 namespace {
@@ -192,9 +192,9 @@ double time_of_day_s(const std::string& hhmmss) {
 TEST(LockstepEndToEnd, SimTimeAtHalfRealSpeedGivesEpochsThatFollowSimTimeExactlyNoneSkippedOrRepeated) {
   const LocalFrame frame({43.0725, -89.4125, 260.0});
   const int epochs = 10;  // 5 Hz: 2 s of sim time, 4 s of wall time
-  test::TimedProcess gpsemu({GPSEMU_BINARY, "--clock", "lockstep", "--source", "udp:127.0.0.1:0", "--rate", "5",
-                             "--start-time", "2024-05-01T12:00:00Z", "--duration", fmt::format("{}", epochs / 5.0),
-                             "--noise", "none", "--sentences", "GGA", "--output", "stdout", "--pose-timeout", "1"});
+  test::Process gpsemu({GPSEMU_BINARY, "--clock", "lockstep", "--source", "udp:127.0.0.1:0", "--rate", "5",
+                        "--start-time", "2024-05-01T12:00:00Z", "--duration", fmt::format("{}", epochs / 5.0),
+                        "--noise", "none", "--sentences", "GGA", "--output", "stdout", "--pose-timeout", "1"});
   const auto line = gpsemu.wait_for_stderr("waiting for poses on", seconds(20));
   ASSERT_TRUE(line) << gpsemu.stderr_text();
   const int fd = udp_to(static_cast<std::uint16_t>(std::stoi(line->substr(line->rfind(':') + 1))));
@@ -259,14 +259,14 @@ TEST(LockstepEndToEnd, SimTimeAtHalfRealSpeedGivesEpochsThatFollowSimTimeExactly
 }
 
 TEST(LockstepEndToEnd, NeedsASocketSourceAndRefusesFastAndPps) {
-  test::TimedProcess sim({GPSEMU_BINARY, "--clock", "lockstep", "--output", "stdout", "--duration", "1"});
+  test::Process sim({GPSEMU_BINARY, "--clock", "lockstep", "--output", "stdout", "--duration", "1"});
   EXPECT_EQ(sim.wait(seconds(20)), 2);
   EXPECT_NE(sim.stderr_text().find("--clock lockstep follows a simulator's time stamps: it needs a udp: or tcp: source"),
             std::string::npos) << sim.stderr_text();
-  test::TimedProcess fast({GPSEMU_BINARY, "--clock", "lockstep", "--fast", "--source", "udp:0"});
+  test::Process fast({GPSEMU_BINARY, "--clock", "lockstep", "--fast", "--source", "udp:0"});
   EXPECT_EQ(fast.wait(seconds(20)), 2);
   EXPECT_NE(fast.stderr_text().find("--fast and --clock lockstep"), std::string::npos) << fast.stderr_text();
-  test::TimedProcess bad({GPSEMU_BINARY, "--clock", "stepwise"});
+  test::Process bad({GPSEMU_BINARY, "--clock", "stepwise"});
   EXPECT_EQ(bad.wait(seconds(20)), 2);
   EXPECT_NE(bad.stderr_text().find("unknown clock 'stepwise' (accepted: realtime, scaled:K, fast, lockstep)"),
             std::string::npos) << bad.stderr_text();

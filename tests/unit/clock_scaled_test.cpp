@@ -8,7 +8,7 @@
 #include <fmt/format.h>
 
 #include "emulator/clock.hpp"
-#include "tests/support/timed_process.hpp"
+#include "tests/support/process.hpp"
 
 namespace gpsemu {
 namespace {
@@ -73,9 +73,9 @@ double time_of_day_s(const std::string& hhmmss) {
 
 /// Runs gpsemu with --clock scaled:K; returns (NMEA time of day, wall read time) of each GGA.
 std::vector<std::pair<double, double>> run_scaled(const std::string& clock, double rate_hz, double duration_s) {
-  test::TimedProcess gpsemu({GPSEMU_BINARY, "--clock", clock, "--rate", fmt::format("{}", rate_hz), "--duration",
-                             fmt::format("{}", duration_s), "--sentences", "GGA", "--output", "stdout", "--start-time",
-                             "2024-05-01T12:00:00Z", "--log-level", "warn"});
+  test::Process gpsemu({GPSEMU_BINARY, "--clock", clock, "--rate", fmt::format("{}", rate_hz), "--duration",
+                        fmt::format("{}", duration_s), "--sentences", "GGA", "--output", "stdout", "--start-time",
+                        "2024-05-01T12:00:00Z", "--log-level", "warn"});
   EXPECT_EQ(gpsemu.wait(seconds(60)), 0) << gpsemu.stderr_text();
   std::vector<std::pair<double, double>> out;
   for (const auto& c : gpsemu.chunks()) {
@@ -113,10 +113,10 @@ TEST(ScaledClockEndToEnd, ScaledHalfAt10HzSendsEpochs200msApartWithTimes100msApa
 }
 
 TEST(ScaledClockEndToEnd, SocketSourcesAndPpsAreRefused) {
-  test::TimedProcess udp({GPSEMU_BINARY, "--clock", "scaled:2", "--source", "udp:0", "--output", "stdout"});
+  test::Process udp({GPSEMU_BINARY, "--clock", "scaled:2", "--source", "udp:0", "--output", "stdout"});
   EXPECT_EQ(udp.wait(seconds(20)), 2);
   EXPECT_NE(udp.stderr_text().find("cannot be used with --clock scaled:2"), std::string::npos) << udp.stderr_text();
-  test::TimedProcess pps({GPSEMU_BINARY, "--clock", "scaled:2", "--pps", "modem:RTS", "--output", "stdout"});
+  test::Process pps({GPSEMU_BINARY, "--clock", "scaled:2", "--pps", "modem:RTS", "--output", "stdout"});
   EXPECT_EQ(pps.wait(seconds(20)), 2);
   EXPECT_NE(pps.stderr_text().find("pps: a PPS pulse marks real seconds; it cannot be used with --clock scaled:2"),
             std::string::npos) << pps.stderr_text();

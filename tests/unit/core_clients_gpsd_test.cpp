@@ -28,6 +28,7 @@
 #include "emulator/time.hpp"
 #include "nmea/parse.hpp"
 #include "tests/support/process.hpp"
+#include "tests/support/read_deadline.hpp"
 
 namespace gpsemu {
 namespace {
@@ -125,16 +126,10 @@ GpsdRun run_with_gpsd(const std::string& name, std::vector<std::string> args, do
   const std::string watch = "?WATCH={\"enable\":true,\"json\":true};\n";
   EXPECT_EQ(::write(sock, watch.data(), watch.size()), static_cast<ssize_t>(watch.size()));
   // Read reports until gpsemu has had time to finish (it stops after duration_s of epochs).
-  const auto until = steady_clock::now() + milliseconds(std::llround(duration_s * 1000.0) + 1500);
   std::string buffer;
-  while (steady_clock::now() < until) {
-    pollfd p{sock, POLLIN, 0};
-    const int left = static_cast<int>(duration_cast<milliseconds>(until - steady_clock::now()).count());
-    if (::poll(&p, 1, std::max(left, 0)) <= 0) continue;
-    char chunk[8192];
-    const ssize_t n = ::read(sock, chunk, sizeof chunk);
-    if (n <= 0) break;
-    buffer.append(chunk, static_cast<std::size_t>(n));
+  const milliseconds reading{std::llround(duration_s * 1000.0) + 1500};
+  test::read_with_deadline(sock, {reading}, [&](std::string_view chunk) {
+    buffer.append(chunk);
     std::size_t nl;
     while ((nl = buffer.find('\n')) != std::string::npos) {
       const json j = json::parse(buffer.substr(0, nl), nullptr, false);
@@ -149,7 +144,8 @@ GpsdRun run_with_gpsd(const std::string& name, std::vector<std::string> args, do
       r.lon_deg = j.value("lon", std::numeric_limits<double>::quiet_NaN());
       run.tpv.push_back(r);
     }
-  }
+    return false;
+  });
   ::close(sock);
   EXPECT_EQ(gpsemu.wait(seconds(20)), 0) << gpsemu.stderr_text();
   gpsd.signal(SIGTERM);

@@ -16,23 +16,13 @@
 
 #include "nmea/sentences.hpp"
 #include "tests/support/process.hpp"
+#include "tests/support/read_deadline.hpp"
 
 namespace gpsemu {
 namespace {
 
 namespace fs = std::filesystem;
 using namespace std::chrono;
-
-struct Arrival {
-  double wall_s;      ///< CLOCK_REALTIME when the bytes were read
-  std::string bytes;
-};
-
-double realtime_s() {
-  timespec ts{};
-  clock_gettime(CLOCK_REALTIME, &ts);
-  return static_cast<double>(ts.tv_sec) + ts.tv_nsec * 1e-9;
-}
 
 fs::path temp_dir(const std::string& name) {
   auto d = fs::temp_directory_path() / ("gpsemu_it_" + std::to_string(::getpid()) + "_" + name);
@@ -51,18 +41,14 @@ int open_client(const fs::path& link) {
   return fd;
 }
 
-/// Reads whatever arrives until `until` (steady clock) or the writer goes away.
-std::vector<Arrival> read_for(int fd, milliseconds how_long) {
-  std::vector<Arrival> out;
-  const auto until = steady_clock::now() + how_long;
-  while (steady_clock::now() < until) {
-    pollfd p{fd, POLLIN, 0};
-    const int left = static_cast<int>(duration_cast<milliseconds>(until - steady_clock::now()).count());
-    if (poll(&p, 1, std::max(left, 0)) <= 0) continue;
-    char buf[4096];
-    const ssize_t n = ::read(fd, buf, sizeof buf);
-    if (n > 0) out.push_back({realtime_s(), std::string(buf, static_cast<std::size_t>(n))});
-  }
+/// Reads whatever arrives for `how_long` or until the writer goes away, each read with its
+/// CLOCK_REALTIME time.
+std::vector<test::Chunk> read_for(int fd, milliseconds how_long) {
+  std::vector<test::Chunk> out;
+  test::read_with_deadline(fd, {how_long}, [&](std::string_view bytes) {
+    out.push_back({test::realtime_now_s(), std::string(bytes)});
+    return false;
+  });
   return out;
 }
 
@@ -109,7 +95,7 @@ TEST(PtyLoopback, TenHertzDeliversEveryEpochOnTimeWithValidChecksums) {
   std::string all;
   std::vector<std::pair<std::size_t, double>> chunk_starts;
   for (const auto& a : arrivals) {
-    chunk_starts.emplace_back(all.size(), a.wall_s);
+    chunk_starts.emplace_back(all.size(), a.read_s);
     all += a.bytes;
   }
   const auto lines = lines_of(all);

@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <fcntl.h>
-#include <poll.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -26,6 +25,7 @@
 
 #include "tests/support/nmea_check.hpp"
 #include "tests/support/process.hpp"
+#include "tests/support/read_deadline.hpp"
 
 namespace gpsemu {
 namespace {
@@ -74,11 +74,23 @@ struct Visit {
   double opened_at_s = 0.0;          ///< UTC seconds of the day when opened
 };
 
-/// Reads whatever is queued right now, without waiting.
-void drain(int fd, std::string& into) {
-  char buf[4096];
-  ssize_t n;
-  while ((n = ::read(fd, buf, sizeof buf)) > 0) into.append(buf, static_cast<std::size_t>(n));
+/// Takes the first whole epoch (RMC .. GLL) out of `bytes` into `v`; false while there is none.
+bool take_whole_epoch(const std::string& bytes, Visit& v) {
+  const auto split = test::split_sentences(bytes);
+  std::optional<std::size_t> rmc;
+  for (std::size_t i = 0; i < split.sentences.size(); ++i) {
+    const std::string type = test::sentence_type(split.sentences[i]);
+    if (!rmc && type == "RMC") rmc = i;
+    if (rmc && type == "GLL") {
+      v.epoch.assign(split.sentences.begin() + static_cast<std::ptrdiff_t>(*rmc),
+                     split.sentences.begin() + static_cast<std::ptrdiff_t>(i) + 1);
+      const auto first_rmc = bytes.find("RMC,");  // "$GPRMC,": the sentence starts 3 bytes earlier
+      v.before_first_rmc = bytes.substr(0, first_rmc >= 3 ? first_rmc - 3 : 0);
+      for (const auto& s : v.epoch) v.invalid += test::valid_sentence(s) ? 0 : 1;
+      return true;
+    }
+  }
+  return false;
 }
 
 /// Opens the link, reads until one whole epoch (RMC .. GLL) has arrived or 5 s passed, closes.
@@ -92,27 +104,11 @@ Visit visit(const fs::path& link) {
   char buf[16384];
   if (const ssize_t n = ::read(fd, buf, sizeof buf); n > 0) bytes.assign(buf, static_cast<std::size_t>(n));
   for (std::size_t at = bytes.find("RMC,"); at != std::string::npos; at = bytes.find("RMC,", at + 1)) ++v.queued_epochs;
-  drain(fd, bytes);
-  const auto deadline = std::chrono::steady_clock::now() + 5s;
-  while (std::chrono::steady_clock::now() < deadline) {
-    const auto split = test::split_sentences(bytes);
-    std::optional<std::size_t> rmc;
-    for (std::size_t i = 0; i < split.sentences.size(); ++i) {
-      const std::string type = test::sentence_type(split.sentences[i]);
-      if (!rmc && type == "RMC") rmc = i;
-      if (rmc && type == "GLL") {
-        v.epoch.assign(split.sentences.begin() + static_cast<std::ptrdiff_t>(*rmc),
-                       split.sentences.begin() + static_cast<std::ptrdiff_t>(i) + 1);
-        const auto first_rmc = bytes.find("RMC,");  // "$GPRMC,": the sentence starts 3 bytes earlier
-        v.before_first_rmc = bytes.substr(0, first_rmc >= 3 ? first_rmc - 3 : 0);
-        for (const auto& s : v.epoch) v.invalid += test::valid_sentence(s) ? 0 : 1;
-        ::close(fd);
-        return v;
-      }
-    }
-    pollfd p{fd, POLLIN, 0};
-    ::poll(&p, 1, 200);
-    drain(fd, bytes);
+  if (!take_whole_epoch(bytes, v)) {
+    test::read_with_deadline(fd, {5s}, [&](std::string_view chunk) {
+      bytes.append(chunk);
+      return take_whole_epoch(bytes, v);
+    });
   }
   ::close(fd);
   return v;

@@ -3,7 +3,6 @@
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
-#include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -16,6 +15,7 @@
 
 #include "tests/support/nmea_check.hpp"
 #include "tests/support/process.hpp"
+#include "tests/support/read_deadline.hpp"
 
 namespace gpsemu {
 namespace {
@@ -47,19 +47,16 @@ TEST(NetEndToEndTest, TwoTcpClientsOneStalledTheOtherGetsWholeEpochsOnTime) {
 
   std::string received;
   std::vector<Clock::time_point> arrivals;  // when each epoch's first sentence (RMC) arrived
-  for (;;) {
-    pollfd pfd{reader, POLLIN, 0};
-    if (::poll(&pfd, 1, 10000) <= 0) break;
-    char buf[8192];
-    const ssize_t n = ::recv(reader, buf, sizeof buf, 0);
-    if (n <= 0) break;  // the emulator finished and closed the connection
+  // Until the emulator finishes and closes the connection (or 10 s of silence).
+  test::read_with_deadline(reader, {120s, 10s}, [&](std::string_view chunk) {
     const std::size_t before = received.size();
-    received.append(buf, static_cast<std::size_t>(n));
+    received.append(chunk);
     for (std::size_t pos = received.find("RMC,", before >= 6 ? before - 6 : 0); pos != std::string::npos;
          pos = received.find("RMC,", pos + 1)) {
       arrivals.push_back(Clock::now());
     }
-  }
+    return false;
+  });
   EXPECT_EQ(gpsemu.wait(10s), 0) << gpsemu.stderr_text();
   ::close(stalled);
   ::close(reader);
@@ -85,16 +82,11 @@ TEST(NetEndToEndTest, UdpCarriesOneWholeEpochPerDatagram) {
   ::getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
   const std::string spec = "udp:127.0.0.1:" + std::to_string(ntohs(addr.sin_port));
   test::Process gpsemu({GPSEMU_BINARY, "--output", spec, "--rate", "5", "--duration", "1.2", "--log-level", "warn"});
-  std::vector<std::string> datagrams;
-  for (;;) {
-    pollfd pfd{fd, POLLIN, 0};
-    if (::poll(&pfd, 1, 3000) <= 0) break;
-    char buf[65536];
-    const ssize_t n = ::recv(fd, buf, sizeof buf, 0);
-    if (n <= 0) break;
-    datagrams.emplace_back(buf, static_cast<std::size_t>(n));
-    if (datagrams.size() == 6) break;
-  }
+  std::vector<std::string> datagrams;  // one read, one datagram
+  test::read_with_deadline(fd, {60s, 3s}, [&](std::string_view datagram) {
+    datagrams.emplace_back(datagram);
+    return datagrams.size() == 6;
+  });
   EXPECT_EQ(gpsemu.wait(10s), 0) << gpsemu.stderr_text();
   ::close(fd);
   ASSERT_EQ(datagrams.size(), 6u);

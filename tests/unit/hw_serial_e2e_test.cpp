@@ -13,6 +13,7 @@
 
 #include "tests/support/nmea_check.hpp"
 #include "tests/support/process.hpp"
+#include "tests/support/read_deadline.hpp"
 #include "tests/support/socat_pair.hpp"
 
 namespace gpsemu {

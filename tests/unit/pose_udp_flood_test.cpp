@@ -9,7 +9,6 @@
 #include <arpa/inet.h>
 #include <fcntl.h>
 #include <netinet/in.h>
-#include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -33,6 +32,7 @@
 
 #include "nmea/parse.hpp"
 #include "tests/support/process.hpp"
+#include "tests/support/read_deadline.hpp"
 
 namespace gpsemu {
 namespace {
@@ -160,17 +160,12 @@ TEST(PoseUdpFloodTest, HundredThousandMalformedDatagramsLeaveEveryEpochWithTheSe
   });
 
   EpochReader reader;
-  auto read_for = [&](std::chrono::steady_clock::duration d, const std::function<bool()>& done) {
-    const auto until = std::chrono::steady_clock::now() + d;
-    while (std::chrono::steady_clock::now() < until && !done()) {
-      pollfd p{pty, POLLIN, 0};
-      ::poll(&p, 1, 50);
-      char buf[8192];
-      ssize_t n;
-      while ((n = ::read(pty, buf, sizeof buf)) > 0) reader.feed(std::string_view(buf, static_cast<std::size_t>(n)));
-      if (n == 0 || (n < 0 && errno != EAGAIN && errno != EINTR)) return false;  // the pty went away
-    }
-    return true;
+  // Reads the pty for `d` or until `done()` holds after a read (or the pty goes away).
+  auto read_for = [&](std::chrono::milliseconds d, const std::function<bool()>& done) {
+    test::read_with_deadline(pty, {d}, [&](std::string_view chunk) {
+      reader.feed(chunk);
+      return done();
+    });
   };
   auto has_fix = [&] { return !reader.epochs().empty() && reader.epochs().back().fix; };
   read_for(20s, has_fix);
@@ -193,6 +188,7 @@ TEST(PoseUdpFloodTest, HundredThousandMalformedDatagramsLeaveEveryEpochWithTheSe
     flood_done.store(true);
   });
   const auto flood_start = std::chrono::steady_clock::now();
+  // The flood thread ends while epochs keep coming, so a read follows within 100 ms.
   read_for(120s, [&] { return flood_done.load(); });
   flood.join();
   const double flood_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - flood_start).count();

@@ -21,7 +21,7 @@
 #include "emulator/replay/replay_log.hpp"
 #include "nmea/sentences.hpp"
 #include "tests/support/process.hpp"
-#include "tests/support/timed_process.hpp"
+#include "tests/support/read_deadline.hpp"
 
 namespace gpsemu::replay {
 namespace {
@@ -108,7 +108,7 @@ Received split(const std::vector<test::Chunk>& chunks, const std::vector<std::st
 TEST(ReplayEndToEnd, AtSpeed10EveryEpochComesOutInOrderUnchangedOneWriteEach100msApart) {
   std::vector<std::string> expected;
   const auto log = write("messy.nmea", messy_log(30, expected));
-  test::TimedProcess gpsemu({GPSEMU_BINARY, "replay", log.string(), "--speed", "10", "--output", "stdout"});
+  test::Process gpsemu({GPSEMU_BINARY, "replay", log.string(), "--speed", "10", "--output", "stdout"});
   ASSERT_EQ(gpsemu.wait(seconds(30)), 0) << gpsemu.stderr_text();
   const Received got = split(gpsemu.chunks(), expected);
   ASSERT_EQ(got.epochs.size(), expected.size()) << gpsemu.stdout_text();
@@ -140,7 +140,7 @@ TEST(ReplayEndToEnd, RetimeGivesValidChecksumsAndPresentDayTimesOneSecondApart) 
   std::vector<std::string> expected;
   const auto log = write("retime.nmea", messy_log(6, expected));
   const double before = test::realtime_now_s();
-  test::TimedProcess gpsemu({GPSEMU_BINARY, "replay", log.string(), "--speed", "10", "--retime", "--output", "stdout"});
+  test::Process gpsemu({GPSEMU_BINARY, "replay", log.string(), "--speed", "10", "--retime", "--output", "stdout"});
   ASSERT_EQ(gpsemu.wait(seconds(30)), 0) << gpsemu.stderr_text();
   const double after = test::realtime_now_s();
   const std::string out = gpsemu.stdout_text();
@@ -178,8 +178,8 @@ TEST(ReplayEndToEnd, TeeRecordsEverythingSentWithSendTimesAndReplaysToTheSameByt
   const auto log = write("tee_in.nmea", messy_log(8, expected));
   const auto tee = temp_dir() / "session.tee";
   const double before = test::realtime_now_s();
-  test::TimedProcess gpsemu({GPSEMU_BINARY, "replay", log.string(), "--speed", "20", "--output", "stdout", "--tee",
-                             tee.string()});
+  test::Process gpsemu({GPSEMU_BINARY, "replay", log.string(), "--speed", "20", "--output", "stdout", "--tee",
+                        tee.string()});
   ASSERT_EQ(gpsemu.wait(seconds(30)), 0) << gpsemu.stderr_text();
   const std::string text = read(tee);
   std::string without_comments;
@@ -233,8 +233,8 @@ TEST(ReplayEndToEnd, APtyOutputCarriesTheEpochsUnchanged) {
   std::vector<std::string> expected;
   const auto log = write("pty.nmea", messy_log(10, expected));
   const auto link = temp_dir() / "gps";
-  test::TimedProcess gpsemu({GPSEMU_BINARY, "replay", log.string(), "--speed", "10", "--loop", "--duration", "60",
-                             "--output", "pty:" + link.string()});
+  test::Process gpsemu({GPSEMU_BINARY, "replay", log.string(), "--speed", "10", "--loop", "--duration", "60",
+                        "--output", "pty:" + link.string()});
   ASSERT_TRUE(gpsemu.wait_for_stderr("NMEA on", seconds(10))) << gpsemu.stderr_text();
   const int fd = ::open(link.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK);
   ASSERT_GE(fd, 0) << link;
@@ -242,15 +242,7 @@ TEST(ReplayEndToEnd, APtyOutputCarriesTheEpochsUnchanged) {
   tcgetattr(fd, &t);
   cfmakeraw(&t);
   tcsetattr(fd, TCSANOW, &t);
-  std::string got;
-  const auto until = steady_clock::now() + milliseconds(1500);
-  while (steady_clock::now() < until) {
-    pollfd p{fd, POLLIN, 0};
-    if (poll(&p, 1, 50) <= 0) continue;
-    char buf[4096];
-    const ssize_t n = ::read(fd, buf, sizeof buf);
-    if (n > 0) got.append(buf, static_cast<std::size_t>(n));
-  }
+  const std::string got = test::read_with_deadline(fd, {milliseconds(1500)}).bytes;
   ::close(fd);
   gpsemu.signal(SIGTERM);
   EXPECT_EQ(gpsemu.wait(seconds(10)), 0) << gpsemu.stderr_text();

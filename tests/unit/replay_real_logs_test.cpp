@@ -18,7 +18,7 @@
 
 #include "emulator/replay/replay_log.hpp"
 #include "nmea/sentences.hpp"
-#include "tests/support/timed_process.hpp"
+#include "tests/support/process.hpp"
 
 namespace gpsemu::replay {
 namespace {
@@ -88,7 +88,7 @@ void replay_real_log(const std::string& name, std::size_t expected_epochs) {
     std::istringstream words(extra);
     for (std::string w; words >> w;) argv.push_back(w);
   }
-  test::TimedProcess gpsemu(argv);
+  test::Process gpsemu(argv);
   ASSERT_EQ(gpsemu.wait(milliseconds(static_cast<int>(log_span_s * 100.0) + 30'000)), 0) << gpsemu.stderr_text();
   std::string all;
   std::vector<std::pair<std::size_t, double>> starts;

@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/nmea_check.hpp"
+#include "tests/support/read_deadline.hpp"
 #include "transport/pty_output.hpp"
 
 namespace gpsemu::transport {
@@ -55,55 +57,19 @@ Fd open_client(const fs::path& path) {
   return fd;
 }
 
-/// Reads until `want` bytes arrived or `timeout` passed.
+/// Reads until `want` bytes arrived or `timeout` passed; a failed read is a test failure.
 std::string read_exactly(int fd, std::size_t want, std::chrono::milliseconds timeout = 2s) {
-  std::string got;
-  const auto deadline = Clock::now() + timeout;
-  while (got.size() < want) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
-    if (left.count() <= 0) break;
-    pollfd pfd{fd, POLLIN, 0};
-    if (::poll(&pfd, 1, static_cast<int>(left.count())) <= 0) break;
-    char buf[4096];
-    const ssize_t n = ::read(fd, buf, std::min(sizeof buf, want - got.size()));
-    if (n > 0) got.append(buf, static_cast<std::size_t>(n));
-    if (n < 0 && errno != EAGAIN && errno != EINTR) {
-      ADD_FAILURE() << "read: " << std::strerror(errno);
-      break;
-    }
-  }
-  return got;
+  const test::ReadResult r = test::read_with_deadline(fd, {timeout, std::nullopt, want});
+  EXPECT_EQ(r.error, 0) << "read: " << std::strerror(r.error);
+  return r.bytes;
 }
 
 /// Reads everything that arrives until nothing more comes for `quiet`.
 std::string read_until_quiet(int fd, std::chrono::milliseconds quiet = 200ms) {
-  std::string got;
-  for (;;) {
-    pollfd pfd{fd, POLLIN, 0};
-    if (::poll(&pfd, 1, static_cast<int>(quiet.count())) <= 0) return got;
-    char buf[4096];
-    const ssize_t n = ::read(fd, buf, sizeof buf);
-    if (n <= 0) return got;
-    got.append(buf, static_cast<std::size_t>(n));
-  }
+  return test::read_available(fd, quiet, 60s);
 }
 
-std::string sentence(const std::string& body) {
-  unsigned sum = 0;
-  for (const char c : body) sum ^= static_cast<unsigned char>(c);
-  char tail[8];
-  std::snprintf(tail, sizeof tail, "*%02X\r\n", sum);
-  return "$" + body + tail;
-}
-
-/// One 10 Hz epoch (GGA + RMC) whose time field is 12:00:00.0 + k/10 s.
-std::string epoch(int k) {
-  char time[16];
-  std::snprintf(time, sizeof time, "12%02d%02d.%d0", (k / 600) % 60, (k / 10) % 60, k % 10);
-  const std::string t = time;
-  return sentence("GPGGA," + t + ",4717.11399,N,00833.91590,E,1,08,0.9,545.4,M,46.9,M,,") +
-         sentence("GPRMC," + t + ",A,4717.11399,N,00833.91590,E,0.004,77.52,091202,,,A");
-}
+using test::epoch;
 
 class PtyOutputTest : public ::testing::Test {
  protected:

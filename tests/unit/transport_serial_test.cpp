@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "tests/support/nmea_check.hpp"
+#include "tests/support/read_deadline.hpp"
 #include "tests/support/socat_pair.hpp"
 #include "transport/output_spec.hpp"
 #include "transport/serial_budget.hpp"
@@ -32,22 +33,7 @@ namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
 
-std::string sentence(const std::string& body) {
-  unsigned sum = 0;
-  for (const char c : body) sum ^= static_cast<unsigned char>(c);
-  char tail[8];
-  std::snprintf(tail, sizeof tail, "*%02X\r\n", sum);
-  return "$" + body + tail;
-}
-
-/// One 10 Hz epoch (GGA + RMC, about 140 bytes) stamped 12:00:00.0 + k/10 s.
-std::string epoch(int k) {
-  char time[16];
-  std::snprintf(time, sizeof time, "12%02d%02d.%d0", (k / 600) % 60, (k / 10) % 60, k % 10);
-  const std::string t = time;
-  return sentence("GPGGA," + t + ",4717.11399,N,00833.91590,E,1,08,0.9,545.4,M,46.9,M,,") +
-         sentence("GPRMC," + t + ",A,4717.11399,N,00833.91590,E,0.004,77.52,091202,,,A");
-}
+using test::epoch;
 
 // ---------------------------------------------------------------------------------------------
 // Line budget

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "tests/support/nmea_check.hpp"
+#include "tests/support/read_deadline.hpp"
 #include "transport/output_spec.hpp"
 #include "transport/tcp_output.hpp"
 
@@ -25,21 +26,7 @@ namespace {
 using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
 
-std::string sentence(const std::string& body) {
-  unsigned sum = 0;
-  for (const char c : body) sum ^= static_cast<unsigned char>(c);
-  char tail[8];
-  std::snprintf(tail, sizeof tail, "*%02X\r\n", sum);
-  return "$" + body + tail;
-}
-
-std::string epoch(int k) {
-  char time[16];
-  std::snprintf(time, sizeof time, "12%02d%02d.%d0", (k / 600) % 60, (k / 10) % 60, k % 10);
-  const std::string t = time;
-  return sentence("GPGGA," + t + ",4717.11399,N,00833.91590,E,1,08,0.9,545.4,M,46.9,M,,") +
-         sentence("GPRMC," + t + ",A,4717.11399,N,00833.91590,E,0.004,77.52,091202,,,A");
-}
+using test::epoch;
 
 /// A client socket connected to 127.0.0.1:port; `receive_buffer` > 0 shrinks SO_RCVBUF first.
 int connect_client(std::uint16_t port, int receive_buffer = 0) {
@@ -69,21 +56,7 @@ bool service_until(TcpOutput& out, Done done, std::chrono::milliseconds timeout 
   return true;
 }
 
-std::string read_exactly(int fd, std::size_t want, std::chrono::milliseconds timeout = 2s) {
-  std::string got;
-  const auto deadline = Clock::now() + timeout;
-  while (got.size() < want) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
-    if (left.count() <= 0) break;
-    pollfd pfd{fd, POLLIN, 0};
-    if (::poll(&pfd, 1, static_cast<int>(left.count())) <= 0) break;
-    char buf[8192];
-    const ssize_t n = ::recv(fd, buf, std::min(sizeof buf, want - got.size()), MSG_DONTWAIT);
-    if (n <= 0) break;
-    got.append(buf, static_cast<std::size_t>(n));
-  }
-  return got;
-}
+using test::read_exactly;
 
 TEST(TcpOutputTest, EachClientGetsWholeEpochsFromTheFirstAfterItConnects) {
   TcpOutput out("127.0.0.1", 0);
@@ -148,15 +121,7 @@ TEST(TcpOutputTest, StalledClientIsDroppedWithoutDelayingTheOtherOrTheWriter) {
   }
   // What the stalled client had received before it was cut off is whole sentences up to the
   // last complete one (the connection ends; a reader sees end of file).
-  std::string stalled_got;
-  for (;;) {
-    char buf[65536];
-    pollfd pfd{stalled, POLLIN, 0};
-    if (::poll(&pfd, 1, 1000) <= 0) break;
-    const ssize_t n = ::recv(stalled, buf, sizeof buf, 0);
-    if (n <= 0) break;
-    stalled_got.append(buf, static_cast<std::size_t>(n));
-  }
+  const std::string stalled_got = test::read_available(stalled, 1000ms, 60s);
   const test::SplitResult split = test::split_sentences(stalled_got);
   EXPECT_EQ(split.invalid, 0u);
   EXPECT_GT(split.sentences.size(), 0u);

@@ -3,18 +3,21 @@
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
-#include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <stdexcept>
 #include <string>
 
+#include "tests/support/read_deadline.hpp"
 #include "transport/output_spec.hpp"
 #include "transport/udp_output.hpp"
 
 namespace gpsemu::transport {
 namespace {
+
+using namespace std::chrono_literals;
 
 /// A bound UDP socket on 127.0.0.1 (any port); returns {fd, port}.
 std::pair<int, std::uint16_t> bind_receiver() {
@@ -29,11 +32,11 @@ std::pair<int, std::uint16_t> bind_receiver() {
 }
 
 std::string receive_datagram(int fd) {
-  pollfd pfd{fd, POLLIN, 0};
-  if (::poll(&pfd, 1, 2000) <= 0) return "(nothing)";
-  char buf[65536];
-  const ssize_t n = ::recv(fd, buf, sizeof buf, 0);
-  return n < 0 ? "(error)" : std::string(buf, static_cast<std::size_t>(n));
+  bool received = false;
+  const test::ReadResult r = test::read_with_deadline(fd, {2s}, [&](std::string_view) {
+    return received = true;  // one read, one datagram
+  });
+  return received ? r.bytes : r.error != 0 ? "(error)" : "(nothing)";
 }
 
 TEST(UdpOutputTest, OneDatagramAnEpoch) {
