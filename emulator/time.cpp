@@ -62,6 +62,11 @@ UtcNs parse_iso8601_utc(std::string_view text) {
   if (!ymd.ok() || hh > 23 || mm > 59 || ss > 59) {
     throw std::invalid_argument(fmt::format("'{}' is not a valid date and time", whole));
   }
+  // UtcNs (64-bit nanoseconds) holds 1677..2262; later code adds durations of up to decades.
+  constexpr int kMinYear = 1970, kMaxYear = 2199;
+  if (y < kMinYear || y > kMaxYear) {
+    throw std::invalid_argument(fmt::format("'{}': the year must be {}..{}", whole, kMinYear, kMaxYear));
+  }
   return UtcNs{sys_days{ymd}} + hours{hh} + minutes{mm} + seconds{ss} + nanoseconds{frac_ns};
 }
 

@@ -104,7 +104,16 @@ EnuSeries to_enu_series(ReceiverLog& log) {
   const double n = static_cast<double>(log.fixes.size());
   out.centre = {c.lat_deg / n, wrap_lon_deg(lon0 + c.lon_deg / n), c.alt_m / n};
 
-  const auto last = static_cast<std::size_t>(std::llround(log.fixes.back().time_s * out.rate_hz));
+  // Every grid epoch from the first fix to the last gets a sample: refuse a span (a log whose times
+  // jump ahead by days, or a corrupt one) that would take gigabytes.
+  constexpr double kMaxEpochs = 1e7;
+  const double span_epochs = log.fixes.back().time_s * out.rate_hz;
+  if (!(span_epochs < kMaxEpochs)) {
+    throw std::invalid_argument(fmt::format(
+        "the log's fixes span {:.0f} s, {:.0f} epochs at {} Hz: calibration takes at most {:.0f} epochs of one "
+        "continuous recording", log.fixes.back().time_s, span_epochs, out.rate_hz, kMaxEpochs));
+  }
+  const auto last = static_cast<std::size_t>(std::llround(span_epochs));
   for (auto& a : out.axis_m) a.assign(last + 1, std::numeric_limits<double>::quiet_NaN());
   const LocalFrame frame(out.centre);
   std::size_t filled = 0;

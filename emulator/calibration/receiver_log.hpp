@@ -57,7 +57,8 @@ struct EnuSeries {
 
 /// Puts the fixes on their grid: rate from the median interval between fixes, index
 /// round((t - t0) * rate); a second fix on an index already taken counts as repeated. Fills
-/// `log.counts.missing_epochs`. Throws std::invalid_argument when fewer than 16 fixes remain.
+/// `log.counts.missing_epochs`. Throws std::invalid_argument when fewer than 16 fixes remain or
+/// the fixes span 10 million grid epochs or more.
 [[nodiscard]] EnuSeries to_enu_series(ReceiverLog& log);
 
 }  // namespace gpsemu::calibration

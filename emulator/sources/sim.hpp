@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <iosfwd>
 #include <memory>
 #include <string>
 #include <vector>
@@ -30,6 +31,9 @@ struct Waypoint {
 /// Reads a waypoint CSV (see README "Waypoint files"). Throws std::runtime_error naming the file
 /// and line of the first problem.
 [[nodiscard]] std::vector<Waypoint> read_waypoints(const std::filesystem::path& path,
+                                                   const LocalFrame& frame, double default_speed_mps);
+/// The same from a stream; `name` stands for the file in messages.
+[[nodiscard]] std::vector<Waypoint> read_waypoints(std::istream& in, const std::string& name,
                                                    const LocalFrame& frame, double default_speed_mps);
 
 /// `name` is what follows "sim:" in --source: stationary, line, circle, waypoints:FILE.

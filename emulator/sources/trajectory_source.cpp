@@ -6,9 +6,12 @@
 #include <fstream>
 #include <map>
 #include <set>
+#include <istream>
 #include <stdexcept>
 
 #include <fmt/format.h>
+
+#include "emulator/sources/pose_message.hpp"
 
 namespace gpsemu::sources {
 namespace {
@@ -101,14 +104,19 @@ Columns read_header(const std::vector<std::string>& cells, const std::string& wh
 Trajectory read_trajectory_csv(const std::filesystem::path& path, const LocalFrame& frame, UtcNs first_epoch) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(fmt::format("cannot open trajectory file '{}'", path.string()));
+  return read_trajectory_csv(in, path.string(), frame, first_epoch);
+}
+
+Trajectory read_trajectory_csv(std::istream& in, const std::string& name, const LocalFrame& frame,
+                               UtcNs first_epoch) {
   Trajectory trajectory;
-  trajectory.path = path.string();
+  trajectory.path = name;
   std::optional<Columns> columns;
   std::string line;
   int line_no = 0;
   while (std::getline(in, line)) {
     ++line_no;
-    const std::string where = fmt::format("{}:{}", path.string(), line_no);
+    const std::string where = fmt::format("{}:{}", name, line_no);
     const std::string content = trim(line);
     if (content.empty() || content[0] == '#') continue;
     const auto cells = split_csv(content);
@@ -121,10 +129,18 @@ Trajectory read_trajectory_csv(const std::filesystem::path& path, const LocalFra
       throw std::runtime_error(
           fmt::format("{}: {} values where the header names {}", where, cells.size(), columns->count));
     }
-    auto cell = [&](const char* name) -> std::optional<double> {
-      const auto it = columns->index.find(name);
+    auto cell = [&](const char* column) -> std::optional<double> {
+      const auto it = columns->index.find(column);
       if (it == columns->index.end()) return std::nullopt;
-      return to_number(cells[it->second], where, name);
+      return to_number(cells[it->second], where, column);
+    };
+    // A value within +-limit (local metres, metres per second), as for socket poses.
+    auto limited = [&](const char* column, double limit, const char* unit) -> std::optional<double> {
+      const auto value = cell(column);
+      if (value && std::abs(*value) > limit) {
+        throw std::runtime_error(fmt::format("{}: column {}: {} is outside +-{:g} {}", where, column, *value, limit, unit));
+      }
+      return value;
     };
     TrajectoryPoint p;
     if (columns->absolute_time) {
@@ -143,20 +159,30 @@ Trajectory read_trajectory_csv(const std::filesystem::path& path, const LocalFra
       const double lat = *cell("lat_deg"), lon = *cell("lon_deg");
       if (lat < -90.0 || lat > 90.0) throw std::runtime_error(fmt::format("{}: latitude {} outside [-90, 90]", where, lat));
       if (lon < -180.0 || lon > 180.0) throw std::runtime_error(fmt::format("{}: longitude {} outside [-180, 180]", where, lon));
-      p.position_m = frame.to_enu({lat, lon, cell("alt_m").value_or(frame.origin().alt_m)});
+      const double alt = cell("alt_m").value_or(frame.origin().alt_m);
+      if (alt < kMinAltM || alt > kMaxAltM) {
+        throw std::runtime_error(fmt::format("{}: column alt_m: {} is outside [{:g}, {:g}] metres", where, alt,
+                                             kMinAltM, kMaxAltM));
+      }
+      p.position_m = frame.to_enu({lat, lon, alt});
     } else {
-      p.position_m = {*cell("east_m"), *cell("north_m"), cell("up_m").value_or(0.0)};
+      p.position_m = {*limited("east_m", kMaxLocalCoordinateM, "metres"),
+                      *limited("north_m", kMaxLocalCoordinateM, "metres"),
+                      limited("up_m", kMaxLocalCoordinateM, "metres").value_or(0.0)};
     }
-    if (columns->velocity) p.velocity_mps = Enu{*cell("ve_mps"), *cell("vn_mps"), cell("vu_mps").value_or(0.0)};
+    if (columns->velocity) {
+      p.velocity_mps = Enu{*limited("ve_mps", kMaxSpeedMps, "m/s"), *limited("vn_mps", kMaxSpeedMps, "m/s"),
+                           limited("vu_mps", kMaxSpeedMps, "m/s").value_or(0.0)};
+    }
     if (!trajectory.points.empty() && p.time <= trajectory.points.back().time) {
       throw std::runtime_error(fmt::format("{}: time {} is not after the previous row's: times must increase",
                                            where, cells[columns->index.at(columns->absolute_time ? "utc" : "time_s")]));
     }
     trajectory.points.push_back(p);
   }
-  if (!columns) throw std::runtime_error(fmt::format("trajectory file '{}' is empty (no header)", path.string()));
+  if (!columns) throw std::runtime_error(fmt::format("trajectory file '{}' is empty (no header)", name));
   if (trajectory.points.size() < 2) {
-    throw std::runtime_error(fmt::format("trajectory file '{}' has {} rows: at least 2 are needed", path.string(),
+    throw std::runtime_error(fmt::format("trajectory file '{}' has {} rows: at least 2 are needed", name,
                                          trajectory.points.size()));
   }
   return trajectory;

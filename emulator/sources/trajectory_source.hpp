@@ -14,11 +14,14 @@
 //     east_m,north_m[,up_m]         metres about --origin (x_m,y_m,z_m accepted for the same)
 //   velocity  optional: ve_mps,vn_mps[,vu_mps] East/North/Up, metres per second. Without them
 //             the velocity is the track's: constant along each segment between two rows.
+// Values are limited as for socket poses (pose_message.hpp): local coordinates within 1e7 m,
+// altitude -1e4..1e6 m, velocity components within 1e4 m/s.
 // At least two rows. Between rows the position (and velocity) is interpolated linearly; before
 // the first row the receiver reports no fix; after the last row the run ends.
 #pragma once
 
 #include <filesystem>
+#include <iosfwd>
 #include <memory>
 #include <optional>
 #include <string>
@@ -47,6 +50,9 @@ struct Trajectory {
 /// naming the file and line ("drive.csv:7: ...") of the first problem, or the file when it cannot
 /// be opened or holds fewer than two rows.
 [[nodiscard]] Trajectory read_trajectory_csv(const std::filesystem::path& path, const LocalFrame& frame,
+                                             UtcNs first_epoch);
+/// The same from a stream; `name` stands for the file's path in messages and in Trajectory::path.
+[[nodiscard]] Trajectory read_trajectory_csv(std::istream& in, const std::string& name, const LocalFrame& frame,
                                              UtcNs first_epoch);
 
 class TrajectorySource final : public PoseSource {

@@ -4,10 +4,14 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <string>
+
+#include <fmt/format.h>
 
 #include "emulator/calibration/receiver_log.hpp"
 #include "emulator/calibration/series_stats.hpp"
 #include "emulator/noise/cgrw_fit.hpp"
+#include "nmea/sentences.hpp"
 #include "tests/support/calibration_logs.hpp"
 
 namespace gpsemu::calibration {
@@ -67,6 +71,26 @@ TEST(CalibrationLog, TooFewFixesIsAnError) {
   ReceiverLog empty = read_receiver_log("garbage\x01\x02 $GPGGA,,,,,,0,,,,,,,,*66\n");
   EXPECT_TRUE(empty.fixes.empty());
   EXPECT_THROW((void)to_enu_series(empty), std::invalid_argument);
+}
+
+// Found by nmea_log_fuzz: 20 fixes at 50 Hz, then times 13 h back five times (each taken as a
+// midnight) made a series of 21 million epochs per axis; a damaged log could exhaust memory.
+TEST(CalibrationLog, ASpanOfDaysIsRefusedNotAllocated) {
+  std::string text;
+  auto gga = [&text](const std::string& time) {
+    text += nmea::frame("GPGGA," + time + ",4304.33935,N,08924.74923,W,1,08,1.0,260.0,M,0.0,M,,");
+  };
+  for (int i = 0; i < 20; ++i) gga(fmt::format("1200{:05.2f}", i * 0.02));
+  for (const int hour : {23, 10, 21, 8, 19, 6, 17, 4, 15, 2}) gga(fmt::format("{:02}0000.00", hour));
+  ReceiverLog log = read_receiver_log(text);
+  ASSERT_EQ(log.fixes.size(), 30u);
+  try {
+    (void)to_enu_series(log);
+    ADD_FAILURE() << "a span of days at 50 Hz was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("epochs at 50 Hz: calibration takes at most 10000000 epochs"),
+              std::string::npos) << e.what();
+  }
 }
 
 TEST(CalibrationStats, GapsAreLeftOutOfDifferences) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "emulator/receiver.hpp"
 #include "emulator/sources/sim.hpp"
@@ -122,6 +123,37 @@ TEST(Waypoints, ErrorsNameTheFileAndLine) {
   }
   EXPECT_THROW((void)sources::make_sim_source("waypoints:/nonexistent.csv", {}, kFrame, kStart), std::runtime_error);
   EXPECT_THROW((void)sources::make_sim_source("spiral", {}, kFrame, kStart), std::invalid_argument);
+}
+
+// Found by waypoints_csv_fuzz: an empty required cell was dereferenced as a number (undefined
+// behaviour), and values beyond any real route produced infinite positions.
+TEST(Waypoints, BadValuesAreRefusedNamingLineAndColumn) {
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"lat_deg,lon_deg\n43,-89\n,-89\n", "w.csv:3: column lat_deg is empty"},
+      {"east_m,north_m\n1,\n", "w.csv:2: column north_m is empty"},
+      {"east_m,north_m,east_m\n1,2,3\n", "w.csv:1: column 'east_m' appears twice in the header"},
+      {"lat_deg,lon_deg\n43,-189\n", "w.csv:2: longitude -189 outside [-180, 180]"},
+      {"lat_deg,lon_deg,alt_m\n43,-89,1e300\n", "w.csv:2: alt_m 1e+300 outside [-10000, 1e+06] metres"},
+      {"east_m,north_m\n1e300,-1e300\n", "w.csv:2: east_m 1e+300 is outside +-1e+07 metres"},
+      {"east_m,north_m,up_m\n1,2,-2e7\n", "w.csv:2: up_m -20000000 is outside +-1e+07 metres"},
+      {"east_m,north_m,speed_mps\n1,2,1e5\n", "w.csv:2: speed_mps must be > 0 and <= 10000"},
+      {"east_m,north_m,speed_mps\n1,2,0\n", "w.csv:2: speed_mps must be > 0 and <= 10000"},
+      {"# only a header\neast_m,north_m\n", "waypoint file 'w.csv' has no waypoints"},
+  };
+  for (const auto& [text, message] : cases) {
+    std::istringstream in(text);
+    try {
+      (void)sources::read_waypoints(in, "w.csv", kFrame, 2.0);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const std::runtime_error& e) {
+      EXPECT_EQ(std::string(e.what()), message);
+    }
+  }
+  std::istringstream good("lat_deg,lon_deg,alt_m\n43.0725,-89.4125,\n");
+  const auto points = sources::read_waypoints(good, "w.csv", kFrame, 2.0);
+  ASSERT_EQ(points.size(), 1u);
+  EXPECT_NEAR(points[0].position_m.up_m, 0.0, 1e-6);  // an empty alt_m is the origin's
+  EXPECT_EQ(points[0].speed_mps, 2.0);
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 // The UTC epoch grid and ISO 8601 parsing.
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include "emulator/time.hpp"
 
 namespace gpsemu {
@@ -61,6 +63,22 @@ TEST(Iso8601, RejectsMalformedTimesWithTheTextInTheMessage) {
       ADD_FAILURE() << bad << " was accepted";
     } catch (const std::invalid_argument& e) {
       EXPECT_NE(std::string(e.what()).find(bad), std::string::npos) << e.what();
+    }
+  }
+}
+
+// Found by trajectory_csv_fuzz: year 1173 overflowed the 64-bit nanosecond count (undefined
+// behaviour). Years outside what UtcNs holds, with room for decades of durations, are refused.
+TEST(Iso8601, YearsOutsideTheRangeAreRefused) {
+  EXPECT_EQ(format_iso8601_utc(parse_iso8601_utc("1970-01-01T00:00:00Z")), "1970-01-01T00:00:00.000Z");
+  EXPECT_EQ(format_iso8601_utc(parse_iso8601_utc("2199-12-31T23:59:59.999Z")), "2199-12-31T23:59:59.999Z");
+  for (const char* bad : {"1173-05-01T12:00:00Z", "1969-12-31T23:59:59Z", "2200-01-01T00:00:00Z", "9999-12-31T00:00:00Z",
+                          "0000-01-01T00:00:00Z"}) {
+    try {
+      (void)parse_iso8601_utc(bad);
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_EQ(std::string(e.what()), fmt::format("'{}': the year must be 1970..2199", bad));
     }
   }
 }
