@@ -432,38 +432,33 @@ const std::vector<OptionDef>& option_table() {
   return table;
 }
 
-Config build_config(const std::optional<std::string>& config_file, const RawOptions& command_line) {
+namespace {
+
+/// Defaults, then the config file's keys (`file`, named `file_name` in messages) except those the
+/// command line gives, then the command line's, then the derived settings.
+Config build(const toml::table* file, const std::string& file_name, const RawOptions& command_line) {
   Config config;
   std::set<std::string> given_on_command_line;
   for (const auto& [name, values] : command_line) given_on_command_line.insert(name);
 
-  if (config_file) {
-    toml::table file;
-    try {
-      file = toml::parse_file(*config_file);
-    } catch (const toml::parse_error& e) {
-      throw ConfigError(fmt::format("config file {}:{}: {}", *config_file, e.source().begin.line,
-                                    e.description()));
-    } catch (const std::exception& e) {
-      throw ConfigError(fmt::format("config file {}: {}", *config_file, e.what()));
-    }
-    for (const auto& [key, node] : file) {
+  if (file) {
+    for (const auto& [key, node] : *file) {
       const std::string name{key.str()};
       const int line = static_cast<int>(node.source().begin.line);
       if (name == "receiver") {
-        config.receiver_tables = parse_receiver_tables(*config_file, node);
+        config.receiver_tables = parse_receiver_tables(file_name, node);
         continue;
       }
       const OptionDef* option = find_option(name);
       if (!option || name == "config") {
         throw ConfigError(fmt::format("config file {}:{}: unknown key '{}' (keys are the long flag names, "
-                                      "see gpsemu --help)", *config_file, line, name));
+                                      "see gpsemu --help)", file_name, line, name));
       }
       if (given_on_command_line.count(name)) continue;  // the command line wins
       try {
         option->apply(config, toml_to_strings(node, name));
       } catch (const std::exception& e) {
-        throw ConfigError(fmt::format("config file {}:{}: key '{}': {}", *config_file, line, name, e.what()));
+        throw ConfigError(fmt::format("config file {}:{}: key '{}': {}", file_name, line, name, e.what()));
       }
     }
   }
@@ -480,12 +475,12 @@ Config build_config(const std::optional<std::string>& config_file, const RawOpti
     const int tables = static_cast<int>(config.receiver_tables.size());
     if (tables > kMaxReceivers) {
       throw ConfigError(fmt::format("config file {}: {} [[receiver]] tables: at most {} receivers in one process",
-                                    *config_file, tables, kMaxReceivers));
+                                    file_name, tables, kMaxReceivers));
     }
     if (config.receivers_given && config.receivers != tables) {
       throw ConfigError(fmt::format("receivers is {} but config file {} has {} [[receiver]] tables: the tables make "
                                     "the receivers, so give one table per receiver or leave receivers out",
-                                    config.receivers, *config_file, tables));
+                                    config.receivers, file_name, tables));
     }
     config.receivers = tables;
   }
@@ -497,6 +492,36 @@ Config build_config(const std::optional<std::string>& config_file, const RawOpti
     throw ConfigError(e.what());
   }
   return config;
+}
+
+[[noreturn]] void throw_parse_error(const toml::parse_error& e, const std::string& file_name) {
+  throw ConfigError(fmt::format("config file {}:{}: {}", file_name, e.source().begin.line, e.description()));
+}
+
+}  // namespace
+
+Config build_config(const std::optional<std::string>& config_file, const RawOptions& command_line) {
+  if (!config_file) return build(nullptr, {}, command_line);
+  toml::table file;
+  try {
+    file = toml::parse_file(*config_file);
+  } catch (const toml::parse_error& e) {
+    throw_parse_error(e, *config_file);
+  } catch (const std::exception& e) {
+    throw ConfigError(fmt::format("config file {}: {}", *config_file, e.what()));
+  }
+  return build(&file, *config_file, command_line);
+}
+
+Config build_config_from_text(std::string_view toml_text, const std::string& source_name,
+                              const RawOptions& command_line) {
+  toml::table file;
+  try {
+    file = toml::parse(toml_text, source_name);
+  } catch (const toml::parse_error& e) {
+    throw_parse_error(e, source_name);
+  }
+  return build(&file, source_name, command_line);
 }
 
 void apply_receiver_table(Config& config, const ReceiverTable& table) {

@@ -7,6 +7,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "emulator/clock.hpp"
@@ -97,6 +98,11 @@ using RawOptions = std::vector<std::pair<std::string, std::vector<std::string>>>
 /// command line's. Also applies derived settings (the cgrw preset from width). Throws ConfigError.
 [[nodiscard]] Config build_config(const std::optional<std::string>& config_file,
                                   const RawOptions& command_line);
+
+/// The same with the config file's text given directly (no file is read, e.g. for fuzzing);
+/// `source_name` stands for the file's path in messages, which are otherwise build_config's.
+[[nodiscard]] Config build_config_from_text(std::string_view toml_text, const std::string& source_name,
+                                            const RawOptions& command_line);
 
 /// Applies one [[receiver]] table's keys to `config` (a copy of the shared settings), then the
 /// derived settings as build_config() does. Throws ConfigError naming the file, line and key.

@@ -83,3 +83,37 @@ TEST(Config, EveryOptionHasHelpWithAUnitOrDefault) {
 
 }  // namespace
 }  // namespace gpsemu
+
+namespace gpsemu {
+namespace {
+
+// build_config_from_text (what config_fuzz drives) gives the file's messages word for word.
+TEST(Config, TextAndFileGiveTheSameConfigAndMessages) {
+  const std::vector<std::string> texts{
+      "rate = 5\nlatency = 0.02\noutput = [\"stdout\", \"file:/tmp/x\"]\n",
+      "rate = 5\n\nrate = 6\n",                 // TOML error: a key defined twice
+      "speed_limit = 3\n",                      // unknown key
+      "rate = 20\ntime-decimals = 1\n",         // derived-setting error
+      "[[receiver]]\nseed = 3\n[[receiver]]\nrate = 2\n",  // a process-wide key in a receiver table
+  };
+  for (std::size_t i = 0; i < texts.size(); ++i) {
+    const std::string path = write_temp("text" + std::to_string(i) + ".toml", texts[i]);
+    std::string from_text = "(no error)";
+    try {
+      const Config c = build_config_from_text(texts[i], path, {{"seed", {"9"}}});
+      const Config f = build_config(path, {{"seed", {"9"}}});
+      EXPECT_EQ(c.rate_hz, f.rate_hz);
+      EXPECT_EQ(c.outputs, f.outputs);
+      EXPECT_EQ(c.seed, 9u);
+    } catch (const ConfigError& e) {
+      from_text = e.what();
+    }
+    EXPECT_EQ(from_text, error_of(path, {{"seed", {"9"}}})) << texts[i];
+    if (i > 0) {
+      EXPECT_NE(from_text, "(no error)") << texts[i];
+    }
+  }
+}
+
+}  // namespace
+}  // namespace gpsemu
