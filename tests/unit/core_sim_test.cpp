@@ -125,8 +125,8 @@ TEST(Waypoints, ErrorsNameTheFileAndLine) {
   EXPECT_THROW((void)sources::make_sim_source("spiral", {}, kFrame, kStart), std::invalid_argument);
 }
 
-// Found by waypoints_csv_fuzz: an empty required cell was dereferenced as a number (undefined
-// behaviour), and values beyond any real route produced infinite positions.
+// Found while writing waypoints_csv_fuzz: an empty required cell was dereferenced as a number
+// (undefined behaviour), and values beyond any real route produced infinite positions.
 TEST(Waypoints, BadValuesAreRefusedNamingLineAndColumn) {
   const std::vector<std::pair<std::string, std::string>> cases{
       {"lat_deg,lon_deg\n43,-89\n,-89\n", "w.csv:3: column lat_deg is empty"},

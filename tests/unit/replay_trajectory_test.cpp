@@ -111,7 +111,7 @@ TEST(TrajectoryCsv, BadFilesAreRefusedNamingFileAndLine) {
       {"time_s,east_m,north_m,ve_mps\n0,0,0,1\n", "bad9.csv:1: velocity needs both ve_mps and vn_mps"},
       {"time_s,east_m,north_m\n0,0,0\n", "has 1 rows: at least 2 are needed"},
       {"", "is empty (no header)"},
-      // Beyond any real trajectory: found by trajectory_csv_fuzz as infinite positions and speeds.
+      // Beyond any real trajectory (infinite interpolated positions and speeds before the limits).
       {"time_s,east_m,north_m\n0,1e300,0\n1,-1e300,0\n", "bad12.csv:2: column east_m: 1e+300 is outside +-1e+07 metres"},
       {"time_s,lat_deg,lon_deg,alt_m\n0,0,0,2e6\n", "bad13.csv:2: column alt_m: 2000000 is outside [-10000, 1e+06] metres"},
       {"time_s,east_m,north_m,ve_mps,vn_mps\n0,0,0,0,-2e4\n", "bad14.csv:2: column vn_mps: -20000 is outside +-10000 m/s"},
