@@ -1,6 +1,7 @@
-# cmake -DBUILD_DIR=... -DCONSUMER_SOURCE=... -DWORK_DIR=... -DGENERATOR=... -P run.cmake
+# cmake -DBUILD_DIR=... -DCONSUMER_SOURCE=... -DWORK_DIR=... -DGENERATOR=... [-DCONSUMER_LINK_FLAGS=...] -P run.cmake
 # Installs the gpsemu build into WORK_DIR/prefix, then configures, builds and runs the example
 # consumer against it with find_package(gpsemu) (CMAKE_PREFIX_PATH = that prefix only).
+# CONSUMER_LINK_FLAGS: linker flags for the consumer (the sanitizer runtimes, for an instrumented build).
 function(step)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(NOT rc EQUAL 0)
@@ -18,7 +19,8 @@ foreach(f include/gpsemu/emulator/gpsemu.hpp include/gpsemu/nmea/parse.hpp lib/c
   endif()
 endforeach()
 step(${CMAKE_COMMAND} -S ${CONSUMER_SOURCE} -B ${WORK_DIR}/build -G ${GENERATOR}
-     -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DCMAKE_FIND_PACKAGE_NO_PACKAGE_REGISTRY=ON)
+     -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DCMAKE_FIND_PACKAGE_NO_PACKAGE_REGISTRY=ON
+     "-DCMAKE_EXE_LINKER_FLAGS=${CONSUMER_LINK_FLAGS}")
 step(${CMAKE_COMMAND} --build ${WORK_DIR}/build -j 1)
 step(${WORK_DIR}/build/consumer)
 message("${step_output}")
