@@ -192,12 +192,17 @@ TEST(PoseUdpFloodTest, HundredThousandMalformedDatagramsLeaveEveryEpochWithTheSe
   read_for(120s, [&] { return flood_done.load(); });
   flood.join();
   const double flood_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - flood_start).count();
-  // Valid poses for 1.5 s more (so the kernel's drop count arrives with a later datagram), then
-  // stop them, give gpsemu time to read the last one, and stop gpsemu while its fix still holds.
-  read_for(1500ms, [] { return false; });
+  // Valid poses for 15 epochs more (so the kernel's drop count arrives with a later datagram),
+  // then stop them; 3 epochs later gpsemu has waited for an epoch (servicing the socket) since
+  // the last pose arrived; stop it while its fix still holds (--pose-timeout 5).
+  auto epochs_after = [&](std::size_t n) {
+    const std::size_t target = reader.epochs().size() + n;
+    return [&reader, target] { return reader.epochs().size() >= target; };
+  };
+  read_for(30s, epochs_after(15));
   stop_valid.store(true);
   valid.join();
-  read_for(300ms, [] { return false; });
+  read_for(30s, epochs_after(3));
   gpsemu.signal(SIGTERM);
   read_for(10s, [] { return false; });
   ::close(pty);
