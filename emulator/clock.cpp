@@ -1,11 +1,14 @@
 #include "emulator/clock.hpp"
 
 #include <poll.h>
+#include <sys/timerfd.h>
 #include <time.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -13,8 +16,6 @@
 
 namespace gpsemu {
 namespace {
-
-constexpr auto kSleepMargin = std::chrono::milliseconds(2);  ///< the last stretch is clock_nanosleep
 
 double seconds(std::chrono::nanoseconds d) { return std::chrono::duration<double>(d).count(); }
 
@@ -58,49 +59,96 @@ UtcNs system_utc_now() {
 
 // ---- SystemClockIo ----------------------------------------------------------------------------
 
-SystemClockIo::SystemClockIo(std::function<std::vector<int>()> fds, std::function<void()> service)
-    : fds_(std::move(fds)), service_(std::move(service)) {}
+SystemClockIo::SystemClockIo(FdLister fds, ReadyServicer service)
+    : SystemClockIo(std::move(fds), std::function<void()>{}) {
+  service_ready_ = std::move(service);
+}
 
-void SystemClockIo::poll_once(std::chrono::nanoseconds timeout) {
-  // Rebuilt each time: servicing may close a descriptor (a client went away) or open one.
-  std::vector<pollfd> fds;
-  for (const int fd : fds_()) fds.push_back({fd, POLLIN, 0});
-  const auto ms = std::chrono::ceil<std::chrono::milliseconds>(timeout).count();
-  const int ready = ::poll(fds.data(), fds.size(), static_cast<int>(std::max<std::int64_t>(ms, 0)));
-  if (ready > 0) service_();
+SystemClockIo::SystemClockIo(FdLister fds, std::function<void()> service)
+    : fds_(std::move(fds)), service_(std::move(service)) {
+  timer_fd_ = ::timerfd_create(CLOCK_REALTIME, TFD_CLOEXEC | TFD_NONBLOCK);
+  if (timer_fd_ < 0) {
+    throw std::runtime_error(fmt::format("cannot create a CLOCK_REALTIME timerfd: {}", std::strerror(errno)));
+  }
+}
+
+SystemClockIo::~SystemClockIo() {
+  if (timer_fd_ >= 0) ::close(timer_fd_);
+}
+
+void SystemClockIo::build_poll_list(bool with_timer) {
+  fd_list_.clear();
+  fds_(fd_list_);
+  poll_list_.clear();
+  if (with_timer) poll_list_.push_back({timer_fd_, POLLIN, 0});
+  for (const int fd : fd_list_) poll_list_.push_back({fd, POLLIN, 0});
+}
+
+void SystemClockIo::service_polled() {
+  if (!service_ready_) {
+    if (service_) service_();
+    return;
+  }
+  const std::size_t first = poll_list_.size() - fd_list_.size();  // after the timer, if listed
+  for (std::size_t k = first; k < poll_list_.size(); ++k) {
+    if (poll_list_[k].revents != 0) service_ready_(k - first);
+  }
 }
 
 void SystemClockIo::sleep_until(UtcNs deadline, const std::atomic<bool>& stop) {
-  while (!stop.load()) {
-    const auto remaining = deadline - system_utc_now();
-    if (remaining <= kSleepMargin) break;
-    poll_once(std::chrono::floor<std::chrono::milliseconds>(remaining - kSleepMargin));
-  }
+  if (stop.load() || system_utc_now() >= deadline) return;
   const std::int64_t ns = deadline.time_since_epoch().count();
-  const timespec ts{static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};
-  while (!stop.load() && clock_nanosleep(CLOCK_REALTIME, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+  itimerspec when{};
+  when.it_value = {static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};
+  if (::timerfd_settime(timer_fd_, TFD_TIMER_ABSTIME, &when, nullptr) != 0) {
+    // Cannot happen with a valid descriptor and time; sleep without servicing rather than spin.
+    while (!stop.load() && clock_nanosleep(CLOCK_REALTIME, TIMER_ABSTIME, &when.it_value, nullptr) == EINTR) {
+    }
+    return;
   }
+  while (!stop.load()) {
+    // Rebuilt each time: servicing may close a descriptor (a client went away) or open one.
+    build_poll_list(true);
+    const int ready = ::poll(poll_list_.data(), poll_list_.size(), -1);
+    if (ready < 0) continue;  // EINTR: a signal; the stop flag says whether to go on
+    ++wakeups_;
+    if (poll_list_.front().revents & POLLIN) {
+      std::uint64_t expirations = 0;
+      (void)!::read(timer_fd_, &expirations, sizeof expirations);
+      return;
+    }
+    // Input at or after the deadline waits for the next wait: the deadline's work goes first
+    // (and another thread may be writing to the outputs from the deadline on).
+    if (system_utc_now() >= deadline) break;
+    service_polled();
+    bool input = false;
+    for (std::size_t k = 1; k < poll_list_.size(); ++k) input = input || (poll_list_[k].revents & POLLIN);
+    if (!input) {
+      // Only hang-up/error conditions, which poll() keeps reporting until the owner closes the
+      // descriptor: wait for the timer alone for 1 ms instead of spinning on them.
+      pollfd timer{timer_fd_, POLLIN, 0};
+      if (::poll(&timer, 1, 1) > 0) {
+        std::uint64_t expirations = 0;
+        (void)!::read(timer_fd_, &expirations, sizeof expirations);
+        return;
+      }
+    }
+  }
+  // Stopped or past the deadline without the timer's wake-up: disarm, so a later wait does not
+  // see this deadline's expiry.
+  const itimerspec off{};
+  ::timerfd_settime(timer_fd_, 0, &off, nullptr);
 }
 
 void SystemClockIo::wait_for_input(std::chrono::nanoseconds timeout, const std::atomic<bool>& stop) {
-  if (!stop.load()) poll_once(timeout);
-}
-
-SystemClockIo clock_io_for(const std::vector<std::unique_ptr<transport::Output>>& outputs,
-                           sources::PoseSource& source) {
-  return SystemClockIo(
-      [&outputs, &source] {
-        std::vector<int> fds;
-        for (const auto& out : outputs) {
-          if (out->poll_fd() >= 0) fds.push_back(out->poll_fd());
-        }
-        if (source.poll_fd() >= 0) fds.push_back(source.poll_fd());
-        return fds;
-      },
-      [&outputs, &source] {
-        for (const auto& out : outputs) out->service();
-        source.service();
-      });
+  if (stop.load()) return;
+  build_poll_list(false);
+  const auto ms = std::chrono::ceil<std::chrono::milliseconds>(timeout).count();
+  const int ready = ::poll(poll_list_.data(), poll_list_.size(), static_cast<int>(std::max<std::int64_t>(ms, 0)));
+  if (ready > 0) {
+    ++wakeups_;
+    service_polled();
+  }
 }
 
 // ---- ScaledClock ------------------------------------------------------------------------------

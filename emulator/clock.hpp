@@ -17,7 +17,10 @@
 // no other state than where they are on their timeline.
 #pragma once
 
+#include <poll.h>
+
 #include <atomic>
+#include <cstdint>
 #include <chrono>
 #include <functional>
 #include <memory>
@@ -64,26 +67,46 @@ class ClockIo {
   virtual void wait_for_input(std::chrono::nanoseconds timeout, const std::atomic<bool>& stop) = 0;
 };
 
-/// The real ClockIo: poll() on the descriptors `fds()` returns, `service()` when any is readable,
-/// and an absolute clock_nanosleep on CLOCK_REALTIME for the last 2 ms before a deadline.
+/// The real ClockIo. A wait is one poll() over an absolute CLOCK_REALTIME timerfd (armed at the
+/// deadline) and the descriptors the lister appends: servicing inputs as they arrive, and exactly
+/// one wake-up at the deadline when nothing else happens (no early wake-up and final sleep, no
+/// timer slack: the timerfd's hrtimer fires at the deadline). The wall clock being stepped moves the
+/// wake-up with it (absolute timer). Lists are reused: no allocation per wait.
 class SystemClockIo final : public ClockIo {
  public:
-  SystemClockIo(std::function<std::vector<int>()> fds, std::function<void()> service);
+  /// Appends the descriptors to watch for input (readable) to the vector it is given.
+  using FdLister = std::function<void(std::vector<int>&)>;
+  /// Services the input of the k-th descriptor the lister appended (readable or hung up).
+  using ReadyServicer = std::function<void(std::size_t k)>;
+  /// `service` runs once a wake-up on input and services every input. Throws std::runtime_error
+  /// when the timerfd cannot be created.
+  SystemClockIo(FdLister fds, std::function<void()> service);
+  /// `service` runs for each descriptor that has input (many inputs: only those are serviced).
+  SystemClockIo(FdLister fds, ReadyServicer service);
+  ~SystemClockIo() override;
+  SystemClockIo(const SystemClockIo&) = delete;
+  SystemClockIo& operator=(const SystemClockIo&) = delete;
+
   UtcNs now() override { return system_utc_now(); }
   void sleep_until(UtcNs deadline, const std::atomic<bool>& stop) override;
   void wait_for_input(std::chrono::nanoseconds timeout, const std::atomic<bool>& stop) override;
+  /// poll() calls that returned because the deadline's timer fired or input arrived (a measure of
+  /// wake-ups: one an epoch when no input arrives).
+  [[nodiscard]] std::uint64_t wakeups() const { return wakeups_; }
 
  private:
-  /// One poll() of at most `timeout`; services when something is readable.
-  void poll_once(std::chrono::nanoseconds timeout);
-  std::function<std::vector<int>()> fds_;
-  std::function<void()> service_;
+  /// Rebuilds the poll list: [timer] + the lister's descriptors (servicing may close or open one).
+  void build_poll_list(bool with_timer);
+  std::function<void(std::vector<int>&)> fds_;
+  std::function<void()> service_;       ///< or:
+  ReadyServicer service_ready_;
+  /// Runs the servicer for what poll_list_ reported.
+  void service_polled();
+  int timer_fd_ = -1;
+  std::vector<int> fd_list_;       ///< reused
+  std::vector<pollfd> poll_list_;  ///< reused
+  std::uint64_t wakeups_ = 0;
 };
-
-/// A SystemClockIo that polls the outputs' and the source's descriptors and services them all
-/// (the runner's). Both must outlive it.
-[[nodiscard]] SystemClockIo clock_io_for(const std::vector<std::unique_ptr<transport::Output>>& outputs,
-                                         sources::PoseSource& source);
 
 /// What became of an epoch the clock was asked to wait for.
 enum class EpochWait {

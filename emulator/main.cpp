@@ -124,10 +124,6 @@ int main(int argc, char** argv) {
     }
   }
 
-  if (gpsemu::receiver_count(config) > 1) {  // FLEET-RUNNER: removed when the runner runs several receivers
-    std::fprintf(stderr, "gpsemu: several receivers are configured, but this build runs one\n");
-    return 2;
-  }
   std::unique_ptr<gpsemu::Runner> runner;
   try {
     runner = std::make_unique<gpsemu::Runner>(config);

@@ -1,16 +1,17 @@
 #include "emulator/runner.hpp"
 
-#include <poll.h>
 #include <time.h>
 
 #include <cerrno>
 #include <cmath>
+#include <algorithm>
 #include <limits>
 
 #include <spdlog/spdlog.h>
 
 #include "emulator/clock.hpp"
 #include "emulator/epoch_text.hpp"
+#include "emulator/fleet_config.hpp"
 #include "emulator/receiver_config.hpp"
 #include "emulator/serial_line_check.hpp"
 #include "emulator/sources/make_source.hpp"
@@ -29,14 +30,38 @@ UtcNs wall_now() {
   return UtcNs{std::chrono::nanoseconds{static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec}};
 }
 
+/// Many receivers with --clock lockstep: the simulators' common present is the slowest one's.
+/// Only its sim_time() is used (by the lockstep clock).
+class FleetSimTime final : public sources::PoseSource {
+ public:
+  explicit FleetSimTime(std::vector<const sources::PoseSource*> sources) : sources_(std::move(sources)) {}
+  std::optional<sources::Truth> truth_at(UtcNs /*t*/) override { return std::nullopt; }
+  std::string describe() const override { return "the slowest simulator's time"; }
+  std::optional<UtcNs> sim_time() const override {
+    std::optional<UtcNs> slowest;
+    for (const auto* source : sources_) {
+      const auto t = source->sim_time();
+      if (!t) return std::nullopt;  // a simulator that has not started holds every epoch
+      if (!slowest || *t < *slowest) slowest = t;
+    }
+    return slowest;
+  }
+
+ private:
+  std::vector<const sources::PoseSource*> sources_;
+};
+
+/// From this many receivers on, a second thread writes half of them at the deadline.
+constexpr std::size_t kHelperWriterFrom = 8;
+/// Shortest lead for computing many receivers' epochs ahead of the deadline.
+constexpr std::chrono::microseconds kMinComputeLead{300};
+
 }  // namespace
 
-Runner::Runner(const Config& config) : config_(config), grid_(config.rate_hz), frame_(config.origin) {
-  init(std::nullopt);
-}
+Runner::Runner(const Config& config) : config_(config), grid_(config.rate_hz) { init(std::nullopt); }
 
-Runner::Runner(const Config& config, RunnerIo io)
-    : config_(config), grid_(config.rate_hz), frame_(config.origin) {
+Runner::Runner(const Config& config, RunnerIo io) : config_(config), grid_(config.rate_hz) {
+  if (receiver_count(config) != 1) throw std::invalid_argument("a Runner given its outputs runs one receiver");
   init(std::move(io));
 }
 
@@ -61,26 +86,74 @@ void Runner::init(std::optional<RunnerIo> io) {
   }
   const UtcNs first_epoch = grid_.time_of(first_index_);
 
-  source_ = sources::make_source(config, frame_, first_epoch);
-  receiver_ = std::make_unique<Receiver>(frame_, receiver_options(config),
-                                         noise::make_noise_model(config.noise, config.seed), first_epoch);
+  for (Config& rc : receiver_configs(config)) {
+    channels_.push_back(std::make_unique<Channel>(std::move(rc)));
+  }
+  for (auto& ch : channels_) {
+    ch->source = sources::make_source(ch->config, ch->frame, first_epoch);
+    ch->receiver = std::make_unique<Receiver>(ch->frame, receiver_options(ch->config),
+                                              noise::make_noise_model(ch->config.noise, ch->config.seed), first_epoch);
+    ch->text.reserve(1024);
+  }
   if (io) {
-    outputs_ = std::move(io->outputs);
+    channels_.front()->outputs = std::move(io->outputs);
     if (with_pps) pps_ = std::move(io->pps);
   } else {
-    open_outputs();
+    for (auto& ch : channels_) open_outputs(*ch);
     if (with_pps) open_pps();
   }
+  // The clock polls every output's and source's descriptor and services those with input.
+  clock_io_ = std::make_unique<SystemClockIo>(
+      [this](std::vector<int>& fds) {
+        pollables_.clear();
+        for (auto& ch : channels_) {
+          for (auto& out : ch->outputs) {
+            if (out->poll_fd() < 0) continue;
+            fds.push_back(out->poll_fd());
+            pollables_.push_back({.output = out.get()});
+          }
+          if (ch->source->poll_fd() < 0) continue;
+          fds.push_back(ch->source->poll_fd());
+          pollables_.push_back({.source = ch->source.get()});
+        }
+      },
+      SystemClockIo::ReadyServicer([this](std::size_t k) {
+        const Pollable& p = pollables_[k];
+        if (p.output) p.output->service();
+        if (p.source) p.source->service();
+      }));
+  if (channels_.size() > 1 && config.clock.kind == ClockKind::lockstep) {
+    std::vector<const sources::PoseSource*> sources;
+    for (const auto& ch : channels_) sources.push_back(ch->source.get());
+    fleet_time_ = std::make_unique<FleetSimTime>(std::move(sources));
+  }
   pps_width_ = std::chrono::nanoseconds{std::llround(config.pps_width_s * 1e9)};
-  spdlog::info("source {}; noise {}; {} Hz, latency {} ms; first epoch {}", source_->describe(),
-               noise::to_string(config.noise.model), config.rate_hz, config.latency_s * 1000.0,
-               format_iso8601_utc(first_epoch));
-  const Geometry& g = receiver_->geometry();
-  spdlog::info("receiver: GGA quality {} (noise x{}), {} of {} satellites used, HDOP {:.2f}; {} bytes an epoch at most",
-               static_cast<int>(config.receiver.quality), noise_scale(config.receiver.quality), g.satellites_used,
-               g.satellites_in_view, g.hdop,
-               nmea::line_budget(config.format, g.satellites_in_view, g.satellites_used, config.rate_hz).bytes_per_epoch);
-  for (const auto& out : outputs_) spdlog::info("NMEA on {}", out->describe());
+  if (channels_.size() > 1) {
+    spdlog::info("{} receivers; {} Hz, latency {} ms; first epoch {}{}", channels_.size(), config.rate_hz,
+                 config.latency_s * 1000.0, format_iso8601_utc(first_epoch),
+                 channels_.size() >= kHelperWriterFrom && !config.fast && config.clock.kind == ClockKind::realtime
+                     ? "; two writer threads"
+                     : "");
+  }
+  for (std::size_t i = 0; i < channels_.size(); ++i) {
+    const Channel& ch = *channels_[i];
+    const std::string who = channels_.size() > 1 ? fmt::format("receiver {}: ", i) : std::string();
+    if (channels_.size() > 1) {
+      spdlog::info("{}source {}; noise {}, seed {}", who, ch.source->describe(), noise::to_string(ch.config.noise.model),
+                   ch.config.seed);
+    } else {
+      spdlog::info("source {}; noise {}; {} Hz, latency {} ms; first epoch {}", ch.source->describe(),
+                   noise::to_string(ch.config.noise.model), config.rate_hz, config.latency_s * 1000.0,
+                   format_iso8601_utc(first_epoch));
+    }
+    const Geometry& g = ch.receiver->geometry();
+    spdlog::info("{}receiver: GGA quality {} (noise x{}), {} of {} satellites used, HDOP {:.2f}; {} bytes an epoch at most",
+                 who, static_cast<int>(ch.config.receiver.quality), noise_scale(ch.config.receiver.quality),
+                 g.satellites_used, g.satellites_in_view, g.hdop,
+                 nmea::line_budget(ch.config.format, g.satellites_in_view, g.satellites_used, config.rate_hz)
+                     .bytes_per_epoch);
+    for (const auto& out : ch.outputs) spdlog::info("{}NMEA on {}", who, out->describe());
+  }
   if (pps_) {
     spdlog::info("PPS on {}: leading edge at each whole UTC second, {} ms wide, {}", pps_->describe(),
                  config.pps_width_s * 1000.0,
@@ -88,21 +161,22 @@ void Runner::init(std::optional<RunnerIo> io) {
   }
 }
 
-void Runner::open_outputs() {
+void Runner::open_outputs(Channel& ch) {
+  const Config& config = ch.config;
   std::vector<transport::OutputSpec> specs;
-  for (const std::string& text : config_.outputs) specs.push_back(transport::parse_output_spec(text));
+  for (const std::string& text : config.outputs) specs.push_back(transport::parse_output_spec(text));
   // Refuse a serial line that cannot carry the epochs before opening anything.
   std::optional<std::size_t> epoch_bytes;
   for (const auto& spec : specs) {
     if (spec.kind != transport::OutputKind::serial) continue;
-    if (!epoch_bytes) epoch_bytes = worst_case_epoch_bytes(config_.format);
-    check_serial_line_budget(spec, *epoch_bytes, config_.rate_hz);
+    if (!epoch_bytes) epoch_bytes = worst_case_epoch_bytes(config.format);
+    check_serial_line_budget(spec, *epoch_bytes, config.rate_hz);
   }
   for (const auto& spec : specs) {
-    outputs_.push_back(transport::make_output(
-        spec, transport::OutputOptions{.realtime = !config_.fast, .rate_hz = config_.rate_hz}));
+    ch.outputs.push_back(transport::make_output(
+        spec, transport::OutputOptions{.realtime = !config.fast, .rate_hz = config.rate_hz}));
   }
-  if (config_.tee) outputs_.push_back(std::make_unique<transport::TeeOutput>(*config_.tee, !config_.fast));
+  if (config.tee) ch.outputs.push_back(std::make_unique<transport::TeeOutput>(*config.tee, !config.fast));
 }
 
 void Runner::open_pps() {
@@ -113,10 +187,12 @@ void Runner::open_pps() {
     pps_ = std::make_unique<transport::GpioPps>(spec.chip, spec.line, polarity);
     return;
   }
-  for (const auto& out : outputs_) {
-    if (auto* serial = dynamic_cast<transport::SerialOutput*>(out.get())) {
-      pps_ = std::make_unique<transport::ModemPps>(*serial, spec.modem_line, polarity);
-      return;
+  for (const auto& ch : channels_) {
+    for (const auto& out : ch->outputs) {
+      if (auto* serial = dynamic_cast<transport::SerialOutput*>(out.get())) {
+        pps_ = std::make_unique<transport::ModemPps>(*serial, spec.modem_line, polarity);
+        return;
+      }
     }
   }
   throw std::runtime_error(fmt::format(
@@ -131,21 +207,31 @@ int Runner::run(const std::atomic<bool>& stop) {
   const auto latency = std::chrono::nanoseconds{std::llround(config_.latency_s * 1e9)};
   const std::int64_t count = config_.duration_s ? std::llround(*config_.duration_s * config_.rate_hz)
                                                 : std::numeric_limits<std::int64_t>::max();
-  std::string text;
-  text.reserve(1024);
+  const bool fleet = channels_.size() > 1;
+  if (channels_.size() >= kHelperWriterFrom && !config_.fast && config_.clock.kind == ClockKind::realtime && !helper_) {
+    // Made here, by the thread that runs the loop, after main() applied --realtime-priority and
+    // --timer-slack to it: the helper inherits them.
+    helper_ = std::make_unique<HelperWriter>(
+        [this](std::size_t first, std::size_t from, std::size_t to) { write_range(first, from, to); });
+  }
   if (pps_) {
     // The first pulse: the first whole second at or after the first epoch (in wall time).
     const UtcNs first_wall = grid_.time_of(first_index_) - sim_minus_wall_;
     next_edge_ = {std::chrono::ceil<std::chrono::seconds>(first_wall), true};
   }
   // --clock scaled:K / lockstep pace the epochs instead of the real-time code below (clock.hpp).
-  SystemClockIo clock_io = clock_io_for(outputs_, *source_);
-  const auto clock = make_epoch_clock(config_.clock, clock_io, *source_, grid_.time_of(first_index_),
-                                      grid_.time_of(first_index_) - sim_minus_wall_ + latency, grid_.nominal_period());
+  const auto clock = make_epoch_clock(config_.clock, *clock_io_, fleet_time_ ? *fleet_time_ : *channels_.front()->source,
+                                      grid_.time_of(first_index_), grid_.time_of(first_index_) - sim_minus_wall_ + latency,
+                                      grid_.nominal_period());
   if (clock) spdlog::info("{}", clock->describe());
   for (std::int64_t k = 0; !stop.load() && k < count; ++k) {
     const UtcNs t = grid_.time_of(first_index_ + k);
-    if (source_->ended_at(t)) break;
+    bool all_ended = true;
+    for (auto& ch : channels_) {
+      ch->ended = ch->ended || ch->source->ended_at(t);
+      all_ended = all_ended && ch->ended;
+    }
+    if (all_ended) break;
     if (clock) {
       const EpochWait wait = clock->wait_for(t, stop);
       if (wait == EpochWait::stopped) break;
@@ -157,7 +243,7 @@ int Runner::run(const std::atomic<bool>& stop) {
       const UtcNs deadline = t - sim_minus_wall_ + latency;
       // Every PPS edge due before the epoch's bytes goes first (a leading edge at the same
       // instant too: the NMEA of second S follows pulse S).
-      if (pps_) run_pps_until(deadline, stop);
+      if (pps_ && !fleet) run_pps_until(deadline, stop);  // a fleet drives them in run_fleet_epoch()
       if (stop.load()) break;
       // An epoch whose time has long passed (the process was stopped or starved) is skipped, not
       // sent late in a burst: a receiver never reports the past.
@@ -167,25 +253,88 @@ int Runner::run(const std::atomic<bool>& stop) {
                      std::chrono::duration_cast<std::chrono::milliseconds>(wall_now() - deadline).count());
         continue;
       }
+      if (fleet) {
+        if (!run_fleet_epoch(k, t, deadline, stop)) break;
+        ++stats_.epochs_emitted;
+        continue;
+      }
       wait_until(deadline, stop);
       if (stop.load()) break;
     }
-    source_->service();
-    const nmea::Fix fix = receiver_->fix_at(t, source_->truth_at(t));
-    if (!fix.has_fix()) ++stats_.epochs_without_fix;
-    format_epoch(fix, config_.format, text);
-    for (auto& out : outputs_) (void)out->write_epoch(text);
+    for (auto& ch : channels_) {
+      if (ch->ended) continue;
+      compute(*ch, t, false);
+      write(*ch);
+    }
     ++stats_.epochs_emitted;
     if (config_.fast && (k & 0x3ff) == 0) service_all();
   }
+  if (helper_) helper_->wait_done();
   if (pps_ && pps_->pulse_on()) {
     // End the last pulse at its time (at once when stopped), never leave the line in a pulse.
     if (!stop.load()) wait_until(next_edge_.time, stop);
     pps_->set(false);
   }
-  for (auto& out : outputs_) out->flush();
+  for (auto& ch : channels_) {
+    for (auto& out : ch->outputs) out->flush();
+  }
+  stats_.wakeups = clock_io_->wakeups();
   log_summary();
   return 0;
+}
+
+void Runner::compute(Channel& ch, UtcNs t, bool prepare_outputs) {
+  ch.source->service();
+  const nmea::Fix fix = ch.receiver->fix_at(t, ch.source->truth_at(t));
+  if (!fix.has_fix()) {
+    ++ch.stats.epochs_without_fix;
+    ++stats_.epochs_without_fix;
+  }
+  format_epoch(fix, ch.config.format, ch.text);
+  if (prepare_outputs) {
+    for (auto& out : ch.outputs) out->prepare_epoch();
+  }
+}
+
+void Runner::write(Channel& ch) {
+  for (auto& out : ch.outputs) (void)out->write_epoch(ch.text);
+  ++ch.stats.epochs_emitted;
+}
+
+void Runner::write_range(std::size_t first, std::size_t from, std::size_t to) {
+  const std::size_t n = channels_.size();
+  for (std::size_t pos = from; pos < to; ++pos) {
+    Channel& ch = *channels_[(first + pos) % n];
+    if (!ch.ended) write(ch);
+  }
+}
+
+bool Runner::run_fleet_epoch(std::int64_t k, UtcNs t, UtcNs deadline, const std::atomic<bool>& stop) {
+  // Compute ahead by twice the recent cost, within the latency: never before the epoch's own time
+  // (a receiver's fix for t is computed after t), so with no latency it is done at the deadline.
+  const auto lead = std::clamp(2 * compute_cost_ + kMinComputeLead, std::chrono::nanoseconds{0}, deadline - (t - sim_minus_wall_));
+  const UtcNs compute_at = deadline - lead;
+  if (pps_) run_pps_until(compute_at, stop);
+  wait_until(compute_at, stop);
+  if (stop.load()) return false;
+  const auto begin = std::chrono::steady_clock::now();
+  for (auto& ch : channels_) {
+    if (!ch->ended) compute(*ch, t, true);
+  }
+  const auto cost = std::chrono::steady_clock::now() - begin;
+  // A decaying maximum: one slow epoch raises the lead at once, which then shrinks by 1% an epoch.
+  compute_cost_ = std::max(std::chrono::nanoseconds{cost}, compute_cost_ * 99 / 100);
+  const std::size_t n = channels_.size();
+  const std::size_t first = static_cast<std::size_t>(k % static_cast<std::int64_t>(n));
+  const std::size_t mine = helper_ ? n / 2 : n;
+  if (helper_) helper_->post(deadline, first, mine, n);
+  if (pps_) run_pps_until(deadline, stop);
+  wait_until(deadline, stop);
+  // Stopped while waiting: the helper still writes its part at the deadline; write ours too, so
+  // an epoch is never half sent.
+  write_range(first, 0, mine);
+  if (helper_) helper_->wait_done();
+  return !stop.load();
 }
 
 void Runner::run_pps_until(UtcNs wall_deadline, const std::atomic<bool>& stop) {
@@ -214,44 +363,28 @@ void Runner::run_pps_until(UtcNs wall_deadline, const std::atomic<bool>& stop) {
   }
 }
 
-void Runner::wait_until(UtcNs wall_deadline, const std::atomic<bool>& stop) {
-  // Sleep in poll() while far from the deadline, servicing client input and sockets; the last
-  // stretch is an absolute clock_nanosleep on CLOCK_REALTIME, so the deadline does not drift.
-  std::vector<pollfd>& fds = poll_fds_;  // capacity kept between epochs
-  constexpr auto kMargin = std::chrono::milliseconds(2);
-  while (!stop.load()) {
-    const auto remaining = wall_deadline - wall_now();
-    if (remaining <= kMargin) break;
-    // Rebuilt each time: servicing may close a descriptor (a serial device hung up) or open one.
-    fds.clear();
-    for (const auto& out : outputs_) {
-      if (out->poll_fd() >= 0) fds.push_back({out->poll_fd(), POLLIN, 0});
-    }
-    if (source_->poll_fd() >= 0) fds.push_back({source_->poll_fd(), POLLIN, 0});
-    if (fds.empty()) break;  // nothing to service: one wake-up, the absolute sleep below
-    const int timeout_ms =
-        static_cast<int>(std::chrono::duration_cast<std::chrono::milliseconds>(remaining - kMargin).count());
-    const int ready = ::poll(fds.data(), fds.size(), std::max(timeout_ms, 0));
-    if (ready > 0) service_all();
-  }
-  const std::int64_t ns = wall_deadline.time_since_epoch().count();
-  const timespec ts{static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};
-  while (!stop.load() && clock_nanosleep(CLOCK_REALTIME, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-  }
-}
-
 void Runner::service_all() {
-  for (auto& out : outputs_) out->service();
-  source_->service();
+  for (auto& ch : channels_) {
+    for (auto& out : ch->outputs) out->service();
+    ch->source->service();
+  }
 }
 
 void Runner::log_summary() const {
-  spdlog::info("{} epochs emitted ({} without fix), {} late epochs skipped", stats_.epochs_emitted,
-               stats_.epochs_without_fix, stats_.epochs_late_skipped);
-  for (const auto& out : outputs_) {
-    const auto& s = out->stats();
-    spdlog::info("{}: {} epochs written ({} bytes), {} dropped, {} failed", out->describe(), s.epochs_written,
-                 s.bytes_written, s.epochs_dropped, s.epochs_failed);
+  spdlog::info("{} epochs emitted ({} without fix), {} late epochs skipped; {} wake-ups", stats_.epochs_emitted,
+               stats_.epochs_without_fix, stats_.epochs_late_skipped, stats_.wakeups);
+  for (std::size_t i = 0; i < channels_.size(); ++i) {
+    const Channel& ch = *channels_[i];
+    std::string who;
+    if (channels_.size() > 1) {
+      who = fmt::format("receiver {}: ", i);
+      spdlog::info("receiver {}: {} epochs ({} without fix)", i, ch.stats.epochs_emitted, ch.stats.epochs_without_fix);
+    }
+    for (const auto& out : ch.outputs) {
+      const auto& s = out->stats();
+      spdlog::info("{}{}: {} epochs written ({} bytes), {} dropped, {} failed", who, out->describe(), s.epochs_written,
+                   s.bytes_written, s.epochs_dropped, s.epochs_failed);
+    }
   }
   if (pps_) {
     spdlog::info("PPS {}: {} pulses, {} skipped late, {} edges failed; worst leading edge {:.3f} ms after its second",

@@ -179,12 +179,10 @@ Subcommand add_replay_command(CLI::App& app) {
             std::vector<transport::Output*> raw;
             for (const auto& out : outputs) raw.push_back(out.get());
             SystemClockIo io(
-                [raw] {
-                  std::vector<int> fds;
+                [raw](std::vector<int>& fds) {
                   for (auto* out : raw) {
                     if (out->poll_fd() >= 0) fds.push_back(out->poll_fd());
                   }
-                  return fds;
                 },
                 [raw] {
                   for (auto* out : raw) out->service();
