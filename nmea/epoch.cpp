@@ -57,6 +57,8 @@ void append_epoch(const Fix& fix, const FormatOptions& options, std::string& out
     switch (type) {
       case SentenceType::gga: append_gga(fix, options, fields, out); break;
       case SentenceType::rmc: append_rmc(fix, options, fields, out); break;
+      case SentenceType::gsa: append_gsa(fix, options, out); break;
+      case SentenceType::gsv: append_gsv(fix, options, out); break;
       default: out += format_sentences(type, fix, options); break;
     }
   });

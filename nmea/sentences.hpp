@@ -71,6 +71,8 @@ namespace gpsemu::nmea {
 ///   $GPGSA,A,3,02,05,...,,,1.61,0.88,1.35,1*hh
 /// No fix: $GPGSA,A,1,,,,,,,,,,,,,99.99,99.99,99.99,1*hh. Talker: options.talker.
 [[nodiscard]] std::string format_gsa(const Fix& fix, const FormatOptions& options);
+/// format_gsa appended to `out`.
+void append_gsa(const Fix& fix, const FormatOptions& options, std::string& out);
 
 /// GSV: satellites in view, 4 per sentence, as many sentences as needed (up to 8 for 32):
 ///   $GPGSV,total,number,in_view,prn,elev,azim,snr,...[,1]*hh
@@ -79,6 +81,8 @@ namespace gpsemu::nmea {
 /// signal ID (1, GPS L1 C/A). None in view: $GPGSV,1,1,00[,1]*hh. The satellites are GPS, so the
 /// talker is GP when options.talker is GN (u-blox writes GSV per constellation), else options.talker.
 [[nodiscard]] std::string format_gsv(const Fix& fix, const FormatOptions& options);
+/// format_gsv appended to `out`.
+void append_gsv(const Fix& fix, const FormatOptions& options, std::string& out);
 
 /// Every sentence of `type` for one epoch (GSA and GSV may be several).
 [[nodiscard]] std::string format_sentences(SentenceType type, const Fix& fix, const FormatOptions& options);
