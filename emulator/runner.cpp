@@ -72,14 +72,17 @@ void Runner::init(std::optional<RunnerIo> io) {
   // real time, epoch times are shifted by a whole number of epochs from the wall clock, so the
   // sub-second phase of every epoch still matches the wall clock; with PPS, by a whole number of
   // seconds, so the second an epoch is stamped with is the second its pulse marks.
-  const std::int64_t wall_index = grid_.index_at_or_after(now + std::chrono::milliseconds(1));
+  // Many receivers take a while to open (256 sockets or ptys, their banners): the first epoch is
+  // one far enough ahead that it is not already late when the loop starts (2 ms a receiver).
+  const auto start_up = std::chrono::milliseconds(1) + std::chrono::milliseconds(2) * (receiver_count(config) - 1);
+  const std::int64_t wall_index = grid_.index_at_or_after(now + start_up);
   first_index_ = config.start_time ? grid_.index_at_or_after(*config.start_time) : wall_index;
   const bool with_pps = !config.fast && (io ? io->pps != nullptr : config.pps.has_value());
   if (config.start_time && with_pps) {
     const UtcNs first = grid_.time_of(first_index_);
     const auto phase = first - std::chrono::floor<std::chrono::seconds>(first);
     const UtcNs first_wall =
-        std::chrono::ceil<std::chrono::seconds>(now + std::chrono::milliseconds(1) - phase) + phase;
+        std::chrono::ceil<std::chrono::seconds>(now + start_up - phase) + phase;
     sim_minus_wall_ = first - first_wall;
   } else {
     sim_minus_wall_ = grid_.time_of(first_index_) - grid_.time_of(wall_index);

@@ -41,6 +41,13 @@ UdpOutput::UdpOutput(const std::string& host, std::uint16_t port) {
     (void)::setsockopt(fd, SOL_SOCKET, SO_BROADCAST, &one, sizeof one);
     std::memcpy(&destination_, ai->ai_addr, ai->ai_addrlen);
     destination_len_ = ai->ai_addrlen;
+    // Connected: the route is looked up once, not on every send (a fleet sends hundreds of
+    // datagrams at each deadline). connect() on UDP sends nothing.
+    if (::connect(fd, ai->ai_addr, ai->ai_addrlen) != 0) {
+      last_error = errno_text(errno);
+      ::close(fd);
+      continue;
+    }
     fd_ = fd;
   }
   freeaddrinfo(found);
@@ -51,13 +58,17 @@ UdpOutput::UdpOutput(const std::string& host, std::uint16_t port) {
 UdpOutput::~UdpOutput() { ::close(fd_); }
 
 WriteStatus UdpOutput::write_bytes(std::string_view bytes, std::string& error_text) {
-  for (;;) {
-    // Not connected: an ICMP "port unreachable" from an earlier datagram (nobody listening yet)
-    // is not reported back to a later send, so a missing listener is never an error here.
-    const ssize_t n = ::sendto(fd_, bytes.data(), bytes.size(), MSG_DONTWAIT,
-                               reinterpret_cast<const sockaddr*>(&destination_), destination_len_);
+  for (int refused = 0;;) {
+    const ssize_t n = ::send(fd_, bytes.data(), bytes.size(), MSG_DONTWAIT);
     if (n >= 0 && static_cast<std::size_t>(n) == bytes.size()) return WriteStatus::ok;
     if (n < 0 && errno == EINTR) continue;
+    // An ICMP "port unreachable" for an earlier datagram (nobody was listening) is reported by
+    // the next send on a connected socket, which then sends nothing: send again, so a listener
+    // that has just started gets this epoch. A missing listener is never an error (UDP).
+    if (n < 0 && errno == ECONNREFUSED) {
+      if (++refused < 2) continue;
+      return WriteStatus::ok;
+    }
     if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == ENOBUFS)) {
       error_text = "the kernel's send buffer is full";
       return WriteStatus::dropped;
