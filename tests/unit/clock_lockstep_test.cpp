@@ -20,6 +20,7 @@
 #include "emulator/geo.hpp"
 #include "emulator/sources/socket_source.hpp"
 #include "tests/support/process.hpp"
+#include "tests/support/scratch.hpp"
 
 namespace gpsemu {
 namespace {
@@ -172,18 +173,7 @@ TEST(LockstepSocketSource, PosesArePlacedAtBasePlusSenderTimeWhateverTheirArriva
 
 // ---- end to end through the binary -------------------------------------------------------------
 
-int udp_to(std::uint16_t port) {
-  const int fd = socket(AF_INET, SOCK_DGRAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(port);
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (connect(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a) != 0) {
-    ::close(fd);
-    return -1;
-  }
-  return fd;
-}
+using test::udp_to;
 
 double time_of_day_s(const std::string& hhmmss) {
   return std::stoi(hhmmss.substr(0, 2)) * 3600.0 + std::stoi(hhmmss.substr(2, 2)) * 60.0 + std::stod(hhmmss.substr(4));

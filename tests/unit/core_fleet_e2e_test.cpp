@@ -28,6 +28,7 @@
 #include "emulator/runner.hpp"
 #include "tests/support/process.hpp"
 #include "tests/support/read_deadline.hpp"
+#include "tests/support/scratch.hpp"
 
 namespace gpsemu {
 namespace {
@@ -35,19 +36,9 @@ namespace {
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
 
-fs::path scratch_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / fmt::format("gpsemu_fleet_{}_{}", name, ::getpid());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string read_file(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+fs::path scratch_dir(const std::string& name) { return test::scratch_dir("fleet", name); }
+using test::read_file;
+using test::udp_to;
 
 /// Field n (0 = "$GNGGA") of an NMEA sentence.
 std::string field(const std::string& sentence, int n) {
@@ -266,19 +257,6 @@ TEST(FleetEndToEnd, NoEpochLeavesBeforeItsTimePlusLatency) {
     }
   }
   EXPECT_EQ(checked, runner.stats().epochs_emitted * kReceivers);
-}
-
-int udp_to(std::uint16_t port) {
-  const int fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(port);
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a) != 0) {
-    ::close(fd);
-    return -1;
-  }
-  return fd;
 }
 
 void send_pose(int fd, double t) {

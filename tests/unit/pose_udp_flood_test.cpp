@@ -32,6 +32,7 @@
 
 #include "nmea/parse.hpp"
 #include "tests/support/process.hpp"
+#include "tests/support/scratch.hpp"
 #include "tests/support/read_deadline.hpp"
 
 namespace gpsemu {
@@ -42,19 +43,6 @@ using namespace std::chrono_literals;
 
 constexpr double kLatDeg = 43.0731, kLonDeg = -89.4107, kAltM = 271.5;
 constexpr int kMalformed = 100'000;
-
-int udp_socket_to(std::uint16_t port) {
-  const int fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(port);
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
-    ::close(fd);
-    return -1;
-  }
-  return fd;
-}
 
 /// The i-th malformed datagram: every kind of garbage a broken or hostile sender produces, none of
 /// which is a valid pose.
@@ -146,7 +134,7 @@ TEST(PoseUdpFloodTest, HundredThousandMalformedDatagramsLeaveEveryEpochWithTheSe
   std::atomic<bool> stop_valid{false};
   std::atomic<std::uint64_t> valid_sent{0};
   std::thread valid([&] {
-    const int fd = udp_socket_to(port);
+    const int fd = test::udp_to(port);
     const std::string pose = R"({"lat":43.0731,"lon":-89.4107,"alt":271.5})";
     auto next = std::chrono::steady_clock::now();
     while (!stop_valid.load()) {
@@ -175,7 +163,7 @@ TEST(PoseUdpFloodTest, HundredThousandMalformedDatagramsLeaveEveryEpochWithTheSe
   std::atomic<bool> flood_done{false};
   std::uint64_t flood_sent = 0, flood_failed = 0;
   std::thread flood([&] {
-    const int fd = udp_socket_to(port);
+    const int fd = test::udp_to(port);
     std::mt19937 rng(12345);
     const auto start = std::chrono::steady_clock::now();
     for (int i = 0; i < kMalformed; ++i) {
