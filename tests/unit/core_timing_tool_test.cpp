@@ -150,6 +150,22 @@ TEST_F(TimingToolTest, CountsEveryEpochOfThreeUdpOutputsAndAPty) {
   EXPECT_NE(pty["clock"].get<std::string>().find("user space"), std::string::npos);
 }
 
+TEST_F(TimingToolTest, RealTimeOptionsAreAppliedOrRefusedWithAMessage) {
+  // Applied (or, where not permitted, said so) before measuring: one line each on stderr.
+  const auto r = test::run({GPSEMU_TIMING_BINARY, "--udp", "127.0.0.1:0", "--duration", "0.2", "--realtime-priority",
+                            "10", "--lock-memory", "--timer-slack", "1"});
+  EXPECT_TRUE(r.err.find("real-time priority SCHED_FIFO 10") != std::string::npos ||
+              r.err.find("SCHED_FIFO 10 not set") != std::string::npos ||
+              r.err.find("not permitted") != std::string::npos)
+      << r.err;
+  EXPECT_TRUE(r.err.find("memory locked") != std::string::npos || r.err.find("memory not locked") != std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("timer slack"), std::string::npos) << r.err;
+  const auto bad = test::run({GPSEMU_TIMING_BINARY, "--udp", "127.0.0.1:0", "--duration", "1", "--realtime-priority", "100"});
+  EXPECT_EQ(bad.status, 2) << bad.err;
+  EXPECT_NE(bad.err.find("--realtime-priority"), std::string::npos) << bad.err;
+}
+
 TEST_F(TimingToolTest, RefusesACountWithoutATemplate) {
   const auto r = test::run({GPSEMU_TIMING_BINARY, "--udp", "127.0.0.1:7000", "--count", "3", "--duration", "1"});
   EXPECT_EQ(r.status, 2);

@@ -38,6 +38,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "emulator/realtime.hpp"
 #include "nmea/parse.hpp"
 
 namespace {
@@ -369,10 +370,36 @@ int main(int argc, char** argv) {
                                     "deviation_ms,output");
   app.add_option("--json", json_path, "write the figures (total, per output, worst output) as JSON");
   app.add_flag("--per-output", per_output, "print one line per output (the default up to 16 outputs)");
-  CLI11_PARSE(app, argc, argv);
+  // The reader's own scheduling, so what it measures is the emulator's timing, not its own.
+  int priority = 0;
+  bool lock_memory = false;
+  long timer_slack_ns = 0;
+  app.add_option("--realtime-priority", priority,
+                 "read at SCHED_FIFO priority N, 1..99 (where not permitted: one message, normal scheduling)")
+      ->check(CLI::Range(1, 99));
+  app.add_flag("--lock-memory", lock_memory, "mlockall: no page faults while reading");
+  app.add_option("--timer-slack", timer_slack_ns, "prctl timer slack, ns (1: minimal; default: the kernel's 50 000)")
+      ->check(CLI::Range(1L, 1'000'000'000L));
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    // A wrong flag or value: one message naming it, status 2 (as gpsemu itself).
+    std::fprintf(stderr, "gpsemu-timing: %s\n", e.what());
+    return 2;
+  }
   if (devices.empty() && tcps.empty() && udps.empty()) {
     std::fprintf(stderr, "gpsemu-timing: give at least one --device, --tcp or --udp\n");
     return 2;
+  }
+
+  gpsemu::RealtimeSettings realtime;
+  if (priority > 0) realtime.fifo_priority = priority;
+  realtime.lock_memory = lock_memory;
+  if (timer_slack_ns > 0) realtime.timer_slack_ns = timer_slack_ns;
+  for (const std::string& line : gpsemu::apply_realtime_settings(realtime)) {
+    std::fprintf(stderr, "gpsemu-timing: %s\n", line.c_str());
   }
 
   std::vector<Output> outputs;
