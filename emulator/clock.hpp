@@ -31,7 +31,6 @@
 
 #include "emulator/sources/pose_source.hpp"
 #include "emulator/time.hpp"
-#include "transport/output.hpp"
 
 namespace gpsemu {
 
