@@ -7,9 +7,9 @@
 
 #include <fmt/format.h>
 
-#include "emulator/geo.hpp"
-#include "emulator/noise/cgrw_model.hpp"
-#include "emulator/noise/gauss_markov_model.hpp"
+#include "emulator/model/geo.hpp"
+#include "emulator/model/noise/cgrw_model.hpp"
+#include "emulator/model/noise/gauss_markov_model.hpp"
 #include "nmea/parse.hpp"
 #include "nmea/sentences.hpp"
 

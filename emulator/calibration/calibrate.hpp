@@ -13,8 +13,8 @@
 
 #include "emulator/calibration/receiver_log.hpp"
 #include "emulator/calibration/series_stats.hpp"
-#include "emulator/noise/cgrw_fit.hpp"
-#include "emulator/noise/noise_model.hpp"
+#include "emulator/model/noise/cgrw_fit.hpp"
+#include "emulator/model/noise/noise_model.hpp"
 
 namespace gpsemu::calibration {
 

@@ -6,7 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "emulator/subcommands.hpp"
+#include "emulator/app/subcommands.hpp"
 
 namespace gpsemu::calibration {
 

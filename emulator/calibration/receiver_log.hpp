@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-#include "emulator/geo.hpp"
+#include "emulator/model/geo.hpp"
 #include "nmea/parse.hpp"
 
 namespace gpsemu::calibration {

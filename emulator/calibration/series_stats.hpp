@@ -12,7 +12,7 @@
 #include <string_view>
 #include <vector>
 
-#include "emulator/noise/noise_model.hpp"
+#include "emulator/model/noise/noise_model.hpp"
 
 namespace gpsemu::calibration {
 

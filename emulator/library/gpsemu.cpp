@@ -1,21 +1,21 @@
-// The library facade (emulator/gpsemu.hpp): wires config, receiver, source and formatter exactly
-// as emulator/runner.cpp does for --fast, without outputs, PPS or a wall clock.
-#include "emulator/gpsemu.hpp"
+// The library facade (emulator/library/gpsemu.hpp): wires config, receiver, source and formatter exactly
+// as emulator/pipeline/runner.cpp does for --fast, without outputs, PPS or a wall clock.
+#include "emulator/library/gpsemu.hpp"
 
 #include <chrono>
 #include <cmath>
 #include <limits>
 
-#include "emulator/config.hpp"
-#include "emulator/epoch_text.hpp"
-#include "emulator/geo.hpp"
-#include "emulator/receiver.hpp"
+#include "emulator/config/config.hpp"
+#include "emulator/pipeline/epoch_text.hpp"
+#include "emulator/model/geo.hpp"
+#include "emulator/model/receiver.hpp"
 #include "emulator/sources/make_source.hpp"
-#include "emulator/time.hpp"
+#include "emulator/model/time.hpp"
 // The receiver options as the runner derives them (measured noise sigma, sky seed) where that step
 // exists; before it, the runner passes config.receiver as it is.
-#if __has_include("emulator/receiver_config.hpp")
-#include "emulator/receiver_config.hpp"
+#if __has_include("emulator/config/receiver_config.hpp")
+#include "emulator/config/receiver_config.hpp"
 #define GPSEMU_API_RECEIVER_OPTIONS(config) receiver_options(config)
 #else
 #define GPSEMU_API_RECEIVER_OPTIONS(config) (config).receiver

@@ -1,4 +1,4 @@
-// The Python module `gpsemu`: the library facade (emulator/gpsemu.hpp) with numpy arrays for
+// The Python module `gpsemu`: the library facade (emulator/library/gpsemu.hpp) with numpy arrays for
 // batch generation. Configuration keys are the CLI's (a dict and/or keyword arguments; '_' in a
 // keyword stands for '-': start_time= is --start-time).
 #include <pybind11/numpy.h>
@@ -9,7 +9,7 @@
 #include <map>
 #include <string>
 
-#include "emulator/gpsemu.hpp"
+#include "emulator/library/gpsemu.hpp"
 
 namespace py = pybind11;
 using gpsemu::api::Enu;

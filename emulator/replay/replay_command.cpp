@@ -7,8 +7,8 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "emulator/realtime.hpp"
-#include "emulator/serial_line_check.hpp"
+#include "emulator/pipeline/realtime.hpp"
+#include "emulator/pipeline/serial_line_check.hpp"
 #include "transport/output_spec.hpp"
 #include "transport/tee_output.hpp"
 

@@ -24,10 +24,10 @@
 
 #include <CLI/CLI.hpp>
 
-#include "emulator/clock.hpp"
-#include "emulator/config.hpp"
+#include "emulator/pipeline/clock.hpp"
+#include "emulator/config/config.hpp"
 #include "emulator/replay/replay_log.hpp"
-#include "emulator/subcommands.hpp"
+#include "emulator/app/subcommands.hpp"
 #include "transport/output.hpp"
 
 namespace gpsemu::replay {

@@ -26,7 +26,7 @@
 #include <vector>
 
 #include "emulator/replay/replay_options.hpp"
-#include "emulator/time.hpp"
+#include "emulator/model/time.hpp"
 #include "nmea/parse.hpp"
 
 namespace gpsemu::replay {

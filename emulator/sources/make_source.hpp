@@ -3,7 +3,7 @@
 
 #include <memory>
 
-#include "emulator/config.hpp"
+#include "emulator/config/config.hpp"
 #include "emulator/sources/pose_source.hpp"
 
 namespace gpsemu::sources {

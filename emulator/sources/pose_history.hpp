@@ -15,10 +15,10 @@
 #include <optional>
 #include <vector>
 
-#include "emulator/enu.hpp"
+#include "emulator/model/enu.hpp"
 #include "emulator/sources/pose_message.hpp"
 #include "emulator/sources/pose_source.hpp"
-#include "emulator/time.hpp"
+#include "emulator/model/time.hpp"
 
 namespace gpsemu::sources {
 

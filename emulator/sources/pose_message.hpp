@@ -24,7 +24,7 @@
 #include <string_view>
 #include <variant>
 
-#include "emulator/enu.hpp"
+#include "emulator/model/enu.hpp"
 
 namespace gpsemu::sources {
 

@@ -6,8 +6,8 @@
 #include <optional>
 #include <string>
 
-#include "emulator/enu.hpp"
-#include "emulator/time.hpp"
+#include "emulator/model/enu.hpp"
+#include "emulator/model/time.hpp"
 
 namespace gpsemu::sources {
 

@@ -23,7 +23,7 @@
 #include <optional>
 #include <string>
 
-#include "emulator/geo.hpp"
+#include "emulator/model/geo.hpp"
 #include "emulator/sources/pose_history.hpp"
 #include "emulator/sources/pose_message.hpp"
 #include "emulator/sources/pose_source.hpp"

@@ -27,7 +27,7 @@
 #include <string>
 #include <vector>
 
-#include "emulator/geo.hpp"
+#include "emulator/model/geo.hpp"
 #include "emulator/sources/pose_source.hpp"
 
 namespace gpsemu::sources {

@@ -7,10 +7,10 @@
 #include <memory>
 #include <string>
 
-#include "emulator/epoch_text.hpp"
-#include "emulator/geo.hpp"
-#include "emulator/noise/noise_model.hpp"
-#include "emulator/receiver.hpp"
+#include "emulator/pipeline/epoch_text.hpp"
+#include "emulator/model/geo.hpp"
+#include "emulator/model/noise/noise_model.hpp"
+#include "emulator/model/receiver.hpp"
 #include "emulator/sources/sim.hpp"
 #include "nmea/sentences.hpp"
 #include "transport/file_output.hpp"

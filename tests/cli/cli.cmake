@@ -6,6 +6,7 @@ function(gpsemu_cli_test name rc regex)
   add_test(NAME cli.${name}
            COMMAND ${CMAKE_COMMAND} "-DCMD=$<TARGET_FILE:gpsemu>|${args}" -DRC=${rc} "-DREGEX=${regex}"
                    -P ${GPSEMU_EXPECT})
+  set_tests_properties(cli.${name} PROPERTIES LABELS e2e)
 endfunction()
 
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/not_a_link.txt "a regular file the pty output must not replace\n")

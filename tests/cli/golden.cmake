@@ -8,4 +8,5 @@ foreach(args_file ${GPSEMU_GOLDEN_ARGS})
            COMMAND ${CMAKE_COMMAND} -DGPSEMU=$<TARGET_FILE:gpsemu> -DARGS_FILE=${args_file}
                    -DEXPECTED=${GPSEMU_GOLDEN_DIR}/${name}.nmea -DACTUAL=${CMAKE_CURRENT_BINARY_DIR}/${name}.nmea
                    -P ${CMAKE_CURRENT_LIST_DIR}/golden_compare.cmake)
+  set_tests_properties(golden.${name} PROPERTIES LABELS e2e)
 endforeach()

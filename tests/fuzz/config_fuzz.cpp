@@ -1,4 +1,4 @@
-// libFuzzer target for the TOML config file (`--config FILE`, emulator/config.hpp): the bytes as
+// libFuzzer target for the TOML config file (`--config FILE`, emulator/config/config.hpp): the bytes as
 // the file's text through build_config_from_text() — TOML parsing, every option's value parser
 // (the same ones the command line uses) and the derived settings. Checks:
 //  - only ConfigError comes out, with a message; a message about the file names it;
@@ -14,9 +14,9 @@
 #include <string>
 #include <string_view>
 
-#include "emulator/clock.hpp"
-#include "emulator/config.hpp"
-#include "emulator/time.hpp"
+#include "emulator/pipeline/clock.hpp"
+#include "emulator/config/config.hpp"
+#include "emulator/model/time.hpp"
 #include "fuzz_check.hpp"
 #include "transport/output_spec.hpp"
 #include "transport/pps.hpp"

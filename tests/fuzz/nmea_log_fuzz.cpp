@@ -22,7 +22,7 @@
 
 #include "emulator/calibration/receiver_log.hpp"
 #include "emulator/replay/replay_log.hpp"
-#include "emulator/time.hpp"
+#include "emulator/model/time.hpp"
 #include "fuzz_check.hpp"
 #include "nmea/parse.hpp"
 

@@ -15,7 +15,7 @@
 
 #include "emulator/sources/pose_message.hpp"
 #include "emulator/sources/trajectory_source.hpp"
-#include "emulator/time.hpp"
+#include "emulator/model/time.hpp"
 #include "fuzz_check.hpp"
 
 namespace {

@@ -18,7 +18,7 @@
 
 #include "emulator/sources/pose_message.hpp"
 #include "emulator/sources/sim.hpp"
-#include "emulator/time.hpp"
+#include "emulator/model/time.hpp"
 #include "fuzz_check.hpp"
 
 namespace {

@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <string>
 
-#include "emulator/gpsemu.hpp"
+#include "emulator/library/gpsemu.hpp"
 #include "nmea/parse.hpp"
 
 int main() {

@@ -13,7 +13,7 @@ endfunction()
 
 file(REMOVE_RECURSE ${WORK_DIR})
 step(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${WORK_DIR}/prefix)
-foreach(f include/gpsemu/emulator/gpsemu.hpp include/gpsemu/nmea/parse.hpp lib/cmake/gpsemu/gpsemuConfig.cmake)
+foreach(f include/gpsemu/emulator/library/gpsemu.hpp include/gpsemu/nmea/parse.hpp lib/cmake/gpsemu/gpsemuConfig.cmake)
   if(NOT EXISTS ${WORK_DIR}/prefix/${f})
     message(FATAL_ERROR "not installed: ${f}")
   endif()

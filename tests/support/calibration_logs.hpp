@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <string>
 
-#include "emulator/geo.hpp"
+#include "emulator/model/geo.hpp"
 #include "nmea/sentences.hpp"
 
 namespace gpsemu::test {

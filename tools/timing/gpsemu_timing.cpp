@@ -34,7 +34,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "emulator/realtime.hpp"
+#include "emulator/pipeline/realtime.hpp"
 #include "tools/timing/timing_inputs.hpp"
 #include "nmea/parse.hpp"
 

@@ -1,0 +1,25 @@
+// Subcommands of gpsemu besides the emulator itself (calibrate, compare, replay, ports, ...).
+// Each lives in its own file and registers here; the main options (--output, --seed, ...) are
+// parsed for them too, before or after the subcommand's name.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "emulator/config/config.hpp"
+
+namespace gpsemu {
+
+struct Subcommand {
+  CLI::App* app = nullptr;                     ///< the parsed subcommand (true when given)
+  /// Returns the exit status; throws for bad input (exit 2). `stop` becomes true on SIGINT/SIGTERM.
+  std::function<int(const Config&, const std::atomic<bool>& stop)> run;
+};
+
+/// Adds every subcommand to `app`. Add a line here for a new one.
+[[nodiscard]] std::vector<Subcommand> add_subcommands(CLI::App& app);
+
+}  // namespace gpsemu

@@ -1,0 +1,201 @@
+#include "emulator/config/fleet_config.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "transport/output_spec.hpp"
+#include "transport/pose_socket.hpp"
+
+namespace gpsemu {
+namespace {
+
+bool all_digits(std::string_view text) {
+  return !text.empty() && std::all_of(text.begin(), text.end(), [](unsigned char c) { return std::isdigit(c) != 0; });
+}
+
+/// One thing a receiver writes to or listens on, which no other receiver may also use.
+struct Claim {
+  std::string resource;  ///< "pty link /tmp/gps1", "udp port 5601", ...: equal strings conflict
+  std::string key;       ///< output | source | tee
+  std::string raw;       ///< the setting before {i} was expanded
+  std::string expanded;  ///< and after
+  bool from_table = false;  ///< set by the receiver's [[receiver]] table (not the shared settings)
+};
+
+std::string normal_path(const std::filesystem::path& p) {
+  std::error_code ec;
+  const auto absolute = std::filesystem::absolute(p, ec);
+  return (ec ? p : absolute).lexically_normal().string();
+}
+
+/// What output `expanded` claims, if anything (a pty without a link, tcp port 0: nothing shared).
+std::optional<std::string> output_resource(const std::string& expanded) {
+  transport::OutputSpec spec;
+  try {
+    spec = transport::parse_output_spec(expanded);
+  } catch (const std::invalid_argument&) {
+    return std::nullopt;  // reported when the output is opened
+  }
+  using K = transport::OutputKind;
+  switch (spec.kind) {
+    case K::pty:
+      if (spec.path.empty()) return std::nullopt;
+      return "pty link " + normal_path(spec.path);
+    case K::file: return "file " + normal_path(spec.path);
+    case K::standard_output: return std::string("stdout");
+    case K::serial:
+      if (spec.usb) return "serial adapter " + transport::to_string(spec);
+      return "serial device " + normal_path(spec.path);
+    case K::tcp:
+      if (spec.port == 0) return std::nullopt;
+      return fmt::format("tcp port {}", spec.port);
+    case K::udp: return fmt::format("udp destination {}:{}", spec.host, spec.port);
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string> source_resource(const std::string& expanded) {
+  const bool udp = expanded.rfind("udp:", 0) == 0;
+  if (!udp && expanded.rfind("tcp:", 0) != 0) return std::nullopt;  // sim:, replay:FILE.csv: nothing held
+  try {
+    const auto endpoint = transport::parse_pose_endpoint(std::string_view(expanded).substr(4));
+    if (endpoint.port == 0) return std::nullopt;
+    return fmt::format("{} port {}", udp ? "udp" : "tcp", endpoint.port);
+  } catch (const std::invalid_argument&) {
+    return std::nullopt;  // reported when the source is opened
+  }
+}
+
+/// `raw` with a template in it, for the message that asks for one.
+std::string suggest_template(const std::string& raw) {
+  if (raw == "stdout") return "file:gps{i}.nmea";
+  std::size_t digits = raw.size();
+  while (digits > 0 && std::isdigit(static_cast<unsigned char>(raw[digits - 1])) != 0) --digits;
+  if (digits < raw.size() && digits > 0 && raw[digits - 1] == ':') {
+    return fmt::format("{}{{{}+i}}", raw.substr(0, digits), raw.substr(digits));  // a port: udp:{5600+i}
+  }
+  return raw + "{i}";
+}
+
+/// "receiver 2", "receiver 2 (DETAIL)", or with tables "receiver 2 ([[receiver]] at FILE:LINE, DETAIL)".
+std::string who(const Config& shared, int index, const std::string& detail = {}) {
+  std::string where;
+  if (!shared.receiver_tables.empty()) {
+    const ReceiverTable& t = shared.receiver_tables[static_cast<std::size_t>(index)];
+    where = fmt::format("[[receiver]] at {}:{}", t.file, t.line);
+  }
+  if (!where.empty() && !detail.empty()) where += ", ";
+  where += detail;
+  return where.empty() ? fmt::format("receiver {}", index) : fmt::format("receiver {} ({})", index, where);
+}
+
+void check_claims(const Config& shared, const std::vector<std::vector<Claim>>& claims) {
+  const int n = static_cast<int>(claims.size());
+  std::map<std::string, std::pair<int, const Claim*>> owner;  // resource -> first receiver claiming it
+  for (int i = 0; i < n; ++i) {
+    for (const Claim& claim : claims[static_cast<std::size_t>(i)]) {
+      const auto [it, inserted] = owner.try_emplace(claim.resource, i, &claim);
+      if (inserted || it->second.first == i) continue;
+      const auto& [first, first_claim] = it->second;
+      const bool listens = claim.key == "source" || claim.resource.rfind("tcp port", 0) == 0;
+      if (!claim.from_table && !first_claim->from_table && claim.raw == first_claim->raw &&
+          claim.raw.find('{') == std::string::npos) {
+        throw ConfigError(fmt::format(
+            "{} '{}' would be shared by all {} receivers ({} and {} would both {} {}): with several receivers, put "
+            "{{i}} (the receiver's index) or {{B+i}} in it, e.g. {} '{}'{}",
+            claim.key, claim.raw, n, who(shared, first), who(shared, i), listens ? "listen on" : "write to",
+            claim.resource, claim.key, suggest_template(claim.raw),
+            shared.receiver_tables.empty() ? "" : ", or give each [[receiver]] table its own"));
+      }
+      throw ConfigError(fmt::format(
+          "{} and {} would both {} {}: give each receiver its own",
+          who(shared, first, fmt::format("{} '{}'", first_claim->key, first_claim->expanded)),
+          who(shared, i, fmt::format("{} '{}'", claim.key, claim.expanded)), listens ? "listen on" : "write to",
+          claim.resource));
+    }
+  }
+}
+
+}  // namespace
+
+int receiver_count(const Config& config) {
+  return config.receiver_tables.empty() ? config.receivers : static_cast<int>(config.receiver_tables.size());
+}
+
+std::string expand_receiver_template(const std::string& key, std::string_view text, int index) {
+  std::string out;
+  out.reserve(text.size() + 8);
+  std::size_t pos = 0;
+  while (pos < text.size()) {
+    const std::size_t open = text.find('{', pos);
+    if (open == std::string_view::npos) {
+      out.append(text.substr(pos));
+      break;
+    }
+    out.append(text.substr(pos, open - pos));
+    const std::size_t close = text.find('}', open);
+    const std::string_view inner = close == std::string_view::npos ? std::string_view{} : text.substr(open + 1, close - open - 1);
+    if (inner == "i") {
+      out += std::to_string(index);
+    } else if (inner.size() > 2 && inner.substr(inner.size() - 2) == "+i" && all_digits(inner.substr(0, inner.size() - 2)) &&
+               inner.size() - 2 <= 9) {
+      out += std::to_string(std::stoll(std::string(inner.substr(0, inner.size() - 2))) + index);
+    } else {
+      throw std::invalid_argument(fmt::format(
+          "{} '{}': '{}' is not a receiver template (accepted: {{i}}, the receiver's index from 0, and {{B+i}}, "
+          "B a whole number, e.g. udp:{{5600+i}})", key, text,
+          close == std::string_view::npos ? text.substr(open) : text.substr(open, close - open + 1)));
+    }
+    pos = close + 1;
+  }
+  return out;
+}
+
+std::vector<Config> receiver_configs(const Config& config) {
+  const int n = receiver_count(config);
+  std::vector<Config> fleet;
+  fleet.reserve(static_cast<std::size_t>(n));
+  std::vector<std::vector<Claim>> claims(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    Config c = config;
+    c.receivers = 1;
+    c.receivers_given = false;
+    c.receiver_tables.clear();
+    c.seed = config.seed + static_cast<std::uint64_t>(i);
+    if (!config.receiver_tables.empty()) apply_receiver_table(c, config.receiver_tables[static_cast<std::size_t>(i)]);
+    auto& mine = claims[static_cast<std::size_t>(i)];
+    const auto table_sets = [&](const char* key) {
+      if (config.receiver_tables.empty()) return false;
+      const auto& keys = config.receiver_tables[static_cast<std::size_t>(i)].keys;
+      return std::any_of(keys.begin(), keys.end(), [key](const ReceiverTable::Key& k) { return k.name == key; });
+    };
+    try {
+      for (std::string& output : c.outputs) {
+        const std::string raw = output;
+        output = expand_receiver_template("output", raw, i);
+        if (auto r = output_resource(output)) mine.push_back({*r, "output", raw, output, table_sets("output")});
+      }
+      const std::string raw_source = c.source;
+      c.source = expand_receiver_template("source", raw_source, i);
+      if (auto r = source_resource(c.source)) mine.push_back({*r, "source", raw_source, c.source, table_sets("source")});
+      if (c.tee) {
+        const std::string raw = *c.tee;
+        c.tee = expand_receiver_template("tee", raw, i);
+        mine.push_back({"file " + normal_path(*c.tee), "tee", raw, *c.tee, table_sets("tee")});
+      }
+    } catch (const std::invalid_argument& e) {
+      throw ConfigError(n > 1 ? fmt::format("{}: {}", who(config, i), e.what()) : std::string(e.what()));
+    }
+    fleet.push_back(std::move(c));
+  }
+  if (n > 1) check_claims(config, claims);
+  return fleet;
+}
+
+}  // namespace gpsemu

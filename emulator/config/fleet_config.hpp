@@ -1,0 +1,37 @@
+// Many receivers in one process (a fleet, e.g. one per simulated vehicle): the shared Config
+// expanded into one full Config per receiver.
+//
+// - `--receivers N`: N receivers from the same settings. In `output` (each), `source` and `tee`,
+//   `{i}` becomes the receiver's index 0..N-1 and `{B+i}` (B a whole number) becomes B + i, so
+//   `--source udp:{5600+i} --output pty:/tmp/gps{i}` gives receiver 7 udp:5607 and pty:/tmp/gps7.
+//   Receiver i's seed is seed + i.
+// - `[[receiver]]` tables in the config file: one receiver per table, its keys overriding the
+//   shared settings (defaults < file top level < command line < the receiver's table). A table
+//   that sets `seed` gets that seed; otherwise receiver i gets seed + i.
+//
+// Two receivers may not write to the same thing (pty link, file, serial device, stdout, tcp port,
+// udp destination, tee file) nor listen on the same source port: that is refused at start-up.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "emulator/config/config.hpp"
+
+namespace gpsemu {
+
+/// How many receivers `config` describes (its tables, or `receivers`).
+[[nodiscard]] int receiver_count(const Config& config);
+
+/// `text` with `{i}` replaced by `index` and `{B+i}` by B + index. Throws std::invalid_argument
+/// naming `key` for any other `{...}` (or an unclosed `{`).
+[[nodiscard]] std::string expand_receiver_template(const std::string& key, std::string_view text, int index);
+
+/// One full Config per receiver (receivers = 1 and no tables in each), in index order. With one
+/// receiver and no tables, the result is `config` itself (templates expanded). Throws ConfigError
+/// for a bad template, a bad table, or two receivers sharing an output or a source port (the
+/// message names both receivers and, for a setting without {i}, says to add it).
+[[nodiscard]] std::vector<Config> receiver_configs(const Config& config);
+
+}  // namespace gpsemu

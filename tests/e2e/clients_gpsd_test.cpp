@@ -1,0 +1,288 @@
+// gpsemu against the real gpsd (Debian's, installed by tools/setup --with-test-deps): gpsemu
+// streams on a pty, the test starts `gpsd -N -n -b -S <free port> /dev/pts/N` on it, watches its
+// JSON reports over TCP and checks them against the NMEA gpsemu wrote to a file at the same time
+// and against the truth. gpsd missing is a failure, not a skip. Waits are poll() with timeouts.
+#include <gtest/gtest.h>
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+#include <utility>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "emulator/model/geo.hpp"
+#include "emulator/model/time.hpp"
+#include "nmea/parse.hpp"
+#include "tests/support/process.hpp"
+#include "tests/support/read_deadline.hpp"
+
+namespace gpsemu {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::chrono;
+using nlohmann::json;
+
+constexpr const char* kGpsd = "/usr/sbin/gpsd";
+const Geodetic kOrigin{43.0725, -89.4125, 260.0};  // gpsemu's default origin (sim:stationary truth)
+
+/// A TCP port that was free a moment ago (bound to port 0 and released): parallel tests and a
+/// system gpsd on 2947 do not collide.
+int free_tcp_port() {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t len = sizeof a;
+  if (fd < 0 || ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 ||
+      ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len) != 0) {
+    throw std::runtime_error("cannot find a free port");
+  }
+  ::close(fd);
+  return ntohs(a.sin_port);
+}
+
+/// Connects to gpsd on 127.0.0.1:port, retrying (paced by poll timeouts) until it listens.
+int connect_gpsd(int port, milliseconds timeout) {
+  const auto deadline = steady_clock::now() + timeout;
+  while (steady_clock::now() < deadline) {
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_port = htons(static_cast<std::uint16_t>(port));
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    if (::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0) return fd;
+    ::close(fd);
+    ::poll(nullptr, 0, 20);  // gpsd is still starting: try again shortly
+  }
+  return -1;
+}
+
+struct Report {
+  int mode = 0;
+  std::optional<std::int64_t> time_of_day_ms;  ///< TPV time, ms since UTC midnight
+  double lat_deg = NAN, lon_deg = NAN;
+};
+
+struct Emitted {
+  bool fix = false;
+  double lat_deg = NAN, lon_deg = NAN;
+};
+
+struct GpsdRun {
+  std::vector<Report> tpv;                       ///< every TPV gpsd sent, in order
+  std::map<std::int64_t, Emitted> epochs;        ///< the GGA of each epoch gpsemu wrote, by ms of day
+  std::int64_t first_epoch_ms = 0;
+  int sky_reports = 0;
+};
+
+std::int64_t ms_of_day(const std::string& iso) {
+  const auto t = parse_iso8601_utc(iso);
+  return duration_cast<milliseconds>(t - floor<days>(t)).count();
+}
+
+/// Runs gpsemu for `duration_s` on a pty with gpsd attached; returns gpsd's TPVs and the NMEA.
+GpsdRun run_with_gpsd(const std::string& name, std::vector<std::string> args, double duration_s) {
+  GpsdRun run;
+  if (::access(kGpsd, X_OK) != 0) {
+    ADD_FAILURE() << kGpsd << " is missing: tools/setup --with-test-deps installs gpsd (Debian package gpsd)";
+    return run;
+  }
+  const fs::path dir = fs::temp_directory_path() / fmt::format("gpsemu_gpsd_{}_{}", ::getpid(), name);
+  fs::create_directories(dir);
+  const fs::path link = dir / "gps", file = dir / "out.nmea";
+  std::vector<std::string> argv{GPSEMU_BINARY, "--output", "pty:" + link.string(), "--output", "file:" + file.string(),
+                                "--duration", fmt::format("{}", duration_s), "--log-level", "info"};
+  argv.insert(argv.end(), args.begin(), args.end());
+  test::Process gpsemu(argv);
+  if (!gpsemu.wait_for_stderr("NMEA on", seconds(20))) {
+    ADD_FAILURE() << "gpsemu did not start: " << gpsemu.stderr_text();
+    return run;
+  }
+  const std::string device = fs::read_symlink(link).string();
+  const int port = free_tcp_port();
+  test::Process gpsd({kGpsd, "-N", "-n", "-b", "-S", std::to_string(port), device});
+  const int sock = connect_gpsd(port, seconds(10));
+  if (sock < 0) {
+    gpsd.signal(SIGTERM);
+    gpsd.wait(seconds(5));
+    ADD_FAILURE() << "gpsd does not listen on port " << port << ": " << gpsd.stderr_text();
+    return run;
+  }
+  const std::string watch = "?WATCH={\"enable\":true,\"json\":true};\n";
+  EXPECT_EQ(::write(sock, watch.data(), watch.size()), static_cast<ssize_t>(watch.size()));
+  // Read reports until gpsemu has had time to finish (it stops after duration_s of epochs).
+  std::string buffer;
+  const milliseconds reading{std::llround(duration_s * 1000.0) + 1500};
+  test::read_with_deadline(sock, {reading}, [&](std::string_view chunk) {
+    buffer.append(chunk);
+    std::size_t nl;
+    while ((nl = buffer.find('\n')) != std::string::npos) {
+      const json j = json::parse(buffer.substr(0, nl), nullptr, false);
+      buffer.erase(0, nl + 1);
+      if (j.is_discarded() || !j.contains("class")) continue;
+      if (j["class"] == "SKY") ++run.sky_reports;
+      if (j["class"] != "TPV") continue;
+      Report r;
+      r.mode = j.value("mode", 0);
+      if (j.contains("time")) r.time_of_day_ms = ms_of_day(j["time"].get<std::string>());
+      r.lat_deg = j.value("lat", std::numeric_limits<double>::quiet_NaN());
+      r.lon_deg = j.value("lon", std::numeric_limits<double>::quiet_NaN());
+      run.tpv.push_back(r);
+    }
+    return false;
+  });
+  ::close(sock);
+  EXPECT_EQ(gpsemu.wait(seconds(20)), 0) << gpsemu.stderr_text();
+  gpsd.signal(SIGTERM);
+  gpsd.wait(seconds(10));
+
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  nmea::StreamReader reader;
+  bool first = true;
+  for (const auto& s : reader.feed(text.str())) {
+    if (s.type != "GGA") continue;
+    const auto gga = nmea::parse_gga(s);
+    if (!gga.ok() || !gga->time_of_day) continue;
+    const std::int64_t ms = gga->time_of_day->count();
+    if (first) run.first_epoch_ms = ms;
+    first = false;
+    run.epochs[ms] = {gga->quality != nmea::FixQuality::none && gga->lat_deg.has_value(),
+                      gga->lat_deg.value_or(NAN), gga->lon_deg.value_or(NAN)};
+  }
+  fs::remove_all(dir);
+  return run;
+}
+
+/// gpsd reports mode 3 for at least `min_fraction` of the epochs since its first timed report, at
+/// the positions gpsemu wrote, within 3 noise widths of the truth.
+void expect_mode3_at_truth(const GpsdRun& run, double rate_hz, double min_fraction, double width_m) {
+  ASSERT_FALSE(run.epochs.empty());
+  std::set<std::int64_t> mode3_times;
+  double worst_error_m = 0.0, worst_vs_emitted_deg = 0.0, sum_sq_error_m2 = 0.0;
+  int error_samples = 0;
+  const LocalFrame frame(kOrigin);
+  for (const Report& r : run.tpv) {
+    if (r.mode != 3 || !r.time_of_day_ms) continue;
+    mode3_times.insert(*r.time_of_day_ms);
+    const auto e = run.epochs.find(*r.time_of_day_ms);
+    ASSERT_NE(e, run.epochs.end()) << "gpsd reported a time gpsemu never wrote: " << *r.time_of_day_ms;
+    ASSERT_TRUE(e->second.fix);
+    worst_vs_emitted_deg = std::max({worst_vs_emitted_deg, std::fabs(r.lat_deg - e->second.lat_deg),
+                                     std::fabs(r.lon_deg - e->second.lon_deg)});
+    const Enu enu = frame.to_enu({r.lat_deg, r.lon_deg, kOrigin.alt_m});
+    worst_error_m = std::max(worst_error_m, std::hypot(enu.east_m, enu.north_m));
+    sum_sq_error_m2 += enu.east_m * enu.east_m + enu.north_m * enu.north_m;
+    ++error_samples;
+  }
+  ASSERT_FALSE(mode3_times.empty()) << "gpsd never reported a 3-D fix";
+  const std::int64_t first_ms = *mode3_times.begin();
+  // The last epoch is not counted: gpsemu exits right after writing it, and closing a pty's
+  // master discards what the slave (gpsd) has not read yet. A running emulator never does that.
+  const std::int64_t last_ms = run.epochs.rbegin()->first;
+  mode3_times.erase(last_ms);
+  const auto epochs_since = static_cast<double>(std::count_if(
+      run.epochs.begin(), run.epochs.end(), [&](const auto& e) { return e.first >= first_ms && e.first < last_ms; }));
+  const double fraction = static_cast<double>(mode3_times.size()) / epochs_since;
+  std::cout << fmt::format("gpsd at {} Hz: mode 3 for {} of {} epochs since its first fix ({:.2f}%; {:.2f}% of all {} "
+                           "emitted, gpsd attached after start-up), horizontal error RMS {:.3f} m, worst {:.3f} m (limit {} m), worst "
+                           "difference from the emitted GGA {:.1e} deg, first fix {} ms after the first epoch\n",
+                           rate_hz, mode3_times.size(), epochs_since, 100.0 * fraction,
+                           100.0 * static_cast<double>(mode3_times.size()) / static_cast<double>(run.epochs.size() - 1),
+                           run.epochs.size() - 1, std::sqrt(sum_sq_error_m2 / error_samples),
+                           worst_error_m, 3.0 * width_m, worst_vs_emitted_deg,
+                           first_ms - run.first_epoch_ms);
+  ::testing::Test::RecordProperty("mode3_fraction", fmt::format("{:.4f}", fraction));
+  ::testing::Test::RecordProperty("worst_error_m", fmt::format("{:.3f}", worst_error_m));
+  EXPECT_GE(fraction, min_fraction);
+  EXPECT_LE(worst_error_m, 3.0 * width_m);
+  EXPECT_LT(worst_vs_emitted_deg, 1e-8) << "gpsd's position is not the emitted one";
+  EXPECT_LT(first_ms - run.first_epoch_ms, 3000) << "gpsd took long to report the first fix";
+}
+
+TEST(Gpsd, ReportsMode3NearTheTruthAt1Hz) {
+  const auto run = run_with_gpsd("1hz", {"--rate", "1", "--seed", "11"}, 10.0);
+  expect_mode3_at_truth(run, 1.0, 0.9, 1.0);
+}
+
+TEST(Gpsd, ReportsMode3NearTheTruthAt5Hz) {
+  const auto run = run_with_gpsd("5hz", {"--rate", "5", "--seed", "12"}, 10.0);
+  expect_mode3_at_truth(run, 5.0, 0.95, 1.0);
+}
+
+// The acceptance figure: 10 Hz for a minute, mode 3 for >= 95 % of the epochs, within 3 widths.
+TEST(Gpsd, TenHertzForAMinuteIsMode3For95PercentOfEpochsWithinThreeNoiseWidths) {
+  const auto run = run_with_gpsd("10hz", {"--rate", "10", "--seed", "13", "--width", "1"}, 60.0);
+  expect_mode3_at_truth(run, 10.0, 0.95, 1.0);
+}
+
+/// The mode gpsd should report for an epoch `since_ms` after the first one.
+using Expected = std::function<int(std::int64_t since_ms)>;
+
+void expect_modes(const GpsdRun& run, const Expected& expected, int min_untimed_no_fix) {
+  std::map<int, int> per_mode;
+  int untimed_no_fix = 0;
+  bool first_timed = true;
+  for (const Report& r : run.tpv) {
+    if (!r.time_of_day_ms) {
+      EXPECT_LE(r.mode, 1) << "a fix without a time";
+      untimed_no_fix += r.mode <= 1;
+      continue;
+    }
+    // gpsd's first report with a time may come before it has seen the whole first cycle (an RMC
+    // without its GGA is a 2-D fix to gpsd): it is not checked.
+    if (std::exchange(first_timed, false)) continue;
+    const std::int64_t since_ms = *r.time_of_day_ms - run.first_epoch_ms;
+    EXPECT_EQ(std::max(r.mode, 1), expected(since_ms)) << "at " << since_ms << " ms after the first epoch";
+    ++per_mode[std::max(r.mode, 1)];
+  }
+  std::cout << fmt::format("gpsd TPVs: {} untimed no-fix, {} timed mode 1, {} mode 2, {} mode 3\n", untimed_no_fix,
+                           per_mode[1], per_mode[2], per_mode[3]);
+  EXPECT_GE(untimed_no_fix, min_untimed_no_fix);
+}
+
+TEST(Gpsd, OutageShowsAsNoFixForItsDurationAndTheFixReturns) {
+  const auto run = run_with_gpsd("outage", {"--rate", "5", "--outage", "4+3", "--seed", "14"}, 12.0);
+  ASSERT_FALSE(run.epochs.empty());
+  expect_modes(run, [](std::int64_t ms) { return ms >= 4000 && ms < 7000 ? 1 : 3; }, 0);
+  // Every outage epoch is reported as no fix, and the fix is back at the first epoch after it.
+  int outage_reports = 0;
+  std::optional<std::int64_t> first_fix_after;
+  for (const Report& r : run.tpv) {
+    if (!r.time_of_day_ms) continue;
+    const std::int64_t ms = *r.time_of_day_ms - run.first_epoch_ms;
+    if (ms >= 4000 && ms < 7000 && r.mode <= 1) ++outage_reports;
+    if (ms >= 7000 && r.mode == 3 && !first_fix_after) first_fix_after = ms;
+  }
+  EXPECT_GE(outage_reports, 15) << "3 s at 5 Hz";
+  ASSERT_TRUE(first_fix_after.has_value()) << "the fix did not return";
+  EXPECT_EQ(*first_fix_after, 7000);
+}
+
+// NMEA 2.3: gpsd 3.22 reads NMEA 4.1's GSA system ID as a thirteenth PRN slot (it counts the
+// PDOP as a satellite), so with 4.1 it sees 4 satellites in a 3-satellite 2-D fix and says 3-D.
+TEST(Gpsd, ColdStartShowsNoFixThen2DThen3DWithNmea23) {
+  const auto run = run_with_gpsd("cold", {"--rate", "5", "--nmea-version", "2.3", "--cold-start", "3,2", "--seed", "15"},
+                                 9.0);
+  ASSERT_FALSE(run.epochs.empty());
+  expect_modes(run, [](std::int64_t ms) { return ms < 3000 ? 1 : ms < 5000 ? 2 : 3; }, 1);
+}
+
+}  // namespace
+}  // namespace gpsemu

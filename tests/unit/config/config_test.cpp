@@ -1,0 +1,119 @@
+// The option table, config file loading and their error messages.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "emulator/config/config.hpp"
+
+namespace gpsemu {
+namespace {
+
+std::string write_temp(const std::string& name, const std::string& text) {
+  const auto path = std::filesystem::temp_directory_path() / ("gpsemu_cfg_" + std::to_string(::getpid()) + name);
+  std::ofstream(path) << text;
+  return path.string();
+}
+
+std::string error_of(const std::optional<std::string>& file, const RawOptions& cli) {
+  try {
+    (void)build_config(file, cli);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(Config, DefaultsAreTheEmbeddedScenario) {
+  const Config c = build_config(std::nullopt, {});
+  EXPECT_EQ(c.source, "sim:stationary");
+  EXPECT_DOUBLE_EQ(c.rate_hz, 1.0);
+  EXPECT_DOUBLE_EQ(c.origin.lat_deg, 43.0725);
+  EXPECT_DOUBLE_EQ(c.origin.lon_deg, -89.4125);
+  EXPECT_EQ(c.noise.model, noise::Model::cgrw);
+  EXPECT_EQ(c.outputs, std::vector<std::string>{"pty:/tmp/gpsemu"});
+}
+
+TEST(Config, CommandLineOverridesConfigFile) {
+  const auto file = write_temp("a.toml", "rate = 5\nlatency = 0.02\noutput = [\"stdout\", \"file:/tmp/x\"]\n");
+  const Config c = build_config(file, {{"rate", {"10"}}});
+  EXPECT_DOUBLE_EQ(c.rate_hz, 10.0);
+  EXPECT_DOUBLE_EQ(c.latency_s, 0.02);
+  EXPECT_EQ(c.outputs, (std::vector<std::string>{"stdout", "file:/tmp/x"}));
+}
+
+TEST(Config, FileErrorsNameFileLineAndKey) {
+  const auto unknown = write_temp("b.toml", "rate = 5\n\nratte = 3\n");
+  EXPECT_NE(error_of(unknown, {}).find(":3: unknown key 'ratte'"), std::string::npos) << error_of(unknown, {});
+  const auto bad_value = write_temp("c.toml", "# comment\nrate = 500\n");
+  const std::string e = error_of(bad_value, {});
+  EXPECT_NE(e.find(":2: key 'rate'"), std::string::npos) << e;
+  EXPECT_NE(e.find("from 0.1 to 50"), std::string::npos) << e;
+  const auto syntax = write_temp("d.toml", "rate = \n");
+  EXPECT_NE(error_of(syntax, {}).find(":1:"), std::string::npos) << error_of(syntax, {});
+}
+
+TEST(Config, FlagErrorsNameTheFlagAndTheAcceptedValues) {
+  EXPECT_NE(error_of(std::nullopt, {{"noise", {"pink"}}}).find("--noise: unknown noise model 'pink'"), std::string::npos);
+  EXPECT_NE(error_of(std::nullopt, {{"origin", {"95,0,0"}}}).find("latitude 95"), std::string::npos);
+  EXPECT_NE(error_of(std::nullopt, {{"rate", {"2.5"}}}).find("--rate"), std::string::npos);
+  EXPECT_NE(error_of(std::nullopt, {{"talker", {"XX"}}}).find("GP, GN"), std::string::npos);
+  EXPECT_NE(error_of(std::nullopt, {{"start-time", {"noon"}}}).find("'noon'"), std::string::npos);
+}
+
+TEST(Config, RateNeedsEnoughTimeDecimals) {
+  EXPECT_NE(error_of(std::nullopt, {{"rate", {"20"}}, {"time-decimals", {"1"}}}).find("repeat a time"), std::string::npos);
+  EXPECT_NO_THROW((void)build_config(std::nullopt, {{"rate", {"20"}}, {"time-decimals", {"2"}}}));
+}
+
+TEST(Config, WidthIsTheCgrwOneKnobUnlessAnAxisIsGiven) {
+  const Config c = build_config(std::nullopt, {{"width", {"10"}}, {"cgrw-north", {"2,0.3,0.4,0.05"}}});
+  EXPECT_DOUBLE_EQ(c.noise.cgrw.east.width_m, noise::cgrw_preset(10.0).east.width_m);
+  EXPECT_DOUBLE_EQ(c.noise.cgrw.north.width_m, 2.0);
+  EXPECT_DOUBLE_EQ(c.noise.cgrw.north.sigma_d2_m, 0.05);
+}
+
+TEST(Config, EveryOptionHasHelpWithAUnitOrDefault) {
+  for (const auto& o : option_table()) {
+    EXPECT_FALSE(o.help.empty()) << o.name;
+    const bool documented = o.help.find("default") != std::string::npos || o.help.find("(") != std::string::npos;
+    EXPECT_TRUE(documented) << o.name << ": " << o.help;
+  }
+}
+
+}  // namespace
+}  // namespace gpsemu
+
+namespace gpsemu {
+namespace {
+
+// build_config_from_text (what config_fuzz drives) gives the file's messages word for word.
+TEST(Config, TextAndFileGiveTheSameConfigAndMessages) {
+  const std::vector<std::string> texts{
+      "rate = 5\nlatency = 0.02\noutput = [\"stdout\", \"file:/tmp/x\"]\n",
+      "rate = 5\n\nrate = 6\n",                 // TOML error: a key defined twice
+      "speed_limit = 3\n",                      // unknown key
+      "rate = 20\ntime-decimals = 1\n",         // derived-setting error
+      "[[receiver]]\nseed = 3\n[[receiver]]\nrate = 2\n",  // a process-wide key in a receiver table
+  };
+  for (std::size_t i = 0; i < texts.size(); ++i) {
+    const std::string path = write_temp("text" + std::to_string(i) + ".toml", texts[i]);
+    std::string from_text = "(no error)";
+    try {
+      const Config c = build_config_from_text(texts[i], path, {{"seed", {"9"}}});
+      const Config f = build_config(path, {{"seed", {"9"}}});
+      EXPECT_EQ(c.rate_hz, f.rate_hz);
+      EXPECT_EQ(c.outputs, f.outputs);
+      EXPECT_EQ(c.seed, 9u);
+    } catch (const ConfigError& e) {
+      from_text = e.what();
+    }
+    EXPECT_EQ(from_text, error_of(path, {{"seed", {"9"}}})) << texts[i];
+    if (i > 0) {
+      EXPECT_NE(from_text, "(no error)") << texts[i];
+    }
+  }
+}
+
+}  // namespace
+}  // namespace gpsemu

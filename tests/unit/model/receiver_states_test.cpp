@@ -1,0 +1,306 @@
+// The receiver model's states and satellite sky: cold start (acquisition, 2-D, 3-D), scheduled
+// outages, fix quality noise scaling with GST, satellites/HDOP derived from the noise, a plausible
+// slowly moving deterministic sky; and the options that configure them.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "emulator/config/config.hpp"
+#include "emulator/model/receiver.hpp"
+#include "emulator/config/receiver_config.hpp"
+#include "emulator/sources/sim.hpp"
+#include "nmea/parse.hpp"
+#include "nmea/sentences.hpp"
+
+namespace gpsemu {
+namespace {
+
+using namespace std::chrono;
+
+const UtcNs kStart = parse_iso8601_utc("2024-05-01T12:00:00Z");
+const LocalFrame kFrame({43.0725, -89.4125, 260.0});
+const sources::Truth kAtOrigin{};
+
+std::unique_ptr<noise::NoiseModel> noise_model(noise::Model model, double sigma_m = 1.0) {
+  noise::NoiseConfig c;
+  c.model = model;
+  for (auto& axis : c.gaussian) axis.sigma_m = sigma_m;
+  return noise::make_noise_model(c, 7);
+}
+
+UtcNs at(double seconds) { return kStart + nanoseconds{std::llround(seconds * 1e9)}; }
+
+int used_flags(const nmea::Fix& fix) {
+  int n = 0;
+  for (int i = 0; i < fix.satellites_in_view; ++i) n += fix.satellites[static_cast<std::size_t>(i)].used;
+  return n;
+}
+
+TEST(ReceiverGeometry, HdopAndSatellitesFollowTheNoiseWidthUnlessGiven) {
+  ReceiverOptions o;
+  o.noise_sigma_m = {0.25, 0.25, 0.375};  // cgrw one knob 1 m: sigma ~ 0.25 x width per axis
+  Geometry g = resolve_geometry(o);
+  EXPECT_NEAR(g.hdop, std::hypot(0.25, 0.25) / kUereM, 1e-12);  // 0.88
+  EXPECT_EQ(g.satellites_used, 12);                           // round((3 / 0.88)^2)
+  EXPECT_EQ(g.satellites_in_view, 17);                        // 12 + 2 + 12 / 4
+  EXPECT_NEAR(g.vdop, 1.5 * g.hdop, 1e-12);
+  EXPECT_NEAR(g.pdop, std::hypot(g.hdop, g.vdop), 1e-12);
+  o.noise_sigma_m = {};  // perfect: the best geometry
+  g = resolve_geometry(o);
+  EXPECT_EQ(g.hdop, kMinDerivedHdop);
+  EXPECT_EQ(g.satellites_used, kMaxDerivedSatellites);
+  o.noise_sigma_m = {10.0, 10.0, 15.0};  // 40 m wander: poor
+  g = resolve_geometry(o);
+  EXPECT_EQ(g.hdop, kMaxDerivedHdop);
+  EXPECT_EQ(g.satellites_used, kMinDerivedSatellites);
+  o.hdop = 1.3;
+  o.satellites_used = 30;
+  g = resolve_geometry(o);
+  EXPECT_EQ(g.hdop, 1.3);
+  EXPECT_EQ(g.satellites_used, 30);
+  EXPECT_EQ(g.satellites_in_view, 32);
+}
+
+TEST(ReceiverGeometry, NoiseSigmaEstimateMatchesTheModel) {
+  noise::NoiseConfig c;
+  c.model = noise::Model::gaussian;
+  c.gaussian = {noise::GaussianAxis{0.0, 1.0}, noise::GaussianAxis{0.0, 2.0}, noise::GaussianAxis{0.0, 3.0}};
+  const Enu s = estimate_noise_sigma_m(c, 3);
+  EXPECT_NEAR(s.east_m, 1.0, 0.03);
+  EXPECT_NEAR(s.north_m, 2.0, 0.06);
+  EXPECT_NEAR(s.up_m, 3.0, 0.09);
+  c.model = noise::Model::cgrw;
+  c.cgrw = noise::cgrw_preset(1.0);
+  const Enu w = estimate_noise_sigma_m(c, 3);  // the preset: about 0.25 x the width
+  EXPECT_NEAR(w.east_m, 0.25, 0.08);
+  EXPECT_NEAR(w.north_m, 0.25, 0.08);
+  c.model = noise::Model::none;
+  EXPECT_EQ(estimate_noise_sigma_m(c, 3).east_m, 0.0);
+}
+
+TEST(ReceiverStates, ColdStartAcquiresThenTwoDThenThreeD) {
+  ReceiverOptions o;
+  o.noise_sigma_m = {0.25, 0.25, 0.375};
+  o.cold_start_s = 20.0;
+  o.cold_start_2d_s = 5.0;
+  Receiver rx(kFrame, o, noise_model(noise::Model::none), kStart);
+  const Geometry g = rx.geometry();
+  int last_in_view = 0;
+  const nmea::FormatOptions fmt;
+  for (int s = 0; s < 40; ++s) {
+    const nmea::Fix fix = rx.fix_at(at(s), kAtOrigin);
+    EXPECT_EQ(phase_at(o, s), s < 20 ? ReceiverPhase::acquiring : s < 25 ? ReceiverPhase::two_d : ReceiverPhase::three_d);
+    if (s < 20) {
+      EXPECT_FALSE(fix.has_fix()) << s;
+      EXPECT_GE(fix.satellites_in_view, last_in_view) << "satellites are acquired one by one";
+      EXPECT_LE(fix.satellites_in_view, g.satellites_in_view);
+      EXPECT_EQ(used_flags(fix), 0);
+      last_in_view = fix.satellites_in_view;
+      const auto gga = nmea::parse_gga(*nmea::parse_sentence(nmea::format_gga(fix, fmt)));
+      EXPECT_EQ(gga->quality, nmea::FixQuality::none);
+    } else if (s < 25) {
+      ASSERT_TRUE(fix.has_fix()) << s;
+      EXPECT_EQ(fix.dimension, nmea::FixDimension::two_d);
+      EXPECT_EQ(fix.satellites_used, kTwoDSatellites);
+      EXPECT_EQ(used_flags(fix), kTwoDSatellites);
+      EXPECT_GE(fix.hdop, g.hdop);
+      const auto gga = nmea::parse_gga(*nmea::parse_sentence(nmea::format_gga(fix, fmt)));
+      EXPECT_FALSE(gga->alt_msl_m.has_value()) << "a 2-D fix has no altitude";
+      EXPECT_EQ(nmea::parse_sentence(nmea::format_gsa(fix, fmt))->fields[1], "2");
+    } else {
+      ASSERT_TRUE(fix.has_fix()) << s;
+      EXPECT_EQ(fix.dimension, nmea::FixDimension::three_d);
+      EXPECT_EQ(fix.satellites_used, g.satellites_used);
+      EXPECT_EQ(fix.satellites_in_view, g.satellites_in_view);
+      EXPECT_EQ(nmea::parse_sentence(nmea::format_gsa(fix, fmt))->fields[1], "3");
+    }
+  }
+  EXPECT_GT(last_in_view, g.satellites_in_view / 2);
+}
+
+TEST(ReceiverStates, OutageEmptiesTheSkyAndTheFixReturnsAfterIt) {
+  ReceiverOptions o;
+  o.outages = {{10.0, 5.0}, {30.0, 0.5}};
+  Receiver rx(kFrame, o, noise_model(noise::Model::none), kStart);
+  for (double s = 0.0; s < 40.0; s += 0.1) {
+    const nmea::Fix fix = rx.fix_at(at(s), kAtOrigin);
+    const bool out = (s >= 10.0 - 1e-9 && s < 15.0 - 1e-9) || (s >= 30.0 - 1e-9 && s < 30.5 - 1e-9);
+    EXPECT_EQ(fix.has_fix(), !out) << s;
+    if (out) {
+      EXPECT_EQ(fix.satellites_in_view, 0) << s;
+      EXPECT_EQ(nmea::format_gsv(fix, {}), "$GPGSV,1,1,00,1*64\r\n");
+      EXPECT_EQ(nmea::parse_sentence(nmea::format_rmc(fix, {}))->fields[1], "V");
+    } else {
+      EXPECT_EQ(fix.dimension, nmea::FixDimension::three_d) << s;
+    }
+  }
+}
+
+TEST(ReceiverStates, StalePoseIsNoFixWithSatellitesStillTracked) {
+  Receiver rx(kFrame, {}, noise_model(noise::Model::none), kStart);
+  const nmea::Fix fix = rx.fix_at(at(1.0), std::nullopt);
+  EXPECT_FALSE(fix.has_fix());
+  EXPECT_EQ(fix.satellites_in_view, rx.geometry().satellites_in_view);
+  EXPECT_EQ(used_flags(fix), 0);
+}
+
+TEST(ReceiverStates, FixQualityShrinksTheNoiseAndGstSaysSo) {
+  struct Case {
+    nmea::FixQuality quality;
+    double scale;
+  };
+  for (const Case c : {Case{nmea::FixQuality::gps, 1.0}, Case{nmea::FixQuality::dgps, 0.4},
+                       Case{nmea::FixQuality::rtk_float, 0.1}, Case{nmea::FixQuality::rtk_fixed, 0.01}}) {
+    EXPECT_EQ(noise_scale(c.quality), c.scale);
+    ReceiverOptions o;
+    o.quality = c.quality;
+    o.noise_sigma_m = {2.0, 2.0, 2.0};
+    Receiver rx(kFrame, o, noise_model(noise::Model::gaussian, 2.0), kStart);
+    double sum_sq_east = 0.0, sum_sq_north = 0.0;
+    constexpr int n = 2000;
+    nmea::Fix fix;
+    for (int k = 0; k < n; ++k) {
+      fix = rx.fix_at(at(k), kAtOrigin);
+      ASSERT_EQ(fix.quality, c.quality);
+      const Enu e = kFrame.to_enu({fix.lat_deg, fix.lon_deg, fix.alt_msl_m});
+      sum_sq_east += e.east_m * e.east_m;
+      sum_sq_north += e.north_m * e.north_m;
+    }
+    EXPECT_NEAR(std::sqrt(sum_sq_east / n), 2.0 * c.scale, 0.1 * c.scale);
+    EXPECT_NEAR(std::sqrt(sum_sq_north / n), 2.0 * c.scale, 0.1 * c.scale);
+    EXPECT_DOUBLE_EQ(fix.sigma_lat_m, 2.0 * c.scale);
+    EXPECT_DOUBLE_EQ(fix.sigma_lon_m, 2.0 * c.scale);
+    EXPECT_DOUBLE_EQ(fix.sigma_alt_m, 2.0 * c.scale);
+    // sigma_h = HDOP x RMS: the GST range RMS is consistent with the reported HDOP.
+    EXPECT_NEAR(fix.range_rms_m * fix.hdop, std::hypot(2.0, 2.0) * c.scale, 1e-9);
+    EXPECT_EQ(fix.hdop, rx.geometry().hdop) << "DOPs are geometry: the fix quality does not change them";
+  }
+}
+
+TEST(Sky, SatellitesArePlausibleConsistentAndMoveSlowly) {
+  ReceiverOptions o;
+  o.noise_sigma_m = {0.25, 0.25, 0.375};
+  Receiver rx(kFrame, o, noise_model(noise::Model::none), kStart);
+  const Geometry g = rx.geometry();
+  nmea::Fix previous;
+  for (int s = 0; s < 3600; ++s) {
+    const nmea::Fix fix = rx.fix_at(at(s), kAtOrigin);
+    ASSERT_EQ(fix.satellites_in_view, g.satellites_in_view);
+    ASSERT_EQ(fix.satellites_used, g.satellites_used);
+    ASSERT_EQ(used_flags(fix), fix.satellites_used);
+    int lowest_used = 90, highest_unused = -1;
+    std::set<int> prns;
+    for (int i = 0; i < fix.satellites_in_view; ++i) {
+      const auto& sat = fix.satellites[static_cast<std::size_t>(i)];
+      ASSERT_GE(sat.prn, 1);
+      ASSERT_LE(sat.prn, 32);
+      if (i > 0) {
+        ASSERT_GT(sat.prn, fix.satellites[static_cast<std::size_t>(i - 1)].prn) << "sorted by PRN";
+      }
+      prns.insert(sat.prn);
+      ASSERT_GE(sat.elevation_deg, 3);
+      ASSERT_LE(sat.elevation_deg, 87);
+      ASSERT_GE(sat.azimuth_deg, 0);
+      ASSERT_LT(sat.azimuth_deg, 360);
+      ASSERT_TRUE(sat.snr_dbhz.has_value());
+      ASSERT_GE(*sat.snr_dbhz, 20);
+      ASSERT_LE(*sat.snr_dbhz, 50);
+      if (sat.used) lowest_used = std::min(lowest_used, sat.elevation_deg);
+      else highest_unused = std::max(highest_unused, sat.elevation_deg);
+      if (s > 0) {
+        const auto& before = previous.satellites[static_cast<std::size_t>(i)];
+        ASSERT_EQ(before.prn, sat.prn) << "the same satellites stay in view";
+        ASSERT_LE(std::abs(sat.elevation_deg - before.elevation_deg), 1) << s;
+        const int daz = std::abs(sat.azimuth_deg - before.azimuth_deg);
+        ASSERT_LE(std::min(daz, 360 - daz), 1) << s;
+        ASSERT_LE(std::abs(*sat.snr_dbhz - *before.snr_dbhz), 1) << s;
+      }
+    }
+    ASSERT_EQ(static_cast<int>(prns.size()), fix.satellites_in_view);
+    ASSERT_GE(lowest_used, highest_unused) << "the highest satellites are used";
+    previous = fix;
+  }
+}
+
+TEST(Sky, SameSeedSameSkyOtherSeedOtherSky) {
+  auto sky_text = [](std::uint64_t seed) {
+    ReceiverOptions o;
+    o.sky_seed = seed;
+    Receiver rx(kFrame, o, noise_model(noise::Model::none), kStart);
+    return nmea::format_gsv(rx.fix_at(at(100.0), kAtOrigin), {});
+  };
+  EXPECT_EQ(sky_text(5), sky_text(5));
+  EXPECT_NE(sky_text(5), sky_text(6));
+}
+
+// Options
+
+Config config_of(const RawOptions& cli) { return build_config(std::nullopt, cli); }
+
+std::string error_of(const RawOptions& cli) {
+  try {
+    (void)config_of(cli);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(ReceiverOptionsConfig, SentencesAreWrittenInReceiverOrderWhateverTheGivenOrder) {
+  EXPECT_EQ(config_of({}).format.sentences, nmea::SentenceSet::ublox_default());
+  const Config c = config_of({{"sentences", {"zda, gga,RMC"}}});
+  std::string order;
+  c.format.sentences.for_each([&](nmea::SentenceType t) { order += nmea::sentence_name(t); });
+  EXPECT_EQ(order, "RMCGGAZDA");
+  EXPECT_NE(error_of({{"sentences", {"GGA,TXT"}}}).find("--sentences: sentences: unknown sentence 'TXT'"), std::string::npos)
+      << error_of({{"sentences", {"GGA,TXT"}}});
+  EXPECT_NE(error_of({{"sentences", {","}}}).find("unknown sentence ''"), std::string::npos);
+}
+
+TEST(ReceiverOptionsConfig, FixQualityColdStartAndRepeatableOutages) {
+  const Config c = config_of({{"fix-quality", {"rtk-fixed"}},
+                              {"cold-start", {"30"}},
+                              {"outage", {"60+5", "120.5+0.5"}}});
+  EXPECT_EQ(c.receiver.quality, nmea::FixQuality::rtk_fixed);
+  EXPECT_EQ(c.receiver.cold_start_s, 30.0);
+  EXPECT_EQ(c.receiver.cold_start_2d_s, 2.0);
+  ASSERT_EQ(c.receiver.outages.size(), 2u);
+  EXPECT_EQ(c.receiver.outages[1].start_s, 120.5);
+  EXPECT_EQ(c.receiver.outages[1].duration_s, 0.5);
+  EXPECT_EQ(config_of({{"cold-start", {"0,4"}}}).receiver.cold_start_2d_s, 4.0);
+  EXPECT_EQ(config_of({}).receiver.cold_start_2d_s, 0.0);
+  EXPECT_NE(error_of({{"fix-quality", {"ppp"}}}).find("--fix-quality"), std::string::npos);
+  EXPECT_NE(error_of({{"outage", {"60"}}}).find("START+DURATION"), std::string::npos);
+  EXPECT_NE(error_of({{"outage", {"60+0"}}}).find("DURATION must be > 0"), std::string::npos);
+  EXPECT_NE(error_of({{"outage", {"-5+3"}}}).find("outage START"), std::string::npos) << error_of({{"outage", {"-5+3"}}});
+  EXPECT_NE(error_of({{"cold-start", {"-1"}}}).find("--cold-start"), std::string::npos);
+}
+
+TEST(ReceiverOptionsConfig, OutagesAndSentencesFromAConfigFileArray) {
+  const auto path = std::filesystem::temp_directory_path() / ("gpsemu_states_" + std::to_string(::getpid()) + ".toml");
+  std::ofstream(path) << "outage = [\"10+2\", \"20+3\"]\nsentences = [\"GGA\", \"RMC\", \"GST\"]\nfix-quality = \"dgps\"\n";
+  const Config c = build_config(path.string(), {});
+  std::filesystem::remove(path);
+  ASSERT_EQ(c.receiver.outages.size(), 2u);
+  EXPECT_EQ(c.receiver.outages[0].start_s, 10.0);
+  EXPECT_EQ(c.receiver.outages[1].duration_s, 3.0);
+  EXPECT_TRUE(c.format.sentences.contains(nmea::SentenceType::gst));
+  EXPECT_FALSE(c.format.sentences.contains(nmea::SentenceType::gsv));
+  EXPECT_EQ(c.receiver.quality, nmea::FixQuality::dgps);
+}
+
+TEST(ReceiverOptionsConfig, LineBudgetOfTheConfiguredRun) {
+  // Default: u-blox set, cgrw 1 m -> about 12 used of 17 in view; 10 Hz needs 115200 baud.
+  const nmea::LineBudget b10 = line_budget(config_of({{"rate", {"10"}}}));
+  EXPECT_EQ(nmea::smallest_standard_baud(b10), 115200);
+  EXPECT_FALSE(b10.fits(57600));
+  const nmea::LineBudget gga_rmc = line_budget(config_of({{"rate", {"10"}}, {"sentences", {"GGA,RMC"}}}));
+  EXPECT_EQ(gga_rmc.bytes_per_epoch, 158u);
+  EXPECT_EQ(nmea::smallest_standard_baud(gga_rmc), 19200);
+}
+
+}  // namespace
+}  // namespace gpsemu
