@@ -3,7 +3,6 @@
 #include <csignal>
 #include <cstdio>
 #include <iostream>
-#include <map>
 
 #include <CLI/CLI.hpp>
 #include <spdlog/sinks/stdout_color_sinks.h>
@@ -12,6 +11,7 @@
 #include "emulator/config/config.hpp"
 #include "emulator/config/fleet_config.hpp"
 #include "emulator/pipeline/runner.hpp"
+#include "emulator/app/command_line.hpp"
 #include "emulator/app/subcommands.hpp"
 
 namespace {
@@ -40,35 +40,8 @@ void setup_logging(const std::string& level) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"gpsemu: hardware-in-the-loop GPS receiver emulator (NMEA over a pty, file or stdout)",
-               "gpsemu"};
-  app.set_version_flag("--version", std::string("gpsemu ") + GPSEMU_VERSION);
-  app.get_formatter()->column_width(34);
-  std::string config_file;
-  app.add_option("--config", config_file, "TOML config file; keys are the long flag names, flags override it")
-      ->check(CLI::ExistingFile)
-      ->option_text("FILE");
-
-  std::map<std::string, std::vector<std::string>> values;
-  std::map<std::string, CLI::Option*> options;
-  for (const auto& def : gpsemu::option_table()) {
-    auto& store = values[def.name];
-    CLI::Option* opt = nullptr;
-    if (def.value_name.empty()) {
-      opt = app.add_flag("--" + def.name, def.help);
-    } else {
-      opt = app.add_option("--" + def.name, store, def.help)->type_name(def.value_name);
-      // One value per occurrence: a value option never swallows a subcommand's positional
-      // argument (`gpsemu replay --speed 10 LOG`).
-      opt->allow_extra_args(false);
-      if (!def.repeatable) opt->expected(1)->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
-    }
-    options[def.name] = opt;
-  }
-
-  const std::vector<gpsemu::Subcommand> subcommands = gpsemu::add_subcommands(app);
-  for (const auto& sc : subcommands) sc.app->fallthrough();
-
+  const auto cl = gpsemu::make_command_line();
+  CLI::App& app = cl->app;
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -81,14 +54,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "gpsemu: %s\nRun 'gpsemu --help' for the options.\n", e.what());
     return 2;
   }
-
-  gpsemu::RawOptions command_line;
-  for (const auto& def : gpsemu::option_table()) {
-    const CLI::Option* opt = options[def.name];
-    if (opt->count() == 0) continue;
-    command_line.emplace_back(def.name, def.value_name.empty() ? std::vector<std::string>{"true"}
-                                                               : values[def.name]);
-  }
+  const gpsemu::RawOptions command_line = cl->given();
+  const std::string& config_file = cl->config_file;
+  const auto& subcommands = cl->subcommands;
 
   gpsemu::Config config;
   try {
