@@ -10,8 +10,17 @@
 #include "emulator/config/config.hpp"
 
 namespace gpsemu {
+namespace {
 
-void add_calibration_args(CLI::App* sub, const std::shared_ptr<CalibrationArgs>& args) {
+constexpr const char* kHelp =
+    "fit every noise model to a stationary receiver's NMEA log and write a config file the emulator "
+    "loads with --config (noise = the best-scoring model)";
+
+}  // namespace
+
+CLI::App* add_calibration_subcommand(CLI::App& app, const std::string& name, const std::string& description,
+                                     const std::shared_ptr<CalibrationArgs>& args) {
+  CLI::App* sub = app.add_subcommand(name, description);
   sub->add_option("log", args->log, "NMEA log of a stationary receiver (binary and junk are skipped)")
       ->required()
       ->check(CLI::ExistingFile)
@@ -19,6 +28,7 @@ void add_calibration_args(CLI::App* sub, const std::shared_ptr<CalibrationArgs>&
   sub->add_option("--runs", args->runs, "simulated runs per model, seeds --seed, --seed+1, ... (default 8)")
       ->check(CLI::Range(1, 1000))
       ->option_text("N");
+  return sub;
 }
 
 calibration::Calibration run_calibration(const CalibrationArgs& args, std::uint64_t seed) {
@@ -30,11 +40,7 @@ calibration::Calibration run_calibration(const CalibrationArgs& args, std::uint6
 
 Subcommand add_calibrate_command(CLI::App& app) {
   auto args = std::make_shared<CalibrationArgs>();
-  CLI::App* sub = app.add_subcommand(
-      "calibrate",
-      "fit every noise model to a stationary receiver's NMEA log and write a config file the emulator "
-      "loads with --config (noise = the best-scoring model)");
-  add_calibration_args(sub, args);
+  CLI::App* sub = add_calibration_subcommand(app, "calibrate", kHelp, args);
   sub->add_option("-o,--config-out", args->out,
                   "write the config here and the summary to stdout (default: config to stdout, summary "
                   "to stderr)")

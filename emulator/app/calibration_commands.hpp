@@ -23,8 +23,9 @@ struct CalibrationArgs {
   int runs = 8;      ///< simulated runs per model, seeds seed, seed+1, ...
 };
 
-/// Adds LOG and --runs to `sub`, stored in `args`.
-void add_calibration_args(CLI::App* sub, const std::shared_ptr<CalibrationArgs>& args);
+/// Adds the subcommand `name` to `app` with LOG and --runs, stored in `args`.
+[[nodiscard]] CLI::App* add_calibration_subcommand(CLI::App& app, const std::string& name, const std::string& description,
+                                                   const std::shared_ptr<CalibrationArgs>& args);
 /// Reads the log and calibrates every model, runs seeded from `seed`.
 [[nodiscard]] calibration::Calibration run_calibration(const CalibrationArgs& args, std::uint64_t seed);
 

@@ -9,13 +9,17 @@
 
 namespace gpsemu {
 
+namespace {
+
+constexpr const char* kHelp =
+    "calibrate every noise model to a stationary receiver's NMEA log, simulate each at the log's "
+    "rate, duration and resolution, and print real vs models side by side with a score";
+
+}  // namespace
+
 Subcommand add_compare_command(CLI::App& app) {
   auto args = std::make_shared<CalibrationArgs>();
-  CLI::App* sub = app.add_subcommand(
-      "compare",
-      "calibrate every noise model to a stationary receiver's NMEA log, simulate each at the log's "
-      "rate, duration and resolution, and print real vs models side by side with a score");
-  add_calibration_args(sub, args);
+  CLI::App* sub = add_calibration_subcommand(app, "compare", kHelp, args);
   sub->add_option("--csv", args->csv, "also write the real and each model's first simulated series (metres) as CSV")
       ->option_text("FILE");
   return {sub, [args](const Config& config, const std::atomic<bool>&) {
