@@ -71,9 +71,10 @@ int main(int argc, char** argv) {
 
   for (const auto& sc : subcommands) {
     if (!sc.app->parsed()) continue;
-    if (config.receivers.size() > 1) {
-      std::fprintf(stderr, "gpsemu: --receivers and [[receiver]] tables apply to the emulator loop, not to 'gpsemu %s'\n",
-                   sc.app->get_name().c_str());
+    try {
+      gpsemu::check_subcommand(config, sc.app->get_name());
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "gpsemu: %s\n", e.what());
       return 2;
     }
     try {

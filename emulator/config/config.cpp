@@ -154,19 +154,7 @@ Config build(const toml::table* file, const std::string& file_name, const RawOpt
       throw ConfigError(fmt::format("--{}: {}", name, e.what()));
     }
   }
-  if (!config.receiver_tables.empty()) {
-    const int tables = static_cast<int>(config.receiver_tables.size());
-    if (tables > kMaxReceivers) {
-      throw ConfigError(fmt::format("config file {}: {} [[receiver]] tables: at most {} receivers in one process",
-                                    file_name, tables, kMaxReceivers));
-    }
-    if (config.receivers_given && config.receivers != tables) {
-      throw ConfigError(fmt::format("receivers is {} but config file {} has {} [[receiver]] tables: the tables make "
-                                    "the receivers, so give one table per receiver or leave receivers out",
-                                    config.receivers, file_name, tables));
-    }
-    config.receivers = tables;
-  }
+  check_fleet_size(config, file_name);
   return resolve(config);
 }
 

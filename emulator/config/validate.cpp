@@ -45,6 +45,21 @@ bool is_replay_only(std::string_view name) {
   return option && option->scope == OptionScope::replay;
 }
 
+void check_fleet_size(ConfigDraft& draft, const std::string& file_name) {
+  if (draft.receiver_tables.empty()) return;
+  const int tables = static_cast<int>(draft.receiver_tables.size());
+  if (tables > kMaxReceivers) {
+    throw ConfigError(fmt::format("config file {}: {} [[receiver]] tables: at most {} receivers in one process",
+                                  file_name, tables, kMaxReceivers));
+  }
+  if (draft.receivers_given && draft.receivers != tables) {
+    throw ConfigError(fmt::format("receivers is {} but config file {} has {} [[receiver]] tables: the tables make "
+                                  "the receivers, so give one table per receiver or leave receivers out",
+                                  draft.receivers, file_name, tables));
+  }
+  draft.receivers = tables;
+}
+
 void resolve_timeline(ConfigDraft& draft) {
   TimelineSettings& t = draft.timeline;
   if (t.clock.kind == ClockKind::fast) draft.fast = true;
@@ -103,6 +118,13 @@ void check_source_clock(const ReceiverSettings& receiver, const TimelineSettings
   if (timeline.fast() || timeline.start_time) {
     throw std::invalid_argument(fmt::format("--source {}: a socket source runs on the wall clock; it cannot be "
                                             "combined with --fast or --start-time", spec.text));
+  }
+}
+
+void check_subcommand(const Config& config, const std::string& subcommand) {
+  if (config.receivers.size() > 1) {
+    throw ConfigError(fmt::format("--receivers and [[receiver]] tables apply to the emulator loop, not to 'gpsemu {}'",
+                                  subcommand));
   }
 }
 
