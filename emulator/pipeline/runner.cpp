@@ -146,7 +146,7 @@ void Runner::init(std::optional<RunnerIo> io) {
     }
     const Geometry& g = ch.receiver->geometry();
     spdlog::info("{}receiver: GGA quality {} (noise x{}), {} of {} satellites used, HDOP {:.2f}; {} bytes an epoch at most",
-                 who, static_cast<int>(ch.config.receiver.quality), noise_scale(ch.config.receiver.quality),
+                 who, static_cast<int>(ch.config.model.quality), noise_scale(ch.config.model.quality),
                  g.satellites_used, g.satellites_in_view, g.hdop,
                  nmea::line_budget(ch.config.format, g.satellites_in_view, g.satellites_used, config.timeline.rate_hz)
                      .bytes_per_epoch);
