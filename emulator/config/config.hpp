@@ -21,7 +21,7 @@ namespace gpsemu {
 struct Config {
   ProcessSettings process;
   TimelineSettings timeline;
-  std::vector<ReceiverSettings> receivers{1};  ///< at least one, in index order
+  std::vector<ReceiverSettings> receivers = std::vector<ReceiverSettings>(1);  ///< at least one, in index order
   ReplaySettings replay;
 
   /// The first receiver: the only one of a run without --receivers or tables (the subcommands').

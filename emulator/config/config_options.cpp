@@ -223,13 +223,13 @@ std::vector<OptionDef> make_option_table() {
   scope = OptionScope::receiver;
   add("satellites", "N", "satellites used in a 3-D fix, 4..32 (default: round((3/HDOP)^2) in 5..16; "
       "in view: used + 2 + used/4)",
-      [](ConfigDraft& d, V v) { d.receiver.settings.receiver.satellites_used = static_cast<int>(parse_number("satellites", v.back(), 4, 32)); });
+      [](ConfigDraft& d, V v) { d.receiver.settings.model.satellites_used = static_cast<int>(parse_number("satellites", v.back(), 4, 32)); });
   add("hdop", "X", "HDOP reported with a fix, 0.5..50 (default: the noise's horizontal sigma / 0.4 m, "
       "in 0.5..20)",
-      [](ConfigDraft& d, V v) { d.receiver.settings.receiver.hdop = parse_number("hdop", v.back(), 0.5, 50.0); });
+      [](ConfigDraft& d, V v) { d.receiver.settings.model.hdop = parse_number("hdop", v.back(), 0.5, 50.0); });
   add("fix-quality", "Q", "fix quality: gps | dgps | rtk-float | rtk-fixed; scales the noise by 1, 0.4, 0.1, "
       "0.01 (default gps)",
-      [](ConfigDraft& d, V v) { d.receiver.settings.receiver.quality = parse_fix_quality(v.back()); });
+      [](ConfigDraft& d, V v) { d.receiver.settings.model.quality = parse_fix_quality(v.back()); });
   add("cold-start", "S[,S2D]", "cold start: no fix for S seconds (satellites acquired one by one), then a "
       "2-D fix for S2D seconds (default 2 when S > 0), then 3-D; seconds after the first epoch (default 0,0)",
       [](ConfigDraft& d, V v) {
@@ -237,20 +237,20 @@ std::vector<OptionDef> make_option_table() {
         if (x[0] < 0.0 || (x.size() > 1 && x[1] < 0.0) || x[0] > 1e6 || (x.size() > 1 && x[1] > 1e6)) {
           throw std::invalid_argument(fmt::format("cold-start: seconds must be 0..1e6, got '{}'", v.back()));
         }
-        d.receiver.settings.receiver.cold_start_s = x[0];
-        d.receiver.settings.receiver.cold_start_2d_s = x.size() > 1 ? x[1] : (x[0] > 0.0 ? 2.0 : 0.0);
+        d.receiver.settings.model.cold_start_s = x[0];
+        d.receiver.settings.model.cold_start_2d_s = x.size() > 1 ? x[1] : (x[0] > 0.0 ? 2.0 : 0.0);
       });
   add("outage", "START+DURATION", "scheduled outage (tunnel): no satellites and no fix from START for "
       "DURATION seconds, START in seconds after the first epoch; repeatable (default none)",
       [](ConfigDraft& d, V v) {
-        d.receiver.settings.receiver.outages.clear();
-        for (const auto& text : v) d.receiver.settings.receiver.outages.push_back(parse_outage(text));
+        d.receiver.settings.model.outages.clear();
+        for (const auto& text : v) d.receiver.settings.model.outages.push_back(parse_outage(text));
       }, true);
   add("sentences", "LIST", "NMEA sentences of each epoch, comma-separated, from RMC VTG GGA GSA GSV GLL GST "
       "ZDA; written in that (u-blox) order whatever the order given (default RMC,VTG,GGA,GSA,GSV,GLL)",
       [](ConfigDraft& d, V v) { d.receiver.settings.format.sentences = parse_sentence_set(v); });
   add("geoid-separation", "M", "geoid separation in GGA, metres (default 0)",
-      [](ConfigDraft& d, V v) { d.receiver.settings.receiver.geoid_sep_m = parse_number("geoid-separation", v.back(), -120.0, 120.0); });
+      [](ConfigDraft& d, V v) { d.receiver.settings.model.geoid_sep_m = parse_number("geoid-separation", v.back(), -120.0, 120.0); });
   add("talker", "ID", "NMEA talker ID: GP or GN (default GP)",
       [](ConfigDraft& d, V v) { d.receiver.settings.format.talker = parse_choice("talker", v.back(), {"GP", "GN", "GL", "GA", "BD"}); });
   add("nmea-version", "V", "NMEA version: 2.3 or 4.1 (default 4.1)",

@@ -7,7 +7,7 @@
 namespace gpsemu {
 
 ReceiverOptions receiver_options(const ReceiverSettings& receiver) {
-  ReceiverOptions options = receiver.receiver;
+  ReceiverOptions options = receiver.model;
   options.noise_sigma_m = estimate_noise_sigma_m(receiver.noise, receiver.seed);
   options.sky_seed = receiver.seed;
   options.satellite_details = receiver.format.sentences.contains(nmea::SentenceType::gsa) ||

@@ -13,7 +13,7 @@
 
 namespace gpsemu {
 
-/// receiver.receiver with noise_sigma_m = estimate_noise_sigma_m(receiver.noise, receiver.seed)
+/// receiver.model with noise_sigma_m = estimate_noise_sigma_m(receiver.noise, receiver.seed)
 /// and sky_seed = receiver.seed. Throws std::invalid_argument for a bad noise configuration.
 [[nodiscard]] ReceiverOptions receiver_options(const ReceiverSettings& receiver);
 

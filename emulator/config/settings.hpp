@@ -55,7 +55,7 @@ struct ReceiverSettings {
   double pose_horizon_s = 0.2;                 ///< udp:/tcp: longest extrapolation past the newest pose (seconds)
   noise::NoiseConfig noise;                    ///< model and its parameters (cgrw axes resolved from --width)
   std::uint64_t seed = 1;                      ///< noise and sky seed (receiver i of --receivers: seed + i)
-  ReceiverOptions receiver;                    ///< fix quality, satellites, HDOP, cold start, outages
+  ReceiverOptions model;                       ///< receiver model: fix quality, satellites, HDOP, cold start, outages
   nmea::FormatOptions format;                  ///< sentences, talker, NMEA version, resolution, time decimals
   std::vector<transport::OutputSpec> outputs;  ///< where NMEA goes (parsed --output specs)
   std::optional<std::string> tee;              ///< file copying everything sent, with send times (default none)

@@ -269,14 +269,14 @@ TEST(ReceiverOptionsConfig, FixQualityColdStartAndRepeatableOutages) {
   const Config c = config_of({{"fix-quality", {"rtk-fixed"}},
                               {"cold-start", {"30"}},
                               {"outage", {"60+5", "120.5+0.5"}}});
-  EXPECT_EQ(c.receiver().receiver.quality, nmea::FixQuality::rtk_fixed);
-  EXPECT_EQ(c.receiver().receiver.cold_start_s, 30.0);
-  EXPECT_EQ(c.receiver().receiver.cold_start_2d_s, 2.0);
-  ASSERT_EQ(c.receiver().receiver.outages.size(), 2u);
-  EXPECT_EQ(c.receiver().receiver.outages[1].start_s, 120.5);
-  EXPECT_EQ(c.receiver().receiver.outages[1].duration_s, 0.5);
-  EXPECT_EQ(config_of({{"cold-start", {"0,4"}}}).receiver().receiver.cold_start_2d_s, 4.0);
-  EXPECT_EQ(config_of({}).receiver().receiver.cold_start_2d_s, 0.0);
+  EXPECT_EQ(c.receiver().model.quality, nmea::FixQuality::rtk_fixed);
+  EXPECT_EQ(c.receiver().model.cold_start_s, 30.0);
+  EXPECT_EQ(c.receiver().model.cold_start_2d_s, 2.0);
+  ASSERT_EQ(c.receiver().model.outages.size(), 2u);
+  EXPECT_EQ(c.receiver().model.outages[1].start_s, 120.5);
+  EXPECT_EQ(c.receiver().model.outages[1].duration_s, 0.5);
+  EXPECT_EQ(config_of({{"cold-start", {"0,4"}}}).receiver().model.cold_start_2d_s, 4.0);
+  EXPECT_EQ(config_of({}).receiver().model.cold_start_2d_s, 0.0);
   EXPECT_NE(error_of({{"fix-quality", {"ppp"}}}).find("--fix-quality"), std::string::npos);
   EXPECT_NE(error_of({{"outage", {"60"}}}).find("START+DURATION"), std::string::npos);
   EXPECT_NE(error_of({{"outage", {"60+0"}}}).find("DURATION must be > 0"), std::string::npos);
@@ -289,12 +289,12 @@ TEST(ReceiverOptionsConfig, OutagesAndSentencesFromAConfigFileArray) {
   std::ofstream(path) << "outage = [\"10+2\", \"20+3\"]\nsentences = [\"GGA\", \"RMC\", \"GST\"]\nfix-quality = \"dgps\"\n";
   const Config c = build_config(path.string(), {});
   std::filesystem::remove(path);
-  ASSERT_EQ(c.receiver().receiver.outages.size(), 2u);
-  EXPECT_EQ(c.receiver().receiver.outages[0].start_s, 10.0);
-  EXPECT_EQ(c.receiver().receiver.outages[1].duration_s, 3.0);
+  ASSERT_EQ(c.receiver().model.outages.size(), 2u);
+  EXPECT_EQ(c.receiver().model.outages[0].start_s, 10.0);
+  EXPECT_EQ(c.receiver().model.outages[1].duration_s, 3.0);
   EXPECT_TRUE(c.receiver().format.sentences.contains(nmea::SentenceType::gst));
   EXPECT_FALSE(c.receiver().format.sentences.contains(nmea::SentenceType::gsv));
-  EXPECT_EQ(c.receiver().receiver.quality, nmea::FixQuality::dgps);
+  EXPECT_EQ(c.receiver().model.quality, nmea::FixQuality::dgps);
 }
 
 TEST(ReceiverOptionsConfig, LineBudgetOfTheConfiguredRun) {
