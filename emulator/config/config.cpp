@@ -1,9 +1,7 @@
+// Loading a configuration: defaults, the TOML file, the command line, the [[receiver]] tables;
+// then resolving it into a Config (validate.hpp, fleet_config.hpp).
 #include "emulator/config/config.hpp"
 
-#include <algorithm>
-#include <cctype>
-#include <charconv>
-#include <cmath>
 #include <set>
 #include <sstream>
 
@@ -11,14 +9,11 @@
 #include <toml++/toml.h>
 
 #include "emulator/config/config_options.hpp"
-#include "emulator/config/config_values.hpp"
 #include "emulator/config/fleet_config.hpp"
 #include "emulator/config/validate.hpp"
 
 namespace gpsemu {
 namespace {
-
-using namespace config_values;
 
 /// A TOML value as the strings an option's apply() takes.
 std::vector<std::string> toml_to_strings(const toml::node& node, const std::string& key) {
