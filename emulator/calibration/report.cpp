@@ -67,6 +67,7 @@ std::string calibration_summary(const Calibration& c) {
                        c.cgrw_fit[a].worst_ratio > noise::kCgrwMaxFitRatio ? "  (out of reach: compromise written)" : "");
   }
   if (!c.cgrw_unusable.empty()) out += fmt::format("  cgrw not usable: {}\n", c.cgrw_unusable);
+  for (const std::string& note : c.notes) out += fmt::format("note: {}\n", note);
   for (const ModelResult& m : c.models) {
     const auto& k = m.config;
     if (k.model == noise::Model::gaussian) {

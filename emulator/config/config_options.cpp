@@ -20,8 +20,9 @@ using namespace config_values;
 
 noise::CgrwAxis parse_cgrw_axis(const std::string& key, const std::string& text) {
   const auto v = parse_list(key, text, 4, 4);
+  if (v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0 && v[3] == 0.0) return {0.0, 0.0, 0.0, 0.0};  // axis off
   for (const double x : v) {
-    if (!(x > 0.0)) throw std::invalid_argument(fmt::format("{}: every width must be > 0 metres, got '{}'", key, text));
+    if (!(x > 0.0)) throw std::invalid_argument(fmt::format("{}: every width must be > 0 metres (or all four 0: no noise on the axis), got '{}'", key, text));
   }
   return {v[0], v[1], v[2], v[3]};
 }
@@ -150,7 +151,7 @@ std::vector<OptionDef> make_option_table() {
   for (const char* axis : {"east", "north", "up"}) {
     add(fmt::format("cgrw-{}", axis), "W,W1,W2,S2",
         fmt::format("cgrw {} axis: width, first- and second-difference widths, second-difference std, metres "
-                    "at cgrw-rate (default: from --width)", axis),
+                    "at cgrw-rate; 0,0,0,0: no noise on the axis (default: from --width)", axis),
         [axis](ConfigDraft& d, V v) {
           const auto a = parse_cgrw_axis(fmt::format("cgrw-{}", axis), v.back());
           std::string name = axis;
