@@ -21,6 +21,7 @@ struct CalibrationArgs {
   std::string out;   ///< calibrate: config file; empty = stdout
   std::string csv;   ///< compare: series for plots
   int runs = 8;      ///< simulated runs per model, seeds seed, seed+1, ...
+  bool detrend = false;  ///< remove a smooth trajectory instead of refusing a log that moves
 };
 
 /// Adds the subcommand `name` to `app` with LOG and --runs, stored in `args`.

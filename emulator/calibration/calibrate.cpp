@@ -87,6 +87,17 @@ Calibration calibrate(ReceiverLog log, const CalibrateOptions& options) {
   c.counts = log.counts;
   EnuSeries& s = c.series;
   c.window_samples = std::min<std::size_t>(s.size(), static_cast<std::size_t>(noise::kCgrwMaxWindowSamples));
+  c.motion = check_motion(s);
+  if (options.detrend) {
+    const Detrended d = detrend(s);
+    c.notes.push_back(fmt::format("detrended: a smooth trajectory (local quadratic over {:.0f} s) removed first: "
+                                  "{:.2f} m rms from the mean, {:.1f} m of path (the log: {})",
+                                  kDetrendWindow_s, d.rms_m, d.path_m, c.motion.describe()));
+  } else if (c.motion.moving) {
+    throw MotionError(fmt::format("the log moves: {}; a stationary receiver stays within {:.0f} m and {:.1f} m/s. "
+                                  "Calibration needs a stationary receiver (--detrend removes a smooth trajectory first)",
+                                  c.motion.describe(), kMaxStationaryDisplacement_m, kMaxStationarySpeed_mps));
+  }
   for (std::size_t a = 0; a < 3; ++a) {
     const double range_m = measure_axis(s.axis_m[a], s.rate_hz, c.window_samples).range_m;
     if (range_m >= kConstantAxisRange_m) continue;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "emulator/calibration/model_fits.hpp"
+#include "emulator/calibration/motion.hpp"
 #include "emulator/calibration/receiver_log.hpp"
 #include "emulator/calibration/series_stats.hpp"
 #include "emulator/model/noise/cgrw_fit.hpp"
@@ -22,6 +23,8 @@ namespace gpsemu::calibration {
 struct CalibrateOptions {
   std::uint64_t seed = 1;  ///< runs use seeds seed, seed + 1, ...
   int runs = 8;            ///< simulated runs per model (statistics are averaged over them)
+  /// Remove a smooth trajectory first (motion.hpp) instead of refusing a log that moves.
+  bool detrend = false;
 };
 
 /// One model with its calibrated parameters and how it compares.
@@ -35,6 +38,7 @@ struct ModelResult {
 struct Calibration {
   EnuSeries series;                       ///< the log on its grid, metres about its mean
   LogCounts counts;                       ///< what reading it skipped
+  MotionCheck motion;                     ///< the log's displacement and speed (before any detrending)
   std::array<AxisStats, 3> real;          ///< the log's statistics
   std::size_t window_samples = 0;         ///< cgrw window (the log's length, at most 100 000)
   /// cgrw: the measured four statistics, the best compromise fit of each (max_ratio infinite),
@@ -51,7 +55,8 @@ struct Calibration {
 };
 
 /// Reads nothing: works on a log already read. Throws std::invalid_argument when the log is
-/// unusable (too few fixes, no spread at all).
+/// unusable (too few fixes, no spread at all), MotionError when it moves (unless
+/// options.detrend).
 [[nodiscard]] Calibration calibrate(ReceiverLog log, const CalibrateOptions& options = {});
 
 /// `config` simulated at the series' epochs (rate, length, gaps as NaN), with the emulator's

@@ -46,6 +46,7 @@ std::string log_summary(const Calibration& c, const std::string& path) {
                      n.gga_no_fix, n.gga_malformed, n.repeated_time, n.stream.sentences_ok,
                      n.stream.bad_checksum, n.stream.malformed, n.stream.garbage_bytes,
                      n.stream.comment_lines);
+  for (const std::string& note : c.notes) out += fmt::format("  note: {}\n", note);
   return out;
 }
 
@@ -67,7 +68,6 @@ std::string calibration_summary(const Calibration& c) {
                        c.cgrw_fit[a].worst_ratio > noise::kCgrwMaxFitRatio ? "  (out of reach: compromise written)" : "");
   }
   if (!c.cgrw_unusable.empty()) out += fmt::format("  cgrw not usable: {}\n", c.cgrw_unusable);
-  for (const std::string& note : c.notes) out += fmt::format("note: {}\n", note);
   for (const ModelResult& m : c.models) {
     const auto& k = m.config;
     if (k.model == noise::Model::gaussian) {

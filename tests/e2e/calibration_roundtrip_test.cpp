@@ -182,5 +182,21 @@ TEST(CalibrateCommand, UnusableLogsExitWithStatus2) {
   std::remove(log.c_str());
 }
 
+TEST(CalibrateCommand, ADrivingLogIsRefusedUnlessDetrended) {
+  // Issue 16: a sim:circle run (20 m radius, 2 m/s) was calibrated as noise.
+  const std::string log = temp_path("circle.nmea");
+  write_file(log, emulate({"--source", "sim:circle", "--duration", "300", "--sentences", "GGA"}));
+  for (const char* sub : {"calibrate", "compare"}) {
+    const auto r = test::run({GPSEMU_BINARY, sub, log, "--runs", "1"});
+    EXPECT_EQ(r.status, 2) << sub << r.out;
+    EXPECT_NE(r.err.find("net displacement"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("m/s"), std::string::npos) << r.err;
+  }
+  const auto d = test::run({GPSEMU_BINARY, "calibrate", log, "--runs", "1", "--detrend"});
+  EXPECT_EQ(d.status, 0) << d.err;
+  EXPECT_NE(d.out.find("# detrended"), std::string::npos) << d.out;
+  std::remove(log.c_str());
+}
+
 }  // namespace
 }  // namespace gpsemu::calibration
