@@ -10,6 +10,7 @@
 #include "emulator/model/geo.hpp"
 #include "nmea/parse.hpp"
 #include "tests/support/process.hpp"
+#include "tests/support/statistics.hpp"
 
 namespace gpsemu {
 namespace {
@@ -66,15 +67,7 @@ double mean_window_width(const std::vector<double>& x, std::size_t window) {
   return sum / n;
 }
 
-double lag1_autocorrelation(const std::vector<double>& x) {
-  const double mean = std::accumulate(x.begin(), x.end(), 0.0) / x.size();
-  double num = 0.0, den = 0.0;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    den += (x[i] - mean) * (x[i] - mean);
-    if (i + 1 < x.size()) num += (x[i] - mean) * (x[i + 1] - mean);
-  }
-  return num / den;
-}
+using test::lag1_autocorrelation;
 
 class StationaryWidth : public ::testing::TestWithParam<double> {};
 
