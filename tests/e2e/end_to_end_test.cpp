@@ -25,10 +25,7 @@ struct Epoch {
 const Geodetic kOrigin{43.0725, -89.4125, 260.0};
 
 std::vector<Epoch> run_and_parse(std::vector<std::string> args) {
-  std::vector<std::string> argv{GPSEMU_BINARY, "--fast", "--output", "stdout", "--log-level", "warn",
-                                "--start-time", "2024-05-01T00:00:00Z"};
-  argv.insert(argv.end(), args.begin(), args.end());
-  const auto r = test::run(argv, std::chrono::seconds(120));
+  const auto r = test::run_fast(GPSEMU_BINARY, args);
   EXPECT_EQ(r.status, 0) << r.err;
   nmea::StreamReader reader;
   const auto sentences = reader.feed(r.out);

@@ -31,9 +31,8 @@ namespace fs = std::filesystem;
 using namespace std::chrono;
 
 fs::path temp_dir() {
-  auto d = fs::temp_directory_path() / fmt::format("gpsemu_replay_{}", ::getpid());
-  fs::create_directories(d);
-  return d;
+  static const fs::path dir = test::scratch_dir("replay", "e2e");  // once a process: files stay
+  return dir;
 }
 
 fs::path write(const std::string& name, const std::string& text) {

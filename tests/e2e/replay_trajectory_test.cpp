@@ -28,9 +28,8 @@ const UtcNs kStart = parse_iso8601_utc("2024-05-01T12:00:00Z");
 UtcNs at_s(double s) { return kStart + nanoseconds{std::llround(s * 1e9)}; }
 
 fs::path temp_dir() {
-  auto d = fs::temp_directory_path() / fmt::format("gpsemu_traj_{}", ::getpid());
-  fs::create_directories(d);
-  return d;
+  static const fs::path dir = test::scratch_dir("traj", "e2e");  // once a process: files stay
+  return dir;
 }
 
 fs::path write(const std::string& name, const std::string& text) {
