@@ -58,7 +58,9 @@ std::string value_name(const CLI::Option& opt) {
 bool repeatable(const CLI::Option& opt) { return opt.get_type_size_max() > 0 && opt.get_expected_max() > 1; }
 
 /// Where an option applies (process, timeline, receiver, replay). The option table does not
-/// state it yet: when it does, return it here and the tables grow a "scope" column by themselves.
+/// state it yet: when it does, look the option up in gpsemu::option_table() by its long name
+/// (opt.get_lnames().front()) and return the entry's scope; the tables then grow a "scope" column
+/// by themselves (only where some option has one). Empty: the column is left out.
 std::string scope_of(const CLI::Option& /*opt*/) { return {}; }
 
 bool is_help_or_version(const CLI::Option& opt) {
