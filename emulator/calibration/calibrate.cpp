@@ -145,6 +145,7 @@ Calibration calibrate(ReceiverLog log, const CalibrateOptions& options) {
   configs.push_back(gaussian);
   configs.push_back(gm1);
   configs.push_back(gm2);
+  configs.push_back(fit_composite(s, c.real, c.window_samples));
   for (const noise::NoiseConfig& config : configs) {
     ModelResult r;
     r.config = config;
@@ -223,6 +224,19 @@ std::string config_toml(const Calibration& c, const std::string& log_name) {
         line(fmt::format("gm-order = {}", k.gauss_markov_order));
         line(fmt::format("gm-sigma = \"{:.6g},{:.6g},{:.6g}\"", g[0].sigma_m, g[1].sigma_m, g[2].sigma_m));
         line(fmt::format("gm-tau = \"{:.6g},{:.6g},{:.6g}\"", g[0].tau_s, g[1].tau_s, g[2].tau_s));
+        break;
+      }
+      case noise::Model::composite: {
+        const auto& g = k.composite.smooth_gm;
+        const auto& x = k.composite.axes;
+        const auto three = [](double a, double b, double c) { return fmt::format("\"{:.6g},{:.6g},{:.6g}\"", a, b, c); };
+        line("composite-smooth = \"gauss-markov-2\"");
+        line("composite-sigma = " + three(g[0].sigma_m, g[1].sigma_m, g[2].sigma_m));
+        line("composite-tau = " + three(g[0].tau_s, g[1].tau_s, g[2].tau_s));
+        line("composite-jitter = " + three(x[0].jitter_sigma_m, x[1].jitter_sigma_m, x[2].jitter_sigma_m));
+        line("composite-jump-rate = " + three(x[0].jump_rate_hz, x[1].jump_rate_hz, x[2].jump_rate_hz));
+        line("composite-jump-size = " + three(x[0].jump_sigma_m, x[1].jump_sigma_m, x[2].jump_sigma_m));
+        line("composite-jump-decay = " + three(x[0].jump_decay_s, x[1].jump_decay_s, x[2].jump_decay_s));
         break;
       }
       case noise::Model::none: break;

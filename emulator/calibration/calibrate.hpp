@@ -22,7 +22,8 @@ namespace gpsemu::calibration {
 
 struct CalibrateOptions {
   std::uint64_t seed = 1;  ///< runs use seeds seed, seed + 1, ...
-  int runs = 8;            ///< simulated runs per model (statistics are averaged over them)
+  int runs = 32;           ///< simulated runs per model (statistics are averaged over them; 8 runs of a
+                           ///< log of a few minutes vary by 20% between seed sets)
   /// Remove a smooth trajectory first (motion.hpp) instead of refusing a log that moves.
   bool detrend = false;
 };

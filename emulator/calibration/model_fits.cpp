@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -256,6 +257,92 @@ noise::CgrwParams fit_cgrw_dequantised(const EnuSeries& s, const std::array<Axis
     }
   }
   return cgrw.cgrw;
+}
+
+}  // namespace gpsemu::calibration
+
+namespace gpsemu::calibration {
+namespace {
+
+double median_of(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+// The jumps of one axis: first differences beyond 5 robust standard deviations (1.4826 MAD) and
+// two quanta of the log's resolution.
+noise::CompositeAxis find_jumps(const std::vector<double>& x, double rate_hz, double quantum_m) {
+  std::vector<double> d1;
+  for (std::size_t k = 1; k < x.size(); ++k)
+    if (!std::isnan(x[k]) && !std::isnan(x[k - 1])) d1.push_back(x[k] - x[k - 1]);
+  noise::CompositeAxis a;
+  if (d1.size() < 8) return a;
+  const double med = median_of(d1);
+  std::vector<double> dev;
+  for (double d : d1) dev.push_back(std::abs(d - med));
+  const double threshold = std::max({5.0 * 1.4826 * median_of(dev), 2.0 * quantum_m, 1e-4});
+  double count = 0.0, sum2 = 0.0;
+  for (double d : d1)
+    if (std::abs(d - med) > threshold) count += 1.0, sum2 += d * d;
+  if (count == 0.0) return a;
+  a.jump_rate_hz = count * rate_hz / static_cast<double>(x.size());
+  a.jump_sigma_m = std::sqrt(sum2 / count);
+  return a;
+}
+
+double log_error(double model, double real) {
+  return real > 0.0 && model > 0.0 ? std::abs(std::log(model / real)) : (real == model ? 0.0 : 1.0);
+}
+
+}  // namespace
+
+noise::NoiseConfig fit_composite(const EnuSeries& s, const std::array<AxisStats, 3>& real, std::size_t window) {
+  noise::NoiseConfig c;
+  c.model = noise::Model::composite;
+  auto& p = c.composite;
+  // One quantum of the log's resolution (metres): 10^-decimals minutes of arc.
+  const double q_north_m = 1852.0 * std::pow(10.0, -s.minute_decimals);
+  const std::array<double, 3> quantum{q_north_m * std::cos(s.centre.lat_deg * std::numbers::pi / 180.0), q_north_m, 0.1};
+  std::array<double, 3> sd_target{}, d1_target{};
+  for (std::size_t a = 0; a < 3; ++a) {
+    if (!(real[a].sd_m > 0.0)) {  // a constant axis: no noise
+      p.smooth_gm[a] = {0.0, 1.0};
+      p.axes[a] = {};
+      continue;
+    }
+    p.axes[a] = find_jumps(s.axis_m[a], s.rate_hz, quantum[a]);
+    p.axes[a].jitter_sigma_m = 0.25 * real[a].d2_sd_m / std::sqrt(6.0);
+    sd_target[a] = real[a].sd_m, d1_target[a] = real[a].d1_sd_m;
+    p.smooth_gm[a] = fit_gauss_markov(sd_target[a], d1_target[a], s.size(), s.rate_hz, 2);
+    if (p.axes[a].jump_rate_hz > 0.0) p.axes[a].jump_decay_s = p.smooth_gm[a].tau_s;
+  }
+  // Refit the smooth part's sigma and tau and the jitter together against the rounded simulation
+  // (enough runs that a short log's sample spread, which varies much from run to run when tau is
+  // near the log's length, is not fitted to the luck of a few seeds).
+  const int runs = static_cast<int>(std::clamp<std::size_t>(400000 / std::max<std::size_t>(s.size(), 1), 8, 32));
+  noise::NoiseConfig best = c;
+  double best_error = std::numeric_limits<double>::infinity();
+  for (int iteration = 0; iteration < 8; ++iteration) {
+    const auto sim = simulated_stats(c, s, window, 0x636f6d70ULL, runs, nullptr);
+    double error = 0.0;
+    for (std::size_t a = 0; a < 3; ++a)
+      error += log_error(sim[a].sd_m, real[a].sd_m) + log_error(sim[a].d1_sd_m, real[a].d1_sd_m) +
+               log_error(sim[a].d2_sd_m, real[a].d2_sd_m);
+    if (error < best_error) best_error = error, best = c;
+    for (std::size_t a = 0; a < 3; ++a) {
+      if (!(real[a].sd_m > 0.0)) continue;
+      const auto ratio = [](double want, double got) { return got > 0.0 ? std::clamp(want / got, 0.5, 2.0) : 2.0; };
+      sd_target[a] = std::clamp(sd_target[a] * ratio(real[a].sd_m, sim[a].sd_m), 0.2 * real[a].sd_m, 3.0 * real[a].sd_m);
+      d1_target[a] = std::clamp(d1_target[a] * ratio(real[a].d1_sd_m, sim[a].d1_sd_m), 0.02 * real[a].d1_sd_m,
+                                3.0 * real[a].d1_sd_m);
+      auto& jitter = p.axes[a].jitter_sigma_m;
+      jitter = std::clamp(jitter * ratio(real[a].d2_sd_m, sim[a].d2_sd_m), 1e-4 * real[a].d2_sd_m, real[a].d2_sd_m);
+      p.smooth_gm[a] = fit_gauss_markov(sd_target[a], d1_target[a], s.size(), s.rate_hz, 2);
+      if (p.axes[a].jump_rate_hz > 0.0) p.axes[a].jump_decay_s = p.smooth_gm[a].tau_s;
+    }
+  }
+  return best;
 }
 
 }  // namespace gpsemu::calibration

@@ -20,7 +20,7 @@
 namespace gpsemu::calibration {
 namespace {
 
-const std::vector<std::string> kModels{"cgrw", "chrono", "gaussian", "gauss-markov", "none"};
+const std::vector<std::string> kModels{"cgrw", "chrono", "gaussian", "gauss-markov", "composite", "none"};
 
 noise::NoiseConfig generator(std::size_t i) {
   noise::NoiseConfig c;
@@ -33,7 +33,11 @@ noise::NoiseConfig generator(std::size_t i) {
       c.model = noise::Model::gauss_markov, c.gauss_markov_order = 2;
       c.gauss_markov = {{{0.5, 10}, {0.3, 20}, {1.0, 15}}};
       break;
-    default: c.model = noise::Model::gaussian; break;
+    default:
+      c.model = noise::Model::composite;
+      c.composite.smooth_gm = {{{0.4, 20}, {0.3, 30}, {0.8, 20}}};
+      c.composite.axes = {{{0.05, 0.01, 0.3, 20}, {0.05, 0.01, 0.3, 20}, {0.1, 0.0, 0.0, 0.0}}};
+      break;
   }
   return c;
 }
