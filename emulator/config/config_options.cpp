@@ -253,29 +253,30 @@ std::vector<OptionDef> make_option_table() {
         const auto x = parse_per_axis("composite-tau", v.back(), true, "seconds");
         for (std::size_t i = 0; i < 3; ++i) d.receiver.settings.noise.composite.smooth_gm[i].tau_s = x[i];
       });
-  add("composite-jitter", "S[,SN,SU]", "composite model: white jitter standard deviation east,north,up, one draw "
-      "per epoch, metres (default 0,0,0)",
-      [](ConfigDraft& d, V v) {
-        const auto x = parse_per_axis("composite-jitter", v.back(), false, "metres");
-        for (std::size_t i = 0; i < 3; ++i) d.receiver.settings.noise.composite.axes[i].jitter_sigma_m = x[i];
-      });
-  add("composite-jump-rate", "R[,RN,RU]", "composite model: jumps per second east,north,up (Poisson) (default 0,0,0)",
-      [](ConfigDraft& d, V v) {
-        const auto x = parse_per_axis("composite-jump-rate", v.back(), false, "per second");
-        for (std::size_t i = 0; i < 3; ++i) d.receiver.settings.noise.composite.axes[i].jump_rate_hz = x[i];
-      });
-  add("composite-jump-size", "S[,SN,SU]", "composite model: jump size standard deviation east,north,up "
-      "(normal), metres (default 0,0,0)",
-      [](ConfigDraft& d, V v) {
-        const auto x = parse_per_axis("composite-jump-size", v.back(), false, "metres");
-        for (std::size_t i = 0; i < 3; ++i) d.receiver.settings.noise.composite.axes[i].jump_sigma_m = x[i];
-      });
-  add("composite-jump-decay", "T[,TN,TU]", "composite model: time constant a jump decays back with, "
-      "east,north,up, seconds; 0 = jumps stay (default 0,0,0)",
-      [](ConfigDraft& d, V v) {
-        const auto x = parse_per_axis("composite-jump-decay", v.back(), false, "seconds");
-        for (std::size_t i = 0; i < 3; ++i) d.receiver.settings.noise.composite.axes[i].jump_decay_s = x[i];
-      });
+  // The composite model's jitter and jump process: one value for the three axes or one each.
+  struct CompositeKey {
+    const char* name;
+    const char* value_name;
+    const char* help;
+    const char* unit;
+    double noise::CompositeAxis::*field;
+  };
+  for (const CompositeKey& k : {
+           CompositeKey{"composite-jitter", "S[,SN,SU]", "composite model: white jitter standard deviation "
+                        "east,north,up, one draw per epoch, metres (default 0,0,0)", "metres",
+                        &noise::CompositeAxis::jitter_sigma_m},
+           CompositeKey{"composite-jump-rate", "R[,RN,RU]", "composite model: jumps per second east,north,up "
+                        "(Poisson) (default 0,0,0)", "per second", &noise::CompositeAxis::jump_rate_hz},
+           CompositeKey{"composite-jump-size", "S[,SN,SU]", "composite model: jump size standard deviation "
+                        "east,north,up (normal), metres (default 0,0,0)", "metres", &noise::CompositeAxis::jump_sigma_m},
+           CompositeKey{"composite-jump-decay", "T[,TN,TU]", "composite model: time constant a jump decays back "
+                        "with, east,north,up, seconds; 0 = jumps stay (default 0,0,0)", "seconds",
+                        &noise::CompositeAxis::jump_decay_s}}) {
+    add(k.name, k.value_name, k.help, [k](ConfigDraft& d, V v) {
+      const auto x = parse_per_axis(k.name, v.back(), false, k.unit);
+      for (std::size_t i = 0; i < 3; ++i) d.receiver.settings.noise.composite.axes[i].*k.field = x[i];
+    });
+  }
   // Receiver and sentences
   scope = OptionScope::receiver;
   add("satellites", "N", "satellites used in a 3-D fix, 4..32 (default: round((3/HDOP)^2) in 5..16; "
