@@ -77,6 +77,14 @@ TEST(Composite, BadParametersAreNamed) {
   }
 }
 
+TEST(Composite, WithoutJitterAndJumpsIsItsSmoothPartExactly) {
+  NoiseConfig gm;
+  gm.model = Model::gauss_markov;
+  gm.gauss_markov_order = 2;
+  gm.gauss_markov = {{{0.3, 30.0}, {0.3, 30.0}, {0.3, 30.0}}};
+  EXPECT_EQ(east(composite(0.3, 0.0, 0.0, 0.0, 0.0), 9, 1000, 5.0), east(gm, 9, 1000, 5.0));
+}
+
 TEST(Composite, NameParsesBothWays) {
   EXPECT_EQ(parse_model("composite"), Model::composite);
   EXPECT_EQ(to_string(Model::composite), "composite");
