@@ -159,6 +159,8 @@ snapshot() {
   ls -d /etc/gpsemu /var/lib/gpsemu /usr/share/doc/gpsemu /etc/systemd/system/*.wants/gpsemu@* 2>/dev/null || true
 }
 snapshot >"$work/before.txt"
+# apt-get without questions, waiting for dpkg's lock when another apt-get holds it.
+apt_get() { DEBIAN_FRONTEND=noninteractive apt-get -y -o DPkg::Lock::Timeout=300 "$@"; }
 cleanup() {
   local rc=$?
   # Purge what this test installed, whatever failed, and the packages apt pulled in for them.
@@ -167,14 +169,15 @@ cleanup() {
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -qv "not-installed" && ours+=("$p")
   done
   if ((${#ours[@]})); then
-    DEBIAN_FRONTEND=noninteractive apt-get purge -y "${ours[@]}" >"$work/purge.log" 2>&1 || { cat "$work/purge.log" >&2; rc=1; }
+    apt_get purge "${ours[@]}" >"$work/purge.log" 2>&1 || { cat "$work/purge.log" >&2; rc=1; }
   fi
+  # Pulled in: installed since the snapshot and marked automatic (what another process installs by
+  # hand meanwhile is marked manual, and stays).
   local pulled
-  pulled=$(comm -13 <(awk '/ installed$/{print $1}' "$work/before.txt") \
-                    <(dpkg-query -W -f='${Package} ${Status}\n' | awk '/ installed$/{print $1}' | sort))
+  pulled=$(comm -13 <(awk '/ installed$/{print $1}' "$work/before.txt") <(apt-mark showauto | sort))
   if [[ -n $pulled ]]; then
     # shellcheck disable=SC2086
-    DEBIAN_FRONTEND=noninteractive apt-get purge -y $pulled >>"$work/purge.log" 2>&1 || rc=1
+    apt_get purge $pulled >>"$work/purge.log" 2>&1 || rc=1
   fi
   snapshot >"$work/after.txt"
   if ! diff -u "$work/before.txt" "$work/after.txt" >"$work/changed.txt"; then
@@ -188,7 +191,7 @@ cleanup() {
 trap cleanup EXIT
 
 step "apt-get install $(basename "$deb") $(basename "$dev")"
-DEBIAN_FRONTEND=noninteractive quiet apt-get install -y --no-install-recommends "$deb" "$dev"
+quiet apt_get install --no-install-recommends "$deb" "$dev"
 
 step "what the maintainer scripts made"
 getent passwd gpsemu >/dev/null || fail "no user gpsemu"
@@ -200,7 +203,7 @@ check_installed ""
 verify_unit /usr/lib/systemd/system/gpsemu@.service
 
 step "apt-get purge"
-DEBIAN_FRONTEND=noninteractive quiet apt-get purge -y gpsemu libgpsemu-dev
+quiet apt_get purge gpsemu libgpsemu-dev
 while read -r f; do
   f=${f#.}
   [[ -z $f || -d $f ]] || [[ ! -e $f && ! -L $f ]] || fail "left after purge: $f"
