@@ -1,6 +1,6 @@
 // Walking the CLI11 application gpsemu's main() parses (gpsemu::make_command_line()): its options
 // without --help/--version, what each takes, and the subcommands in name order. The generated
-// documents (man page, bash completion) read the command line only through these.
+// documents (docs/cli.md, the man page, the bash completion) read the command line through these.
 #pragma once
 
 #include <algorithm>
@@ -48,6 +48,19 @@ inline std::string positional_name(const CLI::Option& opt) {
 
 inline bool repeatable(const CLI::Option& opt) {
   return opt.get_type_size_max() > 0 && opt.get_expected_max() > 1;
+}
+
+/// A help text ended with a full stop (as `--help` shows it otherwise).
+inline std::string ended(std::string text) {
+  if (!text.empty() && text.back() != '.') text += '.';
+  return text;
+}
+
+/// A description as a sentence: capital first letter, full stop at the end.
+inline std::string sentence(std::string text) {
+  if (!text.empty() && text.front() >= 'a' && text.front() <= 'z')
+    text.front() = static_cast<char>(text.front() - 'a' + 'A');
+  return ended(text);
 }
 
 /// The subcommands in name order.

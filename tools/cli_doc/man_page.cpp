@@ -19,18 +19,6 @@ std::string roff(const std::string& text) {
   return out;
 }
 
-/// A help text as `--help` shows it, ended with a full stop.
-std::string stop(std::string text) {
-  if (!text.empty() && text.back() != '.') text += '.';
-  return text;
-}
-
-/// A subcommand's description as a sentence: capital first letter ("list serial ports" -> "List ...").
-std::string sentence(std::string text) {
-  if (!text.empty() && text.front() >= 'a' && text.front() <= 'z') text.front() = static_cast<char>(text.front() - 'a' + 'A');
-  return stop(text);
-}
-
 /// One option as a tagged paragraph: ".TP", "\fB\-\-output\fR \fISPEC\fR ...", its help.
 void option_entry(std::ostream& out, const CLI::Option& opt) {
   out << ".TP\n";
@@ -39,7 +27,7 @@ void option_entry(std::ostream& out, const CLI::Option& opt) {
   out << names;
   if (const std::string value = value_name(opt); !value.empty()) out << " \\fI" << roff(value) << "\\fR";
   if (repeatable(opt)) out << " ...";
-  out << "\n" << roff(stop(opt.get_description())) << "\n";
+  out << "\n" << roff(ended(opt.get_description())) << "\n";
 }
 
 void subcommand_section(std::ostream& out, const CLI::App& sub) {
@@ -49,7 +37,7 @@ void subcommand_section(std::ostream& out, const CLI::App& sub) {
   out << ".SS \"" << roff(synopsis) << "\"\n" << roff(sentence(sub.get_description())) << "\n";
   for (const CLI::Option* p : options_of(sub, true)) {
     out << ".TP\n\\fI" << roff(positional_name(*p)) << "\\fR" << (p->get_required() ? "" : " (optional)") << "\n"
-        << roff(stop(p->get_description())) << "\n";
+        << roff(ended(p->get_description())) << "\n";
   }
   for (const CLI::Option* o : options_of(sub, false)) option_entry(out, *o);
 }
@@ -66,7 +54,7 @@ void write_man_page(std::ostream& out, const CLI::App& app, const std::string& v
       << ".SH NAME\ngpsemu \\- hardware\\-in\\-the\\-loop GPS receiver emulator\n"
       << ".SH SYNOPSIS\n.B gpsemu\n[\\fIOPTIONS\\fR]\n.br\n.B gpsemu\n\\fISUBCOMMAND\\fR \\fIARGUMENTS\\fR "
          "[\\fIOPTIONS\\fR]\n"
-      << ".SH DESCRIPTION\n" << roff(stop(app.get_description())) << "\n.PP\n"
+      << ".SH DESCRIPTION\n" << roff(ended(app.get_description())) << "\n.PP\n"
       << "Every option except \\fB\\-\\-config\\fR is also a key of the TOML config file given with "
          "\\fB\\-\\-config\\fR \\fIFILE\\fR: the key is the long flag name without dashes, a repeatable option is "
          "an array. Flags override the file.\n"
