@@ -44,11 +44,23 @@ std::string names(const CLI::Option& opt) {
   return out;
 }
 
-/// Where an option applies (process, timeline, receiver, replay). The option table does not
-/// state it yet: when it does, look the option up in gpsemu::option_table() by its long name
-/// (opt.get_lnames().front()) and return the entry's scope; the tables then grow a "scope" column
-/// by themselves (only where some option has one). Empty: the column is left out.
-std::string scope_of(const CLI::Option& /*opt*/) { return {}; }
+/// Where an option applies, from the option table's scope (process, fleet, timeline, pps,
+/// receiver: may differ per [[receiver]] table, replay: `gpsemu replay` only). Empty for the
+/// options that are not in the table (--config, the subcommands' own): the column shows nothing.
+std::string scope_of(const CLI::Option& opt) {
+  if (opt.get_lnames().empty()) return {};
+  const gpsemu::OptionDef* def = gpsemu::find_option(opt.get_lnames().front());
+  if (def == nullptr) return {};
+  switch (def->scope) {
+    case gpsemu::OptionScope::process: return "process";
+    case gpsemu::OptionScope::fleet: return "fleet";
+    case gpsemu::OptionScope::timeline: return "timeline";
+    case gpsemu::OptionScope::pps: return "pps";
+    case gpsemu::OptionScope::receiver: return "receiver";
+    case gpsemu::OptionScope::replay: return "replay";
+  }
+  return {};
+}
 
 void options_table(std::ostream& out, const std::vector<const CLI::Option*>& opts) {
   const bool with_scope = std::any_of(opts.begin(), opts.end(),
