@@ -1,8 +1,8 @@
 // Pose sockets: where an external simulator's pose messages come in. A UDP receiver (one message
 // per datagram) and a TCP line server (one message per '\n'-terminated line, several clients),
-// both non-blocking behind ONE pollable file descriptor (the TCP server polls its listening
-// socket and clients through an internal epoll instance). They return raw messages with their
-// arrival time and sender; decoding is the caller's business.
+// both non-blocking behind ONE pollable file descriptor (the TCP server is posix::TcpServer, as
+// the NMEA tcp output's). They return raw messages with their arrival time and sender; decoding is
+// the caller's business.
 #pragma once
 
 #include <chrono>
