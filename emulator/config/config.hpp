@@ -13,7 +13,7 @@
 #include "emulator/pipeline/clock.hpp"
 #include "emulator/model/geo.hpp"
 #include "emulator/model/noise/noise_model.hpp"
-#include "emulator/pipeline/realtime.hpp"
+#include "transport/posix/realtime.hpp"
 #include "emulator/model/receiver.hpp"
 #include "emulator/replay/replay_options.hpp"
 #include "emulator/sources/sim.hpp"
@@ -71,7 +71,7 @@ struct Config {
   int receivers = 1;                             ///< receivers built from these settings, 1..1024
   bool receivers_given = false;                  ///< --receivers (or the file's `receivers`) was given
   std::vector<ReceiverTable> receiver_tables;    ///< the file's [[receiver]] tables; when any, one receiver each
-  RealtimeSettings realtime;                     ///< SCHED_FIFO priority, mlockall, timer slack (realtime.hpp)
+  posix::RealtimeSettings realtime;              ///< SCHED_FIFO priority, mlockall, timer slack (realtime.hpp)
 };
 
 /// One option, usable as `--name VALUE` and as `name = VALUE` in the config file.

@@ -10,7 +10,7 @@
 #include <fmt/format.h>
 
 #include "transport/output_spec.hpp"
-#include "transport/pose_socket.hpp"
+#include "transport/input/pose_socket.hpp"
 
 namespace gpsemu {
 namespace {

@@ -5,7 +5,7 @@
 
 #include "emulator/config/config.hpp"
 #include "emulator/model/receiver.hpp"
-#include "nmea/sentences.hpp"
+#include "nmea/line_budget.hpp"
 
 namespace gpsemu {
 

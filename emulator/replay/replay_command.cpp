@@ -7,7 +7,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "emulator/pipeline/realtime.hpp"
+#include "transport/posix/realtime.hpp"
 #include "emulator/pipeline/serial_line_check.hpp"
 #include "transport/output_spec.hpp"
 #include "transport/tee_output.hpp"
@@ -189,7 +189,7 @@ Subcommand add_replay_command(CLI::App& app) {
                 });
             Replayer replayer(config, std::move(log), *path, std::move(outputs), io);
             // --realtime-priority, --lock-memory, --timer-slack: as for the emulator's loop.
-            for (const std::string& line : apply_realtime_settings(config.realtime)) spdlog::info("{}", line);
+            for (const std::string& line : posix::apply_realtime_settings(config.realtime)) spdlog::info("{}", line);
             return replayer.run(stop);
           }};
 }
