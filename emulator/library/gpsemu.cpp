@@ -12,14 +12,8 @@
 #include "emulator/model/receiver.hpp"
 #include "emulator/sources/make_source.hpp"
 #include "emulator/model/time.hpp"
-// The receiver options as the runner derives them (measured noise sigma, sky seed) where that step
-// exists; before it, the runner passes config.receiver as it is.
-#if __has_include("emulator/config/receiver_config.hpp")
 #include "emulator/config/receiver_config.hpp"
-#define GPSEMU_API_RECEIVER_OPTIONS(config) receiver_options(config)
-#else
-#define GPSEMU_API_RECEIVER_OPTIONS(config) (config).receiver
-#endif
+#include "transport/posix/wall_clock.hpp"
 
 namespace gpsemu::api {
 namespace {
@@ -35,9 +29,7 @@ Config make_config(const Options& options, const std::optional<std::string>& con
 gpsemu::Enu to_internal(const Enu& v) { return {v[0], v[1], v[2]}; }
 Enu to_api(const gpsemu::Enu& v) { return {v.east_m, v.north_m, v.up_m}; }
 
-UtcNs wall_now() {
-  return std::chrono::time_point_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now());
-}
+UtcNs wall_now() { return posix::wall_clock_now(); }
 
 }  // namespace
 
@@ -125,7 +117,7 @@ Receiver::Receiver(const Options& options, const std::optional<std::string>& con
     impl_->first_index = config.start_time ? impl_->grid.index_at_or_after(*config.start_time)
                                            : impl_->grid.index_at_or_after(wall_now() + std::chrono::milliseconds(1));
     impl_->receiver = std::make_unique<gpsemu::Receiver>(
-        impl_->frame, GPSEMU_API_RECEIVER_OPTIONS(config), noise::make_noise_model(config.noise, config.seed),
+        impl_->frame, receiver_options(config), noise::make_noise_model(config.noise, config.seed),
         impl_->grid.time_of(impl_->first_index));
   } catch (const Error&) {
     throw;
