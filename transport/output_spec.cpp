@@ -10,7 +10,6 @@
 
 #include "nmea/line_budget.hpp"
 #include "transport/file_output.hpp"
-#include "transport/input/pose_socket.hpp"
 #include "transport/posix/sockets.hpp"
 #include "transport/pty_output.hpp"
 #include "transport/serial_output.hpp"
@@ -82,9 +81,9 @@ OutputSpec parse_network(std::string_view spec, OutputKind kind, std::string_vie
   if (udp && value.find(':') == std::string_view::npos) {
     reject(spec, "udp needs a destination host: udp:HOST:PORT (e.g. udp:127.0.0.1:10110)");
   }
-  PoseEndpoint endpoint;
+  posix::Endpoint endpoint;
   try {
-    endpoint = parse_pose_endpoint(value);
+    endpoint = posix::parse_endpoint(value);
   } catch (const std::invalid_argument& e) {
     reject(spec, e.what());
   }

@@ -13,17 +13,16 @@
 #include <string>
 #include <string_view>
 
+#include "transport/posix/sockets.hpp"
+
 namespace gpsemu::transport {
 
 /// Where to listen: "[HOST:]PORT"; HOST defaults to 127.0.0.1, an IPv6 literal goes in brackets
 /// ("[::1]:5005"); PORT 0 picks a free port (describe() then names it).
-struct PoseEndpoint {
-  std::string host = "127.0.0.1";
-  std::uint16_t port = 0;
-};
+using PoseEndpoint = posix::Endpoint;
 
-/// Parses "[HOST:]PORT". Throws std::invalid_argument naming the text.
-[[nodiscard]] PoseEndpoint parse_pose_endpoint(std::string_view text);
+/// Parses "[HOST:]PORT" (posix::parse_endpoint). Throws std::invalid_argument naming the text.
+[[nodiscard]] inline PoseEndpoint parse_pose_endpoint(std::string_view text) { return posix::parse_endpoint(text); }
 
 struct PoseSocketOptions {
   std::size_t max_message_bytes = 4096;  ///< longer datagrams or lines are refused (reported, not returned)

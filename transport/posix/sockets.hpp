@@ -1,4 +1,4 @@
-// Sockets: resolving HOST:PORT and opening a socket on the first address that works (one
+// Sockets: parsing and resolving HOST:PORT and opening a socket on the first address that works (one
 // getaddrinfo loop for every listener, receiver and sender), the texts that name addresses in
 // messages, and receiving a datagram with its kernel time stamp and the kernel's drop count.
 #pragma once
@@ -18,6 +18,16 @@
 #include "transport/posix/wall_clock.hpp"
 
 namespace gpsemu::posix {
+
+/// A host and port to listen on, bind or send to.
+struct Endpoint {
+  std::string host = "127.0.0.1";
+  std::uint16_t port = 0;
+};
+
+/// Parses "[HOST:]PORT": HOST defaults to 127.0.0.1, an IPv6 literal goes in brackets
+/// ("[::1]:5005"), PORT is 0..65535. Throws std::invalid_argument naming the text.
+[[nodiscard]] Endpoint parse_endpoint(std::string_view text);
 
 /// "127.0.0.1:5005", or "[::1]:5005" for an IPv6 literal (a host holding ':').
 [[nodiscard]] std::string host_port(std::string_view host, std::uint16_t port);

@@ -117,6 +117,16 @@ TEST(ErrnoText, IsTheSystemsText) {
   EXPECT_EQ(errno_text(EADDRINUSE), "Address already in use");
 }
 
+TEST(Endpoint, ParsesHostPortWithTheLoopbackByDefaultAndReadsBack) {
+  EXPECT_EQ(parse_endpoint("5005").host, "127.0.0.1");
+  EXPECT_EQ(parse_endpoint("5005").port, 5005);
+  const Endpoint v6 = parse_endpoint("[::1]:7000");
+  EXPECT_EQ(host_port(v6.host, v6.port), "[::1]:7000");
+  for (const char* bad : {"", ":5", "x:", "::1:7000", "[::1]7000", "host:70000", "host:-1"}) {
+    EXPECT_THROW((void)parse_endpoint(bad), std::invalid_argument) << bad;
+  }
+}
+
 TEST(AddressText, HostPortBracketsIpv6) {
   EXPECT_EQ(host_port("127.0.0.1", 5005), "127.0.0.1:5005");
   EXPECT_EQ(host_port("gps.local", 0), "gps.local:0");
