@@ -1,4 +1,4 @@
-// The serial line budget (design.md "Serial line budget"), pure arithmetic: what an 8N1 line at a
+// The serial line budget (docs/design.md "Serial line budget"), pure arithmetic: what an 8N1 line at a
 // given baud carries, the standard bauds, and what a sentence set needs, measured on the widest
 // epoch the formatters can write (one worst-case Fix). The start-up check that refuses a serial
 // output too slow for its epochs (emulator/pipeline/serial_line_check) is built on it.

@@ -10,9 +10,9 @@
 #include "emulator/pipeline/epoch_text.hpp"
 #include "emulator/model/geo.hpp"
 #include "emulator/model/receiver.hpp"
-#include "emulator/sources/make_source.hpp"
 #include "emulator/model/time.hpp"
 #include "emulator/config/receiver_config.hpp"
+#include "emulator/config/validate.hpp"
 #include "transport/posix/wall_clock.hpp"
 
 namespace gpsemu::api {
@@ -44,7 +44,7 @@ NoiseGenerator::NoiseGenerator(const Options& options, const std::optional<std::
     : impl_(std::make_unique<Impl>()) {
   const Config config = make_config(options, config_file);
   try {
-    impl_->model = noise::make_noise_model(config.noise, config.seed);
+    impl_->model = noise::make_noise_model(config.receiver().noise, config.receiver().seed);
   } catch (const std::exception& e) {
     throw Error(e.what());
   }
@@ -74,7 +74,7 @@ void NoiseGenerator::generate(std::size_t n, double rate_hz, double* out_enu_m) 
 
 // ---------------------------------------------------------------------------------------------
 struct Receiver::Impl {
-  explicit Impl(const Config& c) : config(c), grid(c.rate_hz), frame(c.origin) {}
+  explicit Impl(const Config& c) : config(c), grid(c.timeline.rate_hz), frame(c.receiver().origin) {}
   Config config;
   EpochGrid grid;
   LocalFrame frame;  ///< referenced by receiver: Impl never moves (held by unique_ptr)
@@ -88,7 +88,7 @@ struct Receiver::Impl {
     const UtcNs t = grid.time_of(first_index + k);
     ++k;
     const nmea::Fix fix = receiver->fix_at(t, truth);
-    format_epoch(fix, config.format, text);
+    format_epoch(fix, config.receiver().format, text);
     Epoch e;
     e.time_ns = t.time_since_epoch().count();
     e.has_fix = fix.has_fix();
@@ -114,10 +114,10 @@ Receiver::Receiver(const Options& options, const std::optional<std::string>& con
     impl_ = std::make_unique<Impl>(config);
     // The first epoch as the runner chooses it: the first grid epoch at or after --start-time,
     // else the next one after now.
-    impl_->first_index = config.start_time ? impl_->grid.index_at_or_after(*config.start_time)
+    impl_->first_index = config.timeline.start_time ? impl_->grid.index_at_or_after(*config.timeline.start_time)
                                            : impl_->grid.index_at_or_after(wall_now() + std::chrono::milliseconds(1));
     impl_->receiver = std::make_unique<gpsemu::Receiver>(
-        impl_->frame, receiver_options(config), noise::make_noise_model(config.noise, config.seed),
+        impl_->frame, receiver_options(config.receiver()), noise::make_noise_model(config.receiver().noise, config.receiver().seed),
         impl_->grid.time_of(impl_->first_index));
   } catch (const Error&) {
     throw;
@@ -132,12 +132,13 @@ Receiver& Receiver::operator=(Receiver&&) noexcept = default;
 Epoch Receiver::step() {
   Impl& s = *impl_;
   if (!s.source) {
-    if (s.config.source.rfind("sim:", 0) != 0) {
-      throw Error("step(): source '" + s.config.source +
+    if (s.config.receiver().source.kind != sources::SourceKind::sim) {
+      throw Error("step(): source '" + s.config.receiver().source.text +
                   "' is not a simulator scenario (sim:...); give the truth with step_enu or step_geodetic");
     }
     try {
-      s.source = sources::make_source(s.config, s.frame, s.grid.time_of(s.first_index));
+      check_source_clock(s.config.receiver(), s.config.timeline);
+      s.source = make_receiver_source(s.config.receiver(), s.config.timeline, s.frame, s.grid.time_of(s.first_index));
     } catch (const std::exception& e) {
       throw Error(e.what());
     }
@@ -159,7 +160,7 @@ Epoch Receiver::step_no_fix() { return impl_->report(std::nullopt); }
 std::int64_t Receiver::next_epoch_ns() const {
   return impl_->grid.time_of(impl_->first_index + impl_->k).time_since_epoch().count();
 }
-double Receiver::rate_hz() const { return impl_->config.rate_hz; }
+double Receiver::rate_hz() const { return impl_->config.timeline.rate_hz; }
 LatLonAlt Receiver::origin() const {
   const Geodetic& o = impl_->frame.origin();
   return {o.lat_deg, o.lon_deg, o.alt_m};

@@ -1,4 +1,4 @@
-// The epoch clocks besides the runner's own real-time pacing (design.md "Timing semantics"):
+// The epoch clocks besides the runner's own real-time pacing (docs/design.md "Timing semantics"):
 //
 // - realtime (default): epoch t leaves at t + latency on the system clock (the runner's own loop).
 // - fast: no pacing at all (batch generation; --fast or --clock fast).

@@ -11,13 +11,10 @@
 
 #include "emulator/pipeline/clock.hpp"
 #include "emulator/pipeline/epoch_text.hpp"
-#include "emulator/config/fleet_config.hpp"
 #include "emulator/config/receiver_config.hpp"
 #include "emulator/pipeline/serial_line_check.hpp"
-#include "emulator/sources/make_source.hpp"
 #include "transport/gpio_pps.hpp"
 #include "transport/modem_pps.hpp"
-#include "transport/output_spec.hpp"
 #include "transport/posix/wall_clock.hpp"
 #include "transport/serial_output.hpp"
 #include "transport/tee_output.hpp"
@@ -55,10 +52,10 @@ constexpr std::chrono::microseconds kMinComputeLead{300};
 
 }  // namespace
 
-Runner::Runner(const Config& config) : config_(config), grid_(config.rate_hz) { init(std::nullopt); }
+Runner::Runner(const Config& config) : config_(config), grid_(config.timeline.rate_hz) { init(std::nullopt); }
 
-Runner::Runner(const Config& config, RunnerIo io) : config_(config), grid_(config.rate_hz) {
-  if (receiver_count(config) != 1) throw std::invalid_argument("a Runner given its outputs runs one receiver");
+Runner::Runner(const Config& config, RunnerIo io) : config_(config), grid_(config.timeline.rate_hz) {
+  if (static_cast<int>(config.receivers.size()) != 1) throw std::invalid_argument("a Runner given its outputs runs one receiver");
   init(std::move(io));
 }
 
@@ -71,11 +68,11 @@ void Runner::init(std::optional<RunnerIo> io) {
   // seconds, so the second an epoch is stamped with is the second its pulse marks.
   // Many receivers take a while to open (256 sockets or ptys, their banners): the first epoch is
   // one far enough ahead that it is not already late when the loop starts (2 ms a receiver).
-  const auto start_up = std::chrono::milliseconds(1) + std::chrono::milliseconds(2) * (receiver_count(config) - 1);
+  const auto start_up = std::chrono::milliseconds(1) + std::chrono::milliseconds(2) * (static_cast<int>(config.receivers.size()) - 1);
   const std::int64_t wall_index = grid_.index_at_or_after(now + start_up);
-  first_index_ = config.start_time ? grid_.index_at_or_after(*config.start_time) : wall_index;
-  const bool with_pps = !config.fast && (io ? io->pps != nullptr : config.pps.has_value());
-  if (config.start_time && with_pps) {
+  first_index_ = config.timeline.start_time ? grid_.index_at_or_after(*config.timeline.start_time) : wall_index;
+  const bool with_pps = !config.timeline.fast() && (io ? io->pps != nullptr : config.timeline.pps.has_value());
+  if (config.timeline.start_time && with_pps) {
     const UtcNs first = grid_.time_of(first_index_);
     const auto phase = first - std::chrono::floor<std::chrono::seconds>(first);
     const UtcNs first_wall =
@@ -86,11 +83,9 @@ void Runner::init(std::optional<RunnerIo> io) {
   }
   const UtcNs first_epoch = grid_.time_of(first_index_);
 
-  for (Config& rc : receiver_configs(config)) {
-    channels_.push_back(std::make_unique<Channel>(std::move(rc)));
-  }
+  for (const ReceiverSettings& rc : config.receivers) channels_.push_back(std::make_unique<Channel>(rc));
   for (auto& ch : channels_) {
-    ch->source = sources::make_source(ch->config, ch->frame, first_epoch);
+    ch->source = make_receiver_source(ch->config, config.timeline, ch->frame, first_epoch);
     ch->receiver = std::make_unique<Receiver>(ch->frame, receiver_options(ch->config),
                                               noise::make_noise_model(ch->config.noise, ch->config.seed), first_epoch);
     ch->text.reserve(1024);
@@ -122,16 +117,16 @@ void Runner::init(std::optional<RunnerIo> io) {
         if (p.output) p.output->service();
         if (p.source) p.source->service();
       }));
-  if (channels_.size() > 1 && config.clock.kind == ClockKind::lockstep) {
+  if (channels_.size() > 1 && config.timeline.clock.kind == ClockKind::lockstep) {
     std::vector<const sources::PoseSource*> sources;
     for (const auto& ch : channels_) sources.push_back(ch->source.get());
     fleet_time_ = std::make_unique<FleetSimTime>(std::move(sources));
   }
-  pps_width_ = std::chrono::nanoseconds{std::llround(config.pps_width_s * 1e9)};
+  pps_width_ = std::chrono::nanoseconds{std::llround(config.timeline.pps_width_s * 1e9)};
   if (channels_.size() > 1) {
-    spdlog::info("{} receivers; {} Hz, latency {} ms; first epoch {}{}", channels_.size(), config.rate_hz,
-                 config.latency_s * 1000.0, format_iso8601_utc(first_epoch),
-                 channels_.size() >= kHelperWriterFrom && !config.fast && config.clock.kind == ClockKind::realtime
+    spdlog::info("{} receivers; {} Hz, latency {} ms; first epoch {}{}", channels_.size(), config.timeline.rate_hz,
+                 config.timeline.latency_s * 1000.0, format_iso8601_utc(first_epoch),
+                 channels_.size() >= kHelperWriterFrom && !config.timeline.fast() && config.timeline.clock.kind == ClockKind::realtime
                      ? "; two writer threads"
                      : "");
   }
@@ -143,46 +138,45 @@ void Runner::init(std::optional<RunnerIo> io) {
                    ch.config.seed);
     } else {
       spdlog::info("source {}; noise {}; {} Hz, latency {} ms; first epoch {}", ch.source->describe(),
-                   noise::to_string(ch.config.noise.model), config.rate_hz, config.latency_s * 1000.0,
+                   noise::to_string(ch.config.noise.model), config.timeline.rate_hz, config.timeline.latency_s * 1000.0,
                    format_iso8601_utc(first_epoch));
     }
     const Geometry& g = ch.receiver->geometry();
     spdlog::info("{}receiver: GGA quality {} (noise x{}), {} of {} satellites used, HDOP {:.2f}; {} bytes an epoch at most",
-                 who, static_cast<int>(ch.config.receiver.quality), noise_scale(ch.config.receiver.quality),
+                 who, static_cast<int>(ch.config.model.quality), noise_scale(ch.config.model.quality),
                  g.satellites_used, g.satellites_in_view, g.hdop,
-                 nmea::line_budget(ch.config.format, g.satellites_in_view, g.satellites_used, config.rate_hz)
+                 nmea::line_budget(ch.config.format, g.satellites_in_view, g.satellites_used, config.timeline.rate_hz)
                      .bytes_per_epoch);
     for (const auto& out : ch.outputs) spdlog::info("{}NMEA on {}", who, out->describe());
   }
   if (pps_) {
     spdlog::info("PPS on {}: leading edge at each whole UTC second, {} ms wide, {}", pps_->describe(),
-                 config.pps_width_s * 1000.0,
+                 config.timeline.pps_width_s * 1000.0,
                  pps_->polarity() == transport::PpsPolarity::active_high ? "high during the pulse" : "low during the pulse");
   }
 }
 
 void Runner::open_outputs(Channel& ch) {
-  const Config& config = ch.config;
-  std::vector<transport::OutputSpec> specs;
-  for (const std::string& text : config.outputs) specs.push_back(transport::parse_output_spec(text));
+  const ReceiverSettings& config = ch.config;
+  const std::vector<transport::OutputSpec>& specs = config.outputs;
   // Refuse a serial line that cannot carry the epochs before opening anything.
   std::optional<std::size_t> epoch_bytes;
   for (const auto& spec : specs) {
     if (spec.kind != transport::OutputKind::serial) continue;
     if (!epoch_bytes) epoch_bytes = worst_case_epoch_bytes(config.format);
-    check_serial_line_budget(spec, *epoch_bytes, config.rate_hz);
+    check_serial_line_budget(spec, *epoch_bytes, config_.timeline.rate_hz);
   }
   for (const auto& spec : specs) {
     ch.outputs.push_back(transport::make_output(
-        spec, transport::OutputOptions{.realtime = !config.fast, .rate_hz = config.rate_hz}));
+        spec, transport::OutputOptions{.realtime = !config_.timeline.fast(), .rate_hz = config_.timeline.rate_hz}));
   }
-  if (config.tee) ch.outputs.push_back(std::make_unique<transport::TeeOutput>(*config.tee, !config.fast));
+  if (config.tee) ch.outputs.push_back(std::make_unique<transport::TeeOutput>(*config.tee, !config_.timeline.fast()));
 }
 
 void Runner::open_pps() {
-  const transport::PpsSpec spec = transport::parse_pps_spec(*config_.pps);
+  const transport::PpsSpec& spec = *config_.timeline.pps;
   const auto polarity =
-      config_.pps_active_low ? transport::PpsPolarity::active_low : transport::PpsPolarity::active_high;
+      config_.timeline.pps_active_low ? transport::PpsPolarity::active_low : transport::PpsPolarity::active_high;
   if (spec.kind == transport::PpsSpec::Kind::gpio) {
     pps_ = std::make_unique<transport::GpioPps>(spec.chip, spec.line, polarity);
     return;
@@ -204,11 +198,11 @@ void Runner::open_pps() {
 Runner::~Runner() = default;
 
 int Runner::run(const std::atomic<bool>& stop) {
-  const auto latency = std::chrono::nanoseconds{std::llround(config_.latency_s * 1e9)};
-  const std::int64_t count = config_.duration_s ? std::llround(*config_.duration_s * config_.rate_hz)
+  const auto latency = std::chrono::nanoseconds{std::llround(config_.timeline.latency_s * 1e9)};
+  const std::int64_t count = config_.timeline.duration_s ? std::llround(*config_.timeline.duration_s * config_.timeline.rate_hz)
                                                 : std::numeric_limits<std::int64_t>::max();
   const bool fleet = channels_.size() > 1;
-  if (channels_.size() >= kHelperWriterFrom && !config_.fast && config_.clock.kind == ClockKind::realtime && !helper_) {
+  if (channels_.size() >= kHelperWriterFrom && !config_.timeline.fast() && config_.timeline.clock.kind == ClockKind::realtime && !helper_) {
     // Made here, by the thread that runs the loop, after main() applied --realtime-priority and
     // --timer-slack to it: the helper inherits them.
     helper_ = std::make_unique<HelperWriter>(
@@ -220,7 +214,7 @@ int Runner::run(const std::atomic<bool>& stop) {
     next_edge_ = {std::chrono::ceil<std::chrono::seconds>(first_wall), true};
   }
   // --clock scaled:K / lockstep pace the epochs instead of the real-time code below (clock.hpp).
-  const auto clock = make_epoch_clock(config_.clock, *clock_io_, fleet_time_ ? *fleet_time_ : *channels_.front()->source,
+  const auto clock = make_epoch_clock(config_.timeline.clock, *clock_io_, fleet_time_ ? *fleet_time_ : *channels_.front()->source,
                                       grid_.time_of(first_index_), grid_.time_of(first_index_) - sim_minus_wall_ + latency,
                                       grid_.nominal_period());
   if (clock) spdlog::info("{}", clock->describe());
@@ -239,7 +233,7 @@ int Runner::run(const std::atomic<bool>& stop) {
         ++stats_.epochs_late_skipped;
         continue;
       }
-    } else if (!config_.fast) {
+    } else if (!config_.timeline.fast()) {
       const UtcNs deadline = t - sim_minus_wall_ + latency;
       // Every PPS edge due before the epoch's bytes goes first (a leading edge at the same
       // instant too: the NMEA of second S follows pulse S).
@@ -267,7 +261,7 @@ int Runner::run(const std::atomic<bool>& stop) {
       write(*ch);
     }
     ++stats_.epochs_emitted;
-    if (config_.fast && (k & 0x3ff) == 0) service_all();
+    if (config_.timeline.fast() && (k & 0x3ff) == 0) service_all();
   }
   if (helper_) helper_->wait_done();
   if (pps_ && pps_->pulse_on()) {

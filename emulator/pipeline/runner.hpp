@@ -82,8 +82,8 @@ class Runner {
  private:
   /// One receiver: its settings, frame, source, model, outputs and the text of its epoch.
   struct Channel {
-    explicit Channel(Config c) : config(std::move(c)), frame(config.origin) {}
-    Config config;
+    explicit Channel(ReceiverSettings c) : config(std::move(c)), frame(config.origin) {}
+    ReceiverSettings config;
     LocalFrame frame;
     std::unique_ptr<sources::PoseSource> source;
     std::unique_ptr<Receiver> receiver;

@@ -1,4 +1,4 @@
-// The serial line budget check at start-up (design.md "Serial line budget"): the widest epoch of
+// The serial line budget check at start-up (docs/design.md "Serial line budget"): the widest epoch of
 // the configured sentences (nmea::line_budget on nmea::widest_fix) against what a serial output's
 // baud carries within nmea::kLineBudgetMargin. A configuration that cannot fit is refused with a
 // message naming a standard baud that would.

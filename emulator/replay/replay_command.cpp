@@ -7,9 +7,8 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "transport/posix/realtime.hpp"
+#include "emulator/config/validate.hpp"
 #include "emulator/pipeline/serial_line_check.hpp"
-#include "transport/output_spec.hpp"
 #include "transport/tee_output.hpp"
 
 namespace gpsemu::replay {
@@ -30,44 +29,39 @@ std::string time_text(const LogEpoch& e) {
 
 }  // namespace
 
-EpochRange check_replay_options(const Config& config, const ReplayLog& log, const std::string& log_name) {
-  if (config.clock.kind == ClockKind::scaled || config.clock.kind == ClockKind::lockstep) {
-    throw std::invalid_argument(fmt::format("replay paces by the log's own times: use --speed K (or --fast), not "
-                                            "--clock {}", to_string(config.clock)));
-  }
-  if (log.epochs.empty()) throw std::invalid_argument(fmt::format("NMEA log '{}' has no epochs", log_name));
-  if (config.replay.loop && config.fast && !config.duration_s) {
-    throw std::invalid_argument("--loop with --fast would never end: give --duration S (seconds of log time)");
-  }
+EpochRange check_replay_options(const TimelineSettings& timeline, const ReplaySettings& replay,
+                                const ReplayLog& log, const std::string& log_name) {
+  check_replay_settings(timeline, replay, !log.epochs.empty(), log_name);
   try {
-    return select_range(log, config.replay.from, config.replay.to);
+    return select_range(log, replay.from, replay.to);
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(fmt::format("--{}", e.what()));
   }
 }
 
-Replayer::Replayer(const Config& config, ReplayLog log, std::string log_name,
+Replayer::Replayer(const TimelineSettings& timeline, const ReplaySettings& replay, ReplayLog log, std::string log_name,
                    std::vector<std::unique_ptr<transport::Output>> outputs, ClockIo& io)
-    : config_(config), log_(std::move(log)), name_(std::move(log_name)), outputs_(std::move(outputs)), io_(io) {
-  range_ = check_replay_options(config_, log_, name_);
+    : timeline_(timeline), options_(replay), log_(std::move(log)), name_(std::move(log_name)),
+      outputs_(std::move(outputs)), io_(io) {
+  range_ = check_replay_options(timeline_, options_, log_, name_);
 }
 
 int Replayer::run(const std::atomic<bool>& stop) {
   using namespace std::chrono;
   const auto& epochs = log_.epochs;
-  const ReplayOptions& o = config_.replay;
+  const ReplayOptions& o = options_;
   const nanoseconds base = epochs[range_.first].log_time;
   // One pass lasts from the first epoch to one nominal period after the last.
   const nanoseconds cycle = std::max(epochs[range_.last].log_time - base, nanoseconds::zero()) + log_.period;
-  const auto latency = nanoseconds{std::llround(config_.latency_s * 1e9)};
+  const auto latency = nanoseconds{std::llround(timeline_.latency_s * 1e9)};
   // A plain value, not an optional: GCC 12 at -O3 warns about the optional's storage.
   const nanoseconds duration =
-      config_.duration_s ? nanoseconds{std::llround(*config_.duration_s * 1e9)} : nanoseconds::max();
+      timeline_.duration_s ? nanoseconds{std::llround(*timeline_.duration_s * 1e9)} : nanoseconds::max();
 
   const UtcNs now = io_.now();
   UtcNs wall_0 = now;
-  if (config_.start_time) {
-    first_stamp_ = *config_.start_time;
+  if (timeline_.start_time) {
+    first_stamp_ = *timeline_.start_time;
   } else {
     // The log's first time shifted by whole seconds to the next such instant from now: a live
     // receiver's epochs keep their phase within the second.
@@ -75,12 +69,12 @@ int Replayer::run(const std::atomic<bool>& stop) {
     if (phase < nanoseconds::zero()) phase += seconds(1);
     first_stamp_ = floor<seconds>(now) + phase;
     while (first_stamp_ < now + milliseconds(20)) first_stamp_ += seconds(1);
-    if (o.retime && !config_.fast) wall_0 = first_stamp_ + latency;
+    if (o.retime && !timeline_.fast()) wall_0 = first_stamp_ + latency;
   }
 
   spdlog::info("replay {}: epochs {}..{} of {} ({} to {}), nominal period {} s, speed {}{}{}{}", name_, range_.first,
                range_.last, epochs.size(), time_text(epochs[range_.first]), time_text(epochs[range_.last]),
-               to_s(log_.period), o.speed, config_.fast ? ", no pacing (--fast)" : "", o.loop ? ", looping" : "",
+               to_s(log_.period), o.speed, timeline_.fast() ? ", no pacing (--fast)" : "", o.loop ? ", looping" : "",
                o.retime ? fmt::format(", retimed from {}", format_iso8601_utc(first_stamp_)) : "");
   for (const auto& out : outputs_) spdlog::info("NMEA on {}", out->describe());
 
@@ -97,14 +91,14 @@ int Replayer::run(const std::atomic<bool>& stop) {
         break;
       }
       const UtcNs deadline = wall_0 + scaled(v, o.speed);
-      if (!config_.fast) io_.sleep_until(deadline, stop);
+      if (!timeline_.fast()) io_.sleep_until(deadline, stop);
       if (stop.load()) break;
       std::string_view bytes = e.bytes;
       if (o.retime) {
         retimed = retime_epoch(e, first_stamp_ + v);
         bytes = retimed;
       }
-      if (!config_.fast) {
+      if (!timeline_.fast()) {
         // Against the deadline it could be met at: an epoch whose time went back is due with
         // the previous one, not at its own (past) deadline.
         latest_deadline = std::max(latest_deadline, deadline);
@@ -145,53 +139,23 @@ void Replayer::log_summary() const {
   }
 }
 
-std::vector<std::unique_ptr<transport::Output>> open_replay_outputs(const Config& config, const ReplayLog& log) {
-  std::vector<transport::OutputSpec> specs;
-  for (const std::string& text : config.outputs) specs.push_back(transport::parse_output_spec(text));
+std::vector<std::unique_ptr<transport::Output>> open_replay_outputs(const ReceiverSettings& receiver,
+                                                                   const TimelineSettings& timeline,
+                                                                   const ReplaySettings& replay, const ReplayLog& log) {
+  const std::vector<transport::OutputSpec>& specs = receiver.outputs;
   // Epochs a second at this speed, for the serial line budget and queue.
-  const double rate_hz = config.replay.speed / std::max(to_s(log.period), 1e-3);
+  const double rate_hz = replay.speed / std::max(to_s(log.period), 1e-3);
   std::size_t widest = 0;
-  for (const auto& e : log.epochs) widest = std::max(widest, e.bytes.size() + (config.replay.retime ? 8 * e.sentences.size() : 0));
+  for (const auto& e : log.epochs) widest = std::max(widest, e.bytes.size() + (replay.retime ? 8 * e.sentences.size() : 0));
   for (const auto& spec : specs) {
-    if (spec.kind == transport::OutputKind::serial && !config.fast) check_serial_line_budget(spec, widest, rate_hz);
+    if (spec.kind == transport::OutputKind::serial && !timeline.fast()) check_serial_line_budget(spec, widest, rate_hz);
   }
   std::vector<std::unique_ptr<transport::Output>> outputs;
   for (const auto& spec : specs) {
-    outputs.push_back(transport::make_output(spec, {.realtime = !config.fast, .rate_hz = rate_hz}));
+    outputs.push_back(transport::make_output(spec, {.realtime = !timeline.fast(), .rate_hz = rate_hz}));
   }
-  if (config.tee) outputs.push_back(std::make_unique<transport::TeeOutput>(*config.tee, !config.fast));
+  if (receiver.tee) outputs.push_back(std::make_unique<transport::TeeOutput>(*receiver.tee, !timeline.fast()));
   return outputs;
-}
-
-Subcommand add_replay_command(CLI::App& app) {
-  auto path = std::make_shared<std::string>();
-  CLI::App* sub = app.add_subcommand(
-      "replay",
-      "send a recorded NMEA log epoch by epoch, paced by its own time fields (binary, bad checksums and "
-      "comments skipped): --speed, --loop, --from/--to, --retime, --fast, --output, --tee");
-  sub->add_option("log", *path, "NMEA log (a receiver's raw stream, a gpsd log, a --tee file)")
-      ->required()
-      ->option_text("LOG");
-  return {sub, [path](const Config& config, const std::atomic<bool>& stop) {
-            ReplayLog log = read_replay_log(*path);
-            (void)check_replay_options(config, log, *path);  // before any output is opened
-            std::vector<std::unique_ptr<transport::Output>> outputs = open_replay_outputs(config, log);
-            std::vector<transport::Output*> raw;
-            for (const auto& out : outputs) raw.push_back(out.get());
-            SystemClockIo io(
-                [raw](std::vector<int>& fds) {
-                  for (auto* out : raw) {
-                    if (out->poll_fd() >= 0) fds.push_back(out->poll_fd());
-                  }
-                },
-                [raw] {
-                  for (auto* out : raw) out->service();
-                });
-            Replayer replayer(config, std::move(log), *path, std::move(outputs), io);
-            // --realtime-priority, --lock-memory, --timer-slack: as for the emulator's loop.
-            for (const std::string& line : posix::apply_realtime_settings(config.realtime)) spdlog::info("{}", line);
-            return replayer.run(stop);
-          }};
 }
 
 }  // namespace gpsemu::replay

@@ -22,12 +22,9 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-
 #include "emulator/pipeline/clock.hpp"
-#include "emulator/config/config.hpp"
+#include "emulator/config/settings.hpp"
 #include "emulator/replay/replay_log.hpp"
-#include "emulator/app/subcommands.hpp"
 #include "transport/output.hpp"
 
 namespace gpsemu::replay {
@@ -47,7 +44,7 @@ class Replayer {
  public:
   /// Checks the options against the log (range, clock); throws std::invalid_argument naming the
   /// option. `io` paces and services; `outputs` receive the epochs.
-  Replayer(const Config& config, ReplayLog log, std::string log_name,
+  Replayer(const TimelineSettings& timeline, const ReplaySettings& replay, ReplayLog log, std::string log_name,
            std::vector<std::unique_ptr<transport::Output>> outputs, ClockIo& io);
 
   /// Sends the range (again and again with --loop) until done or `stop`. Returns 0.
@@ -61,7 +58,8 @@ class Replayer {
  private:
   void log_summary() const;
 
-  Config config_;
+  TimelineSettings timeline_;
+  ReplaySettings options_;
   ReplayLog log_;
   std::string name_;
   std::vector<std::unique_ptr<transport::Output>> outputs_;
@@ -73,13 +71,14 @@ class Replayer {
 
 /// Checks the options against the log: the clock (replay has its own pacing) and the --from/--to
 /// range, which it returns. Throws std::invalid_argument naming the option.
-[[nodiscard]] EpochRange check_replay_options(const Config& config, const ReplayLog& log, const std::string& log_name);
+[[nodiscard]] EpochRange check_replay_options(const TimelineSettings& timeline, const ReplaySettings& replay,
+                                              const ReplayLog& log, const std::string& log_name);
 
-/// Opens the configured outputs (--output, then --tee) for a replay of `log`; refuses a serial
+/// Opens the receiver's outputs (--output, then --tee) for a replay of `log`; refuses a serial
 /// line that cannot carry the log's epochs at the replay speed.
-[[nodiscard]] std::vector<std::unique_ptr<transport::Output>> open_replay_outputs(const Config& config,
+[[nodiscard]] std::vector<std::unique_ptr<transport::Output>> open_replay_outputs(const ReceiverSettings& receiver,
+                                                                                  const TimelineSettings& timeline,
+                                                                                  const ReplaySettings& replay,
                                                                                   const ReplayLog& log);
-
-[[nodiscard]] Subcommand add_replay_command(CLI::App& app);
 
 }  // namespace gpsemu::replay

@@ -16,7 +16,7 @@ FormatOptions options(std::string talker, NmeaVersion version, int minute_decima
 }
 
 TEST(LineBudgetTest, DesignExampleGgaRmcAt10HzDoesNotFit9600AndNames19200) {
-  // design.md: 10 Hz GGA+RMC (~145 bytes) needs >= 14 500 baud; with the 90 % margin 16 111.
+  // docs/design.md: 10 Hz GGA+RMC (~145 bytes) needs >= 14 500 baud; with the 90 % margin 16 111.
   const LineBudget b = line_budget(145, 10.0);
   EXPECT_FALSE(b.fits(9600, kLineBudgetMargin));
   EXPECT_DOUBLE_EQ(b.bytes_per_second, 1450.0);
