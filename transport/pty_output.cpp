@@ -190,6 +190,7 @@ void PtyOutput::service() {
     if (n > 0) {
       this_call += static_cast<std::size_t>(n);
       pty_stats_.input_bytes_discarded += static_cast<std::uint64_t>(n);
+      client_wrote({buf.data(), static_cast<std::size_t>(n)});
       continue;
     }
     if (n < 0 && errno == EINTR) continue;

@@ -217,6 +217,7 @@ void TcpOutput::service() {
         if (r > 0) {
           got += static_cast<std::size_t>(r);
           tcp_stats_.input_bytes_discarded += static_cast<std::uint64_t>(r);
+          client_wrote({buf.data(), static_cast<std::size_t>(r)});
           continue;
         }
         if (r < 0 && errno == EINTR) continue;

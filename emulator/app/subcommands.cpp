@@ -2,7 +2,7 @@
 
 #include "emulator/calibration/commands.hpp"
 #include "emulator/app/ports_command.hpp"
-#include "emulator/replay/replay_command.hpp"
+#include "emulator/app/replay_command.hpp"
 
 namespace gpsemu {
 
@@ -12,7 +12,7 @@ std::vector<Subcommand> add_subcommands(CLI::App& app) {
   all.push_back(calibration::add_calibrate_command(app));
   all.push_back(calibration::add_compare_command(app));
   all.push_back(add_ports_command(app));
-  all.push_back(replay::add_replay_command(app));
+  all.push_back(add_replay_command(app));
   return all;
 }
 
