@@ -96,11 +96,12 @@ EpochRange check_replay_options(const Config& config, const ReplayLog& log, cons
 }
 
 OutputSettings replay_output_settings(const Config& config, const ReplayLog& log) {
-  OutputSettings out = replay_settings(config).outputs;
+  const ReplaySettings settings = replay_settings(config);
+  OutputSettings out = settings.outputs;
   // Epochs a second at this speed, for the serial line budget and queue.
-  out.rate_hz = config.replay.speed / std::max(to_s(log.period), 1e-3);
+  out.rate_hz = settings.options.speed / std::max(to_s(log.period), 1e-3);
   if (out.realtime) {
-    const bool retime = config.replay.retime;
+    const bool retime = settings.options.retime;
     out.widest_epoch_bytes = [&log, retime] {
       std::size_t widest = 0;
       for (const auto& e : log.epochs) widest = std::max(widest, e.bytes.size() + (retime ? 8 * e.sentences.size() : 0));
