@@ -9,7 +9,7 @@
 #include <spdlog/spdlog.h>
 
 #include "emulator/config/config.hpp"
-#include "emulator/config/fleet_config.hpp"
+#include "emulator/config/validate.hpp"
 #include "emulator/pipeline/runner.hpp"
 #include "emulator/app/command_line.hpp"
 #include "emulator/app/subcommands.hpp"
@@ -60,20 +60,21 @@ int main(int argc, char** argv) {
 
   gpsemu::Config config;
   try {
+    // Templates, shared outputs and specs are checked here, before anything opens.
     config = gpsemu::build_config(config_file.empty() ? std::nullopt : std::optional{config_file}, command_line);
-    (void)gpsemu::receiver_configs(config);  // templates and shared outputs are checked before anything opens
   } catch (const std::exception& e) {
     std::fprintf(stderr, "gpsemu: %s\n", e.what());
     return 2;
   }
-  setup_logging(config.log_level);
+  setup_logging(config.process.log_level);
   install_signal_handlers();
 
   for (const auto& sc : subcommands) {
     if (!sc.app->parsed()) continue;
-    if (gpsemu::receiver_count(config) > 1) {
-      std::fprintf(stderr, "gpsemu: --receivers and [[receiver]] tables apply to the emulator loop, not to 'gpsemu %s'\n",
-                   sc.app->get_name().c_str());
+    try {
+      gpsemu::check_subcommand(config, sc.app->get_name());
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "gpsemu: %s\n", e.what());
       return 2;
     }
     try {
@@ -86,7 +87,7 @@ int main(int argc, char** argv) {
 
   // Replay's options mean nothing to the emulator loop: say so instead of ignoring them.
   for (const auto& [name, values] : command_line) {
-    if (name == "speed" || name == "loop" || name == "from" || name == "to" || name == "retime") {
+    if (gpsemu::is_replay_only(name)) {
       std::fprintf(stderr, "gpsemu: --%s applies to 'gpsemu replay LOG' only\n", name.c_str());
       return 2;
     }
@@ -94,11 +95,12 @@ int main(int argc, char** argv) {
 
   std::unique_ptr<gpsemu::Runner> runner;
   try {
+    gpsemu::check_emulator_run(config);
     runner = std::make_unique<gpsemu::Runner>(config);
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     return 2;
   }
-  for (const std::string& line : gpsemu::apply_realtime_settings(config.realtime)) spdlog::info("{}", line);
+  for (const std::string& line : gpsemu::apply_realtime_settings(config.process.realtime)) spdlog::info("{}", line);
   return runner->run(g_stop);
 }

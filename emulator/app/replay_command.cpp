@@ -2,11 +2,12 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <spdlog/spdlog.h>
 
 #include "emulator/pipeline/realtime.hpp"
-#include "emulator/pipeline/sink.hpp"
+#include "emulator/config/config.hpp"
 #include "emulator/replay/replayer.hpp"
 
 namespace gpsemu {
@@ -21,12 +22,14 @@ Subcommand add_replay_command(CLI::App& app) {
       ->required()
       ->option_text("LOG");
   return {sub, [path](const Config& config, const std::atomic<bool>& stop) {
-            replay::ReplayLog log = replay::read_replay_log(*path);
-            (void)replay::check_replay_options(config, log, *path);  // before any output is opened
-            auto outputs = open_outputs(replay::replay_output_settings(config, log));
-            replay::Replayer replayer(config, std::move(log), *path, std::move(outputs));
+            using namespace replay;
+            ReplayLog log = read_replay_log(*path);
+            (void)check_replay_options(config.timeline, config.replay, log, *path);  // before any output is opened
+            std::vector<std::unique_ptr<transport::Output>> outputs =
+                open_replay_outputs(config.receiver(), config.timeline, config.replay, log);
+            Replayer replayer(config.timeline, config.replay, std::move(log), *path, std::move(outputs));
             // --realtime-priority, --lock-memory, --timer-slack: as for the emulator's loop.
-            for (const std::string& line : apply_realtime_settings(config.realtime)) spdlog::info("{}", line);
+            for (const std::string& line : apply_realtime_settings(config.process.realtime)) spdlog::info("{}", line);
             return replayer.run(stop);
           }};
 }

@@ -1,5 +1,5 @@
-// `gpsemu replay LOG`: reads the log, checks the options against it, opens the outputs and runs
-// the replayer (emulator/replay/replayer.hpp) on the epoch loop.
+// `gpsemu replay LOG`: the command line of the replayer (replay/replayer.hpp), which sends a
+// recorded NMEA log to the configured outputs paced by its own time fields.
 #pragma once
 
 #include <CLI/CLI.hpp>

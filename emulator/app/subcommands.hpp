@@ -9,9 +9,9 @@
 
 #include <CLI/CLI.hpp>
 
-#include "emulator/config/config.hpp"
-
 namespace gpsemu {
+
+struct Config;  // config/config.hpp
 
 struct Subcommand {
   CLI::App* app = nullptr;                     ///< the parsed subcommand (true when given)

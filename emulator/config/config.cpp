@@ -1,9 +1,7 @@
+// Loading a configuration: defaults, the TOML file, the command line, the [[receiver]] tables;
+// then resolving it into a Config (validate.hpp, fleet_config.hpp).
 #include "emulator/config/config.hpp"
 
-#include <algorithm>
-#include <cctype>
-#include <charconv>
-#include <cmath>
 #include <set>
 #include <sstream>
 
@@ -11,37 +9,11 @@
 #include <toml++/toml.h>
 
 #include "emulator/config/config_options.hpp"
-#include "emulator/config/config_values.hpp"
-#include "transport/pps.hpp"
+#include "emulator/config/fleet_config.hpp"
+#include "emulator/config/validate.hpp"
 
 namespace gpsemu {
 namespace {
-
-using namespace config_values;
-
-/// Why a key cannot go in a [[receiver]] table (nullptr: it can).
-const char* why_not_per_receiver(const std::string& name) {
-  static const std::set<std::string> timeline{"rate", "latency", "start-time", "duration", "fast", "clock"};
-  static const std::set<std::string> pps{"pps", "pps-width", "pps-polarity"};
-  static const std::set<std::string> process{"realtime-priority", "lock-memory", "timer-slack", "log-level"};
-  static const std::set<std::string> replay{"speed", "loop", "from", "to", "retime"};
-  if (timeline.count(name)) {
-    return "all receivers of a process share one epoch timeline (rate, latency, start-time, duration, fast, clock)";
-  }
-  if (pps.count(name)) return "a process drives at most one PPS line, for all its receivers";
-  if (process.count(name)) return "it is a setting of the whole process";
-  if (replay.count(name)) return "it applies to 'gpsemu replay' only";
-  if (name == "receivers") return "the number of receivers is the number of [[receiver]] tables";
-  if (name == "config" || name == "receiver") return "a [[receiver]] table holds option keys only";
-  return nullptr;
-}
-
-const OptionDef* find_option(const std::string& name) {
-  for (const auto& o : option_table()) {
-    if (o.name == name) return &o;
-  }
-  return nullptr;
-}
 
 /// A TOML value as the strings an option's apply() takes.
 std::vector<std::string> toml_to_strings(const toml::node& node, const std::string& key) {
@@ -79,7 +51,7 @@ std::vector<ReceiverTable> parse_receiver_tables(const std::string& file, const 
   for (const auto& item : *array) {
     const toml::table& t = *item.as_table();
     ReceiverTable table{file, static_cast<int>(t.source().begin.line), {}};
-    Config scratch;  // each value is checked now, so a bad one is reported before anything opens
+    ConfigDraft scratch;  // each value is checked now, so a bad one is reported before anything opens
     for (const auto& [key, value] : t) {
       const std::string name{key.str()};
       const int key_line = static_cast<int>(value.source().begin.line);
@@ -105,43 +77,6 @@ std::vector<ReceiverTable> parse_receiver_tables(const std::string& file, const 
   return tables;
 }
 
-void finish(Config& c) {
-  if (c.clock.kind == ClockKind::fast) c.fast = true;
-  if (c.fast && c.clock.kind != ClockKind::realtime && c.clock.kind != ClockKind::fast) {
-    throw ConfigError(fmt::format("clock: --fast and --clock {} are two different clocks: give one", to_string(c.clock)));
-  }
-  if (c.fast) c.clock.kind = ClockKind::fast;
-  if (c.pps && (c.clock.kind == ClockKind::scaled || c.clock.kind == ClockKind::lockstep)) {
-    throw ConfigError(fmt::format("pps: a PPS pulse marks real seconds; it cannot be used with --clock {}",
-                                  to_string(c.clock)));
-  }
-  if (c.pps && c.fast) {
-    throw ConfigError("pps: a PPS pulse marks real seconds; it cannot be used with --fast");
-  }
-  if (c.pose_horizon_s > c.pose_timeout_s) {
-    throw ConfigError(fmt::format("pose-horizon {} s is longer than pose-timeout {} s: a pose cannot be "
-                                  "extrapolated past the time it goes stale", c.pose_horizon_s, c.pose_timeout_s));
-  }
-  // The cgrw one knob fills every axis not given explicitly.
-  // The preset's ratios are per 1 Hz sample, so a different measurement rate needs every axis.
-  if (c.cgrw_rate_hz && !(c.cgrw_east && c.cgrw_north && c.cgrw_up)) {
-    throw ConfigError("cgrw-rate applies to parameters measured at that rate: give cgrw-east, cgrw-north "
-                      "and cgrw-up too (gpsemu calibrate writes all four keys)");
-  }
-  const double window_s = c.noise.cgrw.window_s;
-  c.noise.cgrw = noise::cgrw_preset(c.width_m);
-  c.noise.cgrw.window_s = window_s;
-  if (c.cgrw_rate_hz) c.noise.cgrw.rate_hz = *c.cgrw_rate_hz;
-  if (c.cgrw_east) c.noise.cgrw.east = *c.cgrw_east;
-  if (c.cgrw_north) c.noise.cgrw.north = *c.cgrw_north;
-  if (c.cgrw_up) c.noise.cgrw.up = *c.cgrw_up;
-  if (c.format.time_decimals < 3 && c.rate_hz > std::pow(10.0, c.format.time_decimals)) {
-    throw ConfigError(fmt::format(
-        "rate {} Hz needs more than {} time decimals: successive epochs would repeat a time "
-        "(set time-decimals to {})", c.rate_hz, c.format.time_decimals, c.rate_hz > 100 ? 3 : 2));
-  }
-}
-
 }  // namespace
 
 const std::vector<OptionDef>& option_table() {
@@ -149,12 +84,38 @@ const std::vector<OptionDef>& option_table() {
   return table;
 }
 
+const OptionDef* find_option(std::string_view name) {
+  for (const auto& o : option_table()) {
+    if (o.name == name) return &o;
+  }
+  return nullptr;
+}
+
 namespace {
+
+/// The loaded configuration from the options' values: derived values resolved, every check made,
+/// one ReceiverSettings per receiver.
+Config resolve(ConfigDraft& draft) {
+  Config config;
+  try {
+    resolve_timeline(draft);
+    (void)resolve_receiver(draft.receiver, draft.timeline);  // the shared settings, before any table's
+    config.receivers = resolve_receivers(draft);
+  } catch (const ConfigError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw ConfigError(e.what());
+  }
+  config.process = std::move(draft.process);
+  config.timeline = std::move(draft.timeline);
+  config.replay = std::move(draft.replay);
+  return config;
+}
 
 /// Defaults, then the config file's keys (`file`, named `file_name` in messages) except those the
 /// command line gives, then the command line's, then the derived settings.
 Config build(const toml::table* file, const std::string& file_name, const RawOptions& command_line) {
-  Config config;
+  ConfigDraft config;
   std::set<std::string> given_on_command_line;
   for (const auto& [name, values] : command_line) given_on_command_line.insert(name);
 
@@ -188,27 +149,8 @@ Config build(const toml::table* file, const std::string& file_name, const RawOpt
       throw ConfigError(fmt::format("--{}: {}", name, e.what()));
     }
   }
-  if (!config.receiver_tables.empty()) {
-    const int tables = static_cast<int>(config.receiver_tables.size());
-    if (tables > kMaxReceivers) {
-      throw ConfigError(fmt::format("config file {}: {} [[receiver]] tables: at most {} receivers in one process",
-                                    file_name, tables, kMaxReceivers));
-    }
-    if (config.receivers_given && config.receivers != tables) {
-      throw ConfigError(fmt::format("receivers is {} but config file {} has {} [[receiver]] tables: the tables make "
-                                    "the receivers, so give one table per receiver or leave receivers out",
-                                    config.receivers, file_name, tables));
-    }
-    config.receivers = tables;
-  }
-  try {
-    finish(config);
-  } catch (const ConfigError&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw ConfigError(e.what());
-  }
-  return config;
+  check_fleet_size(config, file_name);
+  return resolve(config);
 }
 
 [[noreturn]] void throw_parse_error(const toml::parse_error& e, const std::string& file_name) {
@@ -239,26 +181,6 @@ Config build_config_from_text(std::string_view toml_text, const std::string& sou
     throw_parse_error(e, source_name);
   }
   return build(&file, source_name, command_line);
-}
-
-void apply_receiver_table(Config& config, const ReceiverTable& table) {
-  for (const auto& key : table.keys) {
-    const OptionDef* option = find_option(key.name);
-    try {
-      if (!option) throw std::invalid_argument("unknown key");
-      option->apply(config, key.values);
-    } catch (const std::exception& e) {
-      throw ConfigError(fmt::format("config file {}:{}: [[receiver]] key '{}': {}", table.file, key.line, key.name,
-                                    e.what()));
-    }
-  }
-  try {
-    finish(config);
-  } catch (const ConfigError& e) {
-    throw ConfigError(fmt::format("config file {}:{}: [[receiver]]: {}", table.file, table.line, e.what()));
-  } catch (const std::exception& e) {
-    throw ConfigError(fmt::format("config file {}:{}: [[receiver]]: {}", table.file, table.line, e.what()));
-  }
 }
 
 }  // namespace gpsemu

@@ -73,109 +73,115 @@ nmea::SentenceSet parse_sentence_set(const std::vector<std::string>& values) {
 
 std::vector<OptionDef> make_option_table() {
   std::vector<OptionDef> t;
-  auto add = [&t](std::string name, std::string value_name, std::string help,
-                  std::function<void(Config&, V)> apply, bool repeatable = false) {
-    t.push_back({std::move(name), std::move(value_name), std::move(help), repeatable, std::move(apply)});
+  // The scope of the options that follow (OptionScope): set once per group below.
+  OptionScope scope = OptionScope::receiver;
+  auto add = [&t, &scope](std::string name, std::string value_name, std::string help,
+                          std::function<void(ConfigDraft&, V)> apply, bool repeatable = false) {
+    t.push_back({std::move(name), std::move(value_name), std::move(help), scope, repeatable, std::move(apply)});
   };
   // Pose source
+  scope = OptionScope::receiver;
   add("source", "SPEC", "pose source: sim:stationary | sim:line | sim:circle | sim:waypoints:FILE | replay:FILE.csv (a recorded truth trajectory) | udp:[HOST:]PORT | tcp:[HOST:]PORT (JSON poses from a simulator; HOST default 127.0.0.1) (default sim:stationary)",
-      [](Config& c, V v) { c.source = v.back(); });
+      [](ConfigDraft& d, V v) { d.receiver.source = v.back(); });
   add("origin", "LAT,LON,ALT", "local frame origin: degrees, degrees, metres above MSL (default 43.0725,-89.4125,260)",
-      [](Config& c, V v) {
+      [](ConfigDraft& d, V v) {
         const auto x = parse_list("origin", v.back(), 3, 3);
         if (x[0] < -90.0 || x[0] > 90.0) throw std::invalid_argument(fmt::format("origin latitude {} is outside [-90, 90]", x[0]));
         if (x[1] < -180.0 || x[1] > 180.0) throw std::invalid_argument(fmt::format("origin longitude {} is outside [-180, 180]", x[1]));
-        c.origin = {x[0], x[1], x[2]};
+        d.receiver.settings.origin = {x[0], x[1], x[2]};
       });
   add("sim-speed", "MPS", "simulated speed for line, circle and waypoints, m/s (default 2)",
-      [](Config& c, V v) { c.sim.speed_mps = parse_number("sim-speed", v.back(), 0.001, 1000.0); });
+      [](ConfigDraft& d, V v) { d.receiver.settings.sim.speed_mps = parse_number("sim-speed", v.back(), 0.001, 1000.0); });
   add("sim-heading", "DEG", "sim:line heading, degrees true (default 90 = east)",
-      [](Config& c, V v) { c.sim.heading_deg = parse_number("sim-heading", v.back(), 0.0, 360.0); });
+      [](ConfigDraft& d, V v) { d.receiver.settings.sim.heading_deg = parse_number("sim-heading", v.back(), 0.0, 360.0); });
   add("sim-drive-time", "S", "sim:line seconds of driving before it stops (default 20)",
-      [](Config& c, V v) { c.sim.drive_time_s = parse_number("sim-drive-time", v.back(), 0.0, 1e7); });
+      [](ConfigDraft& d, V v) { d.receiver.settings.sim.drive_time_s = parse_number("sim-drive-time", v.back(), 0.0, 1e7); });
   add("sim-radius", "M", "sim:circle radius, metres (default 20)",
-      [](Config& c, V v) { c.sim.radius_m = parse_number("sim-radius", v.back(), 0.1, 1e6); });
+      [](ConfigDraft& d, V v) { d.receiver.settings.sim.radius_m = parse_number("sim-radius", v.back(), 0.1, 1e6); });
   add("sim-loop", "", "sim:waypoints: start over after the last waypoint (default off)",
-      [](Config& c, V v) { c.sim.loop = parse_bool("sim-loop", v.back()); });
+      [](ConfigDraft& d, V v) { d.receiver.settings.sim.loop = parse_bool("sim-loop", v.back()); });
   add("pose-timeout", "S", "udp:/tcp: a pose older than this means no fix until poses resume, seconds, "
       "0.05..60 (default 1)",
-      [](Config& c, V v) { c.pose_timeout_s = parse_number("pose-timeout", v.back(), 0.05, 60.0); });
+      [](ConfigDraft& d, V v) { d.receiver.settings.pose_timeout_s = parse_number("pose-timeout", v.back(), 0.05, 60.0); });
   add("pose-horizon", "S", "udp:/tcp: extrapolate past the newest pose with its velocity for at most this long, "
       "then hold it, seconds, 0..pose-timeout (default 0.2)",
-      [](Config& c, V v) { c.pose_horizon_s = parse_number("pose-horizon", v.back(), 0.0, 60.0); });
+      [](ConfigDraft& d, V v) { d.receiver.settings.pose_horizon_s = parse_number("pose-horizon", v.back(), 0.0, 60.0); });
   // Clock
+  scope = OptionScope::timeline;
   add("rate", "HZ", "epochs per second: 1..50 whole, or 0.5/0.25/0.2/0.1 (default 1)",
-      [](Config& c, V v) {
-        c.rate_hz = parse_number("rate", v.back(), 0.1, 50.0);
-        (void)EpochGrid(c.rate_hz);  // validates the grid
+      [](ConfigDraft& d, V v) {
+        d.timeline.rate_hz = parse_number("rate", v.back(), 0.1, 50.0);
+        (void)EpochGrid(d.timeline.rate_hz);  // validates the grid
       });
   add("latency", "S", "delay from epoch time to first byte, seconds, 0..0.5 (default 0.05)",
-      [](Config& c, V v) { c.latency_s = parse_number("latency", v.back(), 0.0, 0.5); });
+      [](ConfigDraft& d, V v) { d.timeline.latency_s = parse_number("latency", v.back(), 0.0, 0.5); });
   add("start-time", "ISO8601", "UTC time of the first epoch, e.g. 2024-05-01T12:00:00Z (default: now)",
-      [](Config& c, V v) { c.start_time = parse_iso8601_utc(v.back()); });
+      [](ConfigDraft& d, V v) { d.timeline.start_time = parse_iso8601_utc(v.back()); });
   add("duration", "S", "stop after this many seconds of epochs (default: run until stopped)",
-      [](Config& c, V v) { c.duration_s = parse_number("duration", v.back(), 0.0, 1e9); });
+      [](ConfigDraft& d, V v) { d.timeline.duration_s = parse_number("duration", v.back(), 0.0, 1e9); });
   add("fast", "", "no pacing: generate epochs as fast as possible (batch generation, tests)",
-      [](Config& c, V v) { c.fast = parse_bool("fast", v.back()); });
+      [](ConfigDraft& d, V v) { d.fast = parse_bool("fast", v.back()); });
   add("clock", "CLOCK", "epoch clock: realtime | scaled:K (paced at K x real time, K 0.01..1000; NMEA times still "
       "one epoch period apart) | fast (as --fast) | lockstep (an epoch leaves when the 't' of udp:/tcp: poses "
       "reaches it; t = 0 is --start-time or the first epoch) (default realtime)",
-      [](Config& c, V v) { c.clock = parse_clock_spec(v.back()); });
+      [](ConfigDraft& d, V v) { d.timeline.clock = parse_clock_spec(v.back()); });
   // Replay (gpsemu replay LOG)
+  scope = OptionScope::replay;
   add("speed", "K", "replay: speed factor, 0.1..100; 10 sends 1 s of log every 100 ms (default 1)",
-      [](Config& c, V v) { c.replay.speed = parse_number("speed", v.back(), 0.1, 100.0); });
+      [](ConfigDraft& d, V v) { d.replay.speed = parse_number("speed", v.back(), 0.1, 100.0); });
   add("loop", "", "replay: start over after the last epoch (default off)",
-      [](Config& c, V v) { c.replay.loop = parse_bool("loop", v.back()); });
+      [](ConfigDraft& d, V v) { d.replay.loop = parse_bool("loop", v.back()); });
   add("from", "WHEN", "replay: first epoch sent: time of day hh:mm:ss[.ss] (UTC, as in the log) or epoch index "
       "from 0 (default: the first)",
-      [](Config& c, V v) { c.replay.from = replay::parse_log_position("from", v.back()); });
+      [](ConfigDraft& d, V v) { d.replay.from = replay::parse_log_position("from", v.back()); });
   add("to", "WHEN", "replay: last epoch sent (included): hh:mm:ss[.ss] or epoch index (default: the last)",
-      [](Config& c, V v) { c.replay.to = replay::parse_log_position("to", v.back()); });
+      [](ConfigDraft& d, V v) { d.replay.to = replay::parse_log_position("to", v.back()); });
   add("retime", "", "replay: rewrite time and date fields to the present (or --start-time) and recompute "
       "checksums, so clients see a live receiver (default off: bytes sent unchanged)",
-      [](Config& c, V v) { c.replay.retime = parse_bool("retime", v.back()); });
+      [](ConfigDraft& d, V v) { d.replay.retime = parse_bool("retime", v.back()); });
   // Noise
+  scope = OptionScope::receiver;
   add("noise", "MODEL", "noise model: cgrw | chrono | gaussian | gauss-markov | none (default cgrw)",
-      [](Config& c, V v) { c.noise.model = noise::parse_model(v.back()); });
+      [](ConfigDraft& d, V v) { d.receiver.settings.noise.model = noise::parse_model(v.back()); });
   add("width", "M", "cgrw one knob: horizontal wander max-min, metres (0.1 high accuracy, 1 default, 10 poor)",
-      [](Config& c, V v) { c.width_m = parse_number("width", v.back(), 0.001, 1000.0); });
+      [](ConfigDraft& d, V v) { d.receiver.width_m = parse_number("width", v.back(), 0.001, 1000.0); });
   add("seed", "N", "random seed; same seed, inputs and start time give identical output (default 1)",
-      [](Config& c, V v) { c.seed = parse_uint("seed", v.back()); });
+      [](ConfigDraft& d, V v) { d.receiver.settings.seed = parse_uint("seed", v.back()); });
   for (const char* axis : {"east", "north", "up"}) {
     add(fmt::format("cgrw-{}", axis), "W,W1,W2,S2",
         fmt::format("cgrw {} axis: width, first- and second-difference widths, second-difference std, metres "
                     "at cgrw-rate (default: from --width)", axis),
-        [axis](Config& c, V v) {
+        [axis](ConfigDraft& d, V v) {
           const auto a = parse_cgrw_axis(fmt::format("cgrw-{}", axis), v.back());
           std::string name = axis;
-          (name == "east" ? c.cgrw_east : name == "north" ? c.cgrw_north : c.cgrw_up) = a;
+          (name == "east" ? d.receiver.cgrw_east : name == "north" ? d.receiver.cgrw_north : d.receiver.cgrw_up) = a;
         });
   }
   add("cgrw-rate", "HZ", "rate the cgrw-east/north/up parameters were measured at, Hz (default 1; needs all three axes)",
-      [](Config& c, V v) { c.cgrw_rate_hz = parse_number("cgrw-rate", v.back(), 0.01, 1000.0); });
+      [](ConfigDraft& d, V v) { d.receiver.cgrw_rate_hz = parse_number("cgrw-rate", v.back(), 0.01, 1000.0); });
   add("cgrw-window", "S", "time span the cgrw widths were measured over, seconds (default 300)",
-      [](Config& c, V v) { c.noise.cgrw.window_s = parse_number("cgrw-window", v.back(), 1.0, 1e6); });
+      [](ConfigDraft& d, V v) { d.receiver.settings.noise.cgrw.window_s = parse_number("cgrw-window", v.back(), 1.0, 1e6); });
   add("gaussian-sigma", "S[,SN,SU]", "gaussian standard deviation east,north,up, metres (default 1,1,1)",
-      [](Config& c, V v) {
+      [](ConfigDraft& d, V v) {
         const auto x = parse_list("gaussian-sigma", v.back(), 1, 3);
         for (std::size_t i = 0; i < 3; ++i) {
           const double s = x[std::min(i, x.size() - 1)];
           if (s < 0.0) throw std::invalid_argument("gaussian-sigma must be >= 0 metres");
-          c.noise.gaussian[i].sigma_m = s;
+          d.receiver.settings.noise.gaussian[i].sigma_m = s;
         }
       });
   add("gaussian-mean", "M[,MN,MU]", "gaussian mean east,north,up, metres (default 0,0,0)",
-      [](Config& c, V v) {
+      [](ConfigDraft& d, V v) {
         const auto x = parse_list("gaussian-mean", v.back(), 1, 3);
-        for (std::size_t i = 0; i < 3; ++i) c.noise.gaussian[i].mean_m = x[std::min(i, x.size() - 1)];
+        for (std::size_t i = 0; i < 3; ++i) d.receiver.settings.noise.gaussian[i].mean_m = x[std::min(i, x.size() - 1)];
       });
   add("chrono", "MEAN,SIGMA,RATE[,VMAX,AMAX]",
       "chrono model: Project Chrono 9 ChNoiseRandomWalks arguments: mean (ignored, as in Chrono), "
       "sigma m/s^2, update rate Hz, max velocity m/s, max acceleration m/s^2 "
       "(default 0,0.0163,1,0.03,0.005)",
-      [](Config& c, V v) {
+      [](ConfigDraft& d, V v) {
         const auto x = parse_list("chrono", v.back(), 3, 5);
-        noise::ChronoParams p = c.noise.chrono;
+        noise::ChronoParams p = d.receiver.settings.noise.chrono;
         p.mean = x[0];
         p.sigma = x[1];
         p.update_rate_hz = x[2];
@@ -186,117 +192,121 @@ std::vector<OptionDef> make_option_table() {
           throw std::invalid_argument(fmt::format("chrono: RATE must be > 0 and <= 10000 Hz, got '{}'", v.back()));
         if (!(p.v_max_mps >= 0.0) || !(p.a_max_mps2 >= 0.0))
           throw std::invalid_argument(fmt::format("chrono: VMAX and AMAX must be >= 0, got '{}'", v.back()));
-        c.noise.chrono = p;
+        d.receiver.settings.noise.chrono = p;
       });
   add("gm-sigma", "S[,SN,SU]", "gauss-markov stationary standard deviation east,north,up, metres (default 1,1,1)",
-      [](Config& c, V v) {
+      [](ConfigDraft& d, V v) {
         const auto x = parse_list("gm-sigma", v.back(), 1, 3);
         for (std::size_t i = 0; i < 3; ++i) {
           const double s = x[std::min(i, x.size() - 1)];
           if (s < 0.0) throw std::invalid_argument(fmt::format("gm-sigma must be >= 0 metres, got '{}'", v.back()));
-          c.noise.gauss_markov[i].sigma_m = s;
+          d.receiver.settings.noise.gauss_markov[i].sigma_m = s;
         }
       });
   add("gm-tau", "T[,TN,TU]", "gauss-markov correlation time east,north,up, seconds > 0 (default 60,60,60)",
-      [](Config& c, V v) {
+      [](ConfigDraft& d, V v) {
         const auto x = parse_list("gm-tau", v.back(), 1, 3);
         for (std::size_t i = 0; i < 3; ++i) {
           const double t = x[std::min(i, x.size() - 1)];
           if (!(t > 0.0)) throw std::invalid_argument(fmt::format("gm-tau must be > 0 seconds, got '{}'", v.back()));
-          c.noise.gauss_markov[i].tau_s = t;
+          d.receiver.settings.noise.gauss_markov[i].tau_s = t;
         }
       });
   add("gm-order", "N", "gauss-markov order: 1 (first order) or 2 (second order, smooth like a receiver's "
       "filtered position; autocorrelation (1+t/tau)exp(-t/tau)) (default 1)",
-      [](Config& c, V v) {
-        c.noise.gauss_markov_order = static_cast<int>(parse_number("gm-order", v.back(), 1, 2));
-        if (parse_number("gm-order", v.back(), 1, 2) != c.noise.gauss_markov_order)
+      [](ConfigDraft& d, V v) {
+        d.receiver.settings.noise.gauss_markov_order = static_cast<int>(parse_number("gm-order", v.back(), 1, 2));
+        if (parse_number("gm-order", v.back(), 1, 2) != d.receiver.settings.noise.gauss_markov_order)
           throw std::invalid_argument(fmt::format("gm-order must be 1 or 2, got '{}'", v.back()));
       });
   // Receiver and sentences
+  scope = OptionScope::receiver;
   add("satellites", "N", "satellites used in a 3-D fix, 4..32 (default: round((3/HDOP)^2) in 5..16; "
       "in view: used + 2 + used/4)",
-      [](Config& c, V v) { c.receiver.satellites_used = static_cast<int>(parse_number("satellites", v.back(), 4, 32)); });
+      [](ConfigDraft& d, V v) { d.receiver.settings.model.satellites_used = static_cast<int>(parse_number("satellites", v.back(), 4, 32)); });
   add("hdop", "X", "HDOP reported with a fix, 0.5..50 (default: the noise's horizontal sigma / 0.4 m, "
       "in 0.5..20)",
-      [](Config& c, V v) { c.receiver.hdop = parse_number("hdop", v.back(), 0.5, 50.0); });
+      [](ConfigDraft& d, V v) { d.receiver.settings.model.hdop = parse_number("hdop", v.back(), 0.5, 50.0); });
   add("fix-quality", "Q", "fix quality: gps | dgps | rtk-float | rtk-fixed; scales the noise by 1, 0.4, 0.1, "
       "0.01 (default gps)",
-      [](Config& c, V v) { c.receiver.quality = parse_fix_quality(v.back()); });
+      [](ConfigDraft& d, V v) { d.receiver.settings.model.quality = parse_fix_quality(v.back()); });
   add("cold-start", "S[,S2D]", "cold start: no fix for S seconds (satellites acquired one by one), then a "
       "2-D fix for S2D seconds (default 2 when S > 0), then 3-D; seconds after the first epoch (default 0,0)",
-      [](Config& c, V v) {
+      [](ConfigDraft& d, V v) {
         const auto x = parse_list("cold-start", v.back(), 1, 2);
         if (x[0] < 0.0 || (x.size() > 1 && x[1] < 0.0) || x[0] > 1e6 || (x.size() > 1 && x[1] > 1e6)) {
           throw std::invalid_argument(fmt::format("cold-start: seconds must be 0..1e6, got '{}'", v.back()));
         }
-        c.receiver.cold_start_s = x[0];
-        c.receiver.cold_start_2d_s = x.size() > 1 ? x[1] : (x[0] > 0.0 ? 2.0 : 0.0);
+        d.receiver.settings.model.cold_start_s = x[0];
+        d.receiver.settings.model.cold_start_2d_s = x.size() > 1 ? x[1] : (x[0] > 0.0 ? 2.0 : 0.0);
       });
   add("outage", "START+DURATION", "scheduled outage (tunnel): no satellites and no fix from START for "
       "DURATION seconds, START in seconds after the first epoch; repeatable (default none)",
-      [](Config& c, V v) {
-        c.receiver.outages.clear();
-        for (const auto& text : v) c.receiver.outages.push_back(parse_outage(text));
+      [](ConfigDraft& d, V v) {
+        d.receiver.settings.model.outages.clear();
+        for (const auto& text : v) d.receiver.settings.model.outages.push_back(parse_outage(text));
       }, true);
   add("sentences", "LIST", "NMEA sentences of each epoch, comma-separated, from RMC VTG GGA GSA GSV GLL GST "
       "ZDA; written in that (u-blox) order whatever the order given (default RMC,VTG,GGA,GSA,GSV,GLL)",
-      [](Config& c, V v) { c.format.sentences = parse_sentence_set(v); });
+      [](ConfigDraft& d, V v) { d.receiver.settings.format.sentences = parse_sentence_set(v); });
   add("geoid-separation", "M", "geoid separation in GGA, metres (default 0)",
-      [](Config& c, V v) { c.receiver.geoid_sep_m = parse_number("geoid-separation", v.back(), -120.0, 120.0); });
+      [](ConfigDraft& d, V v) { d.receiver.settings.model.geoid_sep_m = parse_number("geoid-separation", v.back(), -120.0, 120.0); });
   add("talker", "ID", "NMEA talker ID: GP or GN (default GP)",
-      [](Config& c, V v) { c.format.talker = parse_choice("talker", v.back(), {"GP", "GN", "GL", "GA", "BD"}); });
+      [](ConfigDraft& d, V v) { d.receiver.settings.format.talker = parse_choice("talker", v.back(), {"GP", "GN", "GL", "GA", "BD"}); });
   add("nmea-version", "V", "NMEA version: 2.3 or 4.1 (default 4.1)",
-      [](Config& c, V v) {
-        c.format.version = parse_choice("nmea-version", v.back(), {"2.3", "4.1"}) == "2.3" ? nmea::NmeaVersion::v2_3
+      [](ConfigDraft& d, V v) {
+        d.receiver.settings.format.version = parse_choice("nmea-version", v.back(), {"2.3", "4.1"}) == "2.3" ? nmea::NmeaVersion::v2_3
                                                                                              : nmea::NmeaVersion::v4_1;
       });
   add("resolution", "N", "decimals of minutes in latitude/longitude, 1..8 (default 5, about 1.85 cm)",
-      [](Config& c, V v) { c.format.minute_decimals = static_cast<int>(parse_number("resolution", v.back(), 1, 8)); });
+      [](ConfigDraft& d, V v) { d.receiver.settings.format.minute_decimals = static_cast<int>(parse_number("resolution", v.back(), 1, 8)); });
   add("time-decimals", "N", "decimals of seconds in NMEA times, 0..3 (default 2)",
-      [](Config& c, V v) { c.format.time_decimals = static_cast<int>(parse_number("time-decimals", v.back(), 0, 3)); });
+      [](ConfigDraft& d, V v) { d.receiver.settings.format.time_decimals = static_cast<int>(parse_number("time-decimals", v.back(), 0, 3)); });
   // Outputs and logging
+  scope = OptionScope::receiver;
   add("output", "SPEC", "where NMEA goes, repeatable: pty[:LINK] | file:PATH | stdout | serial:DEVICE[@BAUD] | "
       "serial:usb:VID:PID[:SERIAL][@BAUD] (8N1; BAUD 4800..921600, default 9600) | tcp:[HOST:]PORT (server; HOST "
       "default 127.0.0.1) | udp:HOST:PORT (default pty:/tmp/gpsemu)",
-      [](Config& c, V v) { c.outputs = v; }, true);
+      [](ConfigDraft& d, V v) { d.receiver.outputs = v; }, true);
   add("tee", "FILE", "also write everything sent to FILE, each epoch after a '# sent <UTC send time>' line "
       "(gpsemu replay reads it back) (default none)",
-      [](Config& c, V v) { c.tee = v.back(); });
+      [](ConfigDraft& d, V v) { d.receiver.tee = v.back(); });
   // PPS
+  scope = OptionScope::pps;
   add("pps", "SPEC", "PPS pulse, leading edge at each whole UTC second: gpio:CHIP:LINE (libgpiod; CHIP "
       "/dev/gpiochipN, name or label; LINE offset or name) | modem:RTS | modem:DTR (on the serial output) "
       "(default: none)",
-      [](Config& c, V v) {
-        (void)transport::parse_pps_spec(v.back());
-        c.pps = v.back();
+      [](ConfigDraft& d, V v) {
+        d.timeline.pps = transport::parse_pps_spec(v.back());
       });
   add("pps-width", "S", "PPS pulse width, seconds, 0.001..0.9 (default 0.1)",
-      [](Config& c, V v) { c.pps_width_s = parse_number("pps-width", v.back(), 0.001, 0.9); });
+      [](ConfigDraft& d, V v) { d.timeline.pps_width_s = parse_number("pps-width", v.back(), 0.001, 0.9); });
   add("pps-polarity", "LEVEL", "PPS line level during the pulse: high (GPIO 1, modem line asserted) | low "
       "(default high)",
-      [](Config& c, V v) { c.pps_active_low = parse_choice("pps-polarity", v.back(), {"high", "low"}) == "low"; });
+      [](ConfigDraft& d, V v) { d.timeline.pps_active_low = parse_choice("pps-polarity", v.back(), {"high", "low"}) == "low"; });
   // Scheduling (real-time pacing)
+  scope = OptionScope::process;
   add("realtime-priority", "N", "run with SCHED_FIFO priority N, 1..99, where permitted (else a warning and normal "
       "scheduling) (default: normal scheduling)",
-      [](Config& c, V v) { c.realtime.fifo_priority = static_cast<int>(parse_number("realtime-priority", v.back(), 1, 99)); });
+      [](ConfigDraft& d, V v) { d.process.realtime.fifo_priority = static_cast<int>(parse_number("realtime-priority", v.back(), 1, 99)); });
   add("lock-memory", "", "lock the process's memory (mlockall) where permitted: no page faults in the loop (default off)",
-      [](Config& c, V v) { c.realtime.lock_memory = parse_bool("lock-memory", v.back()); });
+      [](ConfigDraft& d, V v) { d.process.realtime.lock_memory = parse_bool("lock-memory", v.back()); });
   add("timer-slack", "NS", "timer slack, nanoseconds, 1..50000000 (1: wake at the deadline; kernel default 50000)",
-      [](Config& c, V v) { c.realtime.timer_slack_ns = static_cast<long>(parse_number("timer-slack", v.back(), 1, 5e7)); });
+      [](ConfigDraft& d, V v) { d.process.realtime.timer_slack_ns = static_cast<long>(parse_number("timer-slack", v.back(), 1, 5e7)); });
   add("log-level", "LEVEL", "trace | debug | info | warn | error | off (default info)",
-      [](Config& c, V v) {
-        c.log_level = parse_choice("log-level", v.back(), {"trace", "debug", "info", "warn", "error", "off"});
+      [](ConfigDraft& d, V v) {
+        d.process.log_level = parse_choice("log-level", v.back(), {"trace", "debug", "info", "warn", "error", "off"});
       });
   // Many receivers in one process
+  scope = OptionScope::fleet;
   add("receivers", "N", "number of independent receivers in this process, 1..1024, each with its own outputs, "
       "source and seed: {i} in output, source and tee is the receiver's index (0..N-1), {B+i} is B plus it, "
       "and receiver i's seed is seed + i; or one [[receiver]] table each in the config file (default 1)",
-      [](Config& c, V v) {
+      [](ConfigDraft& d, V v) {
         const double n = parse_number("receivers", v.back(), 1, kMaxReceivers);
         if (n != std::floor(n)) throw std::invalid_argument(fmt::format("receivers must be a whole number, got '{}'", v.back()));
-        c.receivers = static_cast<int>(n);
-        c.receivers_given = true;
+        d.receivers = static_cast<int>(n);
+        d.receivers_given = true;
       });
   return t;
 }

@@ -1,7 +1,10 @@
 // The option table: every flag of the command line and key of the config file, its help text,
-// and how its value sets the Config (config.cpp builds a Config with it). Internal to emulator/.
+// its scope, and how its value sets the ConfigDraft (config.cpp builds a Config with it): the
+// options write raw values here, which are resolved once every option is in. Internal to config/.
 #pragma once
 
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "emulator/config/config.hpp"
@@ -10,6 +13,43 @@ namespace gpsemu {
 
 /// The most receivers one process runs.
 inline constexpr int kMaxReceivers = 1024;
+
+/// One `[[receiver]]` table of the config file: option keys that override the shared settings for
+/// one receiver of a fleet (see fleet_config.hpp). Values are kept as text and applied per receiver.
+struct ReceiverTable {
+  struct Key {
+    std::string name;                 ///< option name (the long flag without dashes)
+    int line = 0;                     ///< line in the config file
+    std::vector<std::string> values;  ///< as an option's apply() takes them
+  };
+  std::string file;  ///< the config file
+  int line = 0;      ///< line of the table's `[[receiver]]` header
+  std::vector<Key> keys;
+};
+
+/// One receiver's options as given: the settings, plus what is resolved at the end (the specs as
+/// text, since they may hold fleet templates; the cgrw one knob and explicit axes).
+struct ReceiverDraft {
+  ReceiverSettings settings;                 ///< source, outputs and noise.cgrw axes filled when resolved
+  std::string source = "sim:stationary";     ///< --source, may hold {i} / {B+i}
+  std::vector<std::string> outputs{"pty:/tmp/gpsemu"};  ///< --output, each may hold templates
+  std::optional<std::string> tee;            ///< --tee, may hold templates
+  double width_m = 1.0;                      ///< cgrw one knob: horizontal width (metres)
+  std::optional<noise::CgrwAxis> cgrw_east, cgrw_north, cgrw_up;  ///< explicit cgrw axes (else from width_m)
+  std::optional<double> cgrw_rate_hz;        ///< rate the explicit axes were measured at (Hz)
+};
+
+/// Every option's raw value while a configuration loads.
+struct ConfigDraft {
+  ProcessSettings process;
+  TimelineSettings timeline;
+  ReplaySettings replay;
+  ReceiverDraft receiver;                     ///< the shared settings of every receiver
+  bool fast = false;                          ///< --fast given (resolved into timeline.clock)
+  int receivers = 1;                          ///< --receivers, 1..kMaxReceivers
+  bool receivers_given = false;               ///< --receivers (or the file's `receivers`) was given
+  std::vector<ReceiverTable> receiver_tables; ///< the file's [[receiver]] tables; when any, one receiver each
+};
 
 /// Every option, in --help order.
 [[nodiscard]] std::vector<OptionDef> make_option_table();

@@ -10,7 +10,7 @@
 #include <fmt/format.h>
 
 #include "transport/output_spec.hpp"
-#include "transport/pose_socket.hpp"
+#include "emulator/config/validate.hpp"
 
 namespace gpsemu {
 namespace {
@@ -34,14 +34,8 @@ std::string normal_path(const std::filesystem::path& p) {
   return (ec ? p : absolute).lexically_normal().string();
 }
 
-/// What output `expanded` claims, if anything (a pty without a link, tcp port 0: nothing shared).
-std::optional<std::string> output_resource(const std::string& expanded) {
-  transport::OutputSpec spec;
-  try {
-    spec = transport::parse_output_spec(expanded);
-  } catch (const std::invalid_argument&) {
-    return std::nullopt;  // reported when the output is opened
-  }
+/// What an output claims, if anything (a pty without a link, tcp port 0: nothing shared).
+std::optional<std::string> output_resource(const transport::OutputSpec& spec) {
   using K = transport::OutputKind;
   switch (spec.kind) {
     case K::pty:
@@ -60,16 +54,10 @@ std::optional<std::string> output_resource(const std::string& expanded) {
   return std::nullopt;
 }
 
-std::optional<std::string> source_resource(const std::string& expanded) {
-  const bool udp = expanded.rfind("udp:", 0) == 0;
-  if (!udp && expanded.rfind("tcp:", 0) != 0) return std::nullopt;  // sim:, replay:FILE.csv: nothing held
-  try {
-    const auto endpoint = transport::parse_pose_endpoint(std::string_view(expanded).substr(4));
-    if (endpoint.port == 0) return std::nullopt;
-    return fmt::format("{} port {}", udp ? "udp" : "tcp", endpoint.port);
-  } catch (const std::invalid_argument&) {
-    return std::nullopt;  // reported when the source is opened
-  }
+/// What a source holds, if anything (sim:, replay:FILE.csv, port 0: nothing shared).
+std::optional<std::string> source_resource(const sources::SourceSpec& spec) {
+  if (!spec.is_socket() || spec.endpoint.port == 0) return std::nullopt;
+  return fmt::format("{} port {}", spec.kind == sources::SourceKind::udp ? "udp" : "tcp", spec.endpoint.port);
 }
 
 /// `raw` with a template in it, for the message that asks for one.
@@ -84,7 +72,7 @@ std::string suggest_template(const std::string& raw) {
 }
 
 /// "receiver 2", "receiver 2 (DETAIL)", or with tables "receiver 2 ([[receiver]] at FILE:LINE, DETAIL)".
-std::string who(const Config& shared, int index, const std::string& detail = {}) {
+std::string who(const ConfigDraft& shared, int index, const std::string& detail = {}) {
   std::string where;
   if (!shared.receiver_tables.empty()) {
     const ReceiverTable& t = shared.receiver_tables[static_cast<std::size_t>(index)];
@@ -95,7 +83,7 @@ std::string who(const Config& shared, int index, const std::string& detail = {})
   return where.empty() ? fmt::format("receiver {}", index) : fmt::format("receiver {} ({})", index, where);
 }
 
-void check_claims(const Config& shared, const std::vector<std::vector<Claim>>& claims) {
+void check_claims(const ConfigDraft& shared, const std::vector<std::vector<Claim>>& claims) {
   const int n = static_cast<int>(claims.size());
   std::map<std::string, std::pair<int, const Claim*>> owner;  // resource -> first receiver claiming it
   for (int i = 0; i < n; ++i) {
@@ -123,10 +111,6 @@ void check_claims(const Config& shared, const std::vector<std::vector<Claim>>& c
 }
 
 }  // namespace
-
-int receiver_count(const Config& config) {
-  return config.receiver_tables.empty() ? config.receivers : static_cast<int>(config.receiver_tables.size());
-}
 
 std::string expand_receiver_template(const std::string& key, std::string_view text, int index) {
   std::string out;
@@ -157,44 +141,88 @@ std::string expand_receiver_template(const std::string& key, std::string_view te
   return out;
 }
 
-std::vector<Config> receiver_configs(const Config& config) {
-  const int n = receiver_count(config);
-  std::vector<Config> fleet;
+namespace {
+
+/// Applies one [[receiver]] table's keys to `receiver` (a copy of the shared settings). Throws
+/// ConfigError naming the file, line and key.
+void apply_receiver_table(ReceiverDraft& receiver, const ReceiverTable& table) {
+  ConfigDraft scratch;
+  scratch.receiver = std::move(receiver);
+  for (const auto& key : table.keys) {
+    const OptionDef* option = find_option(key.name);
+    try {
+      if (!option) throw std::invalid_argument("unknown key");
+      option->apply(scratch, key.values);
+    } catch (const std::exception& e) {
+      throw ConfigError(fmt::format("config file {}:{}: [[receiver]] key '{}': {}", table.file, key.line, key.name,
+                                    e.what()));
+    }
+  }
+  receiver = std::move(scratch.receiver);
+}
+
+/// The first spec that did not parse, thrown once the receivers' claims are checked.
+struct SpecErrors {
+  std::optional<std::string> source, output;
+};
+
+}  // namespace
+
+std::vector<ReceiverSettings> resolve_receivers(const ConfigDraft& draft) {
+  const bool tables = !draft.receiver_tables.empty();
+  const int n = tables ? static_cast<int>(draft.receiver_tables.size()) : draft.receivers;
+  std::vector<ReceiverSettings> fleet;
   fleet.reserve(static_cast<std::size_t>(n));
   std::vector<std::vector<Claim>> claims(static_cast<std::size_t>(n));
+  SpecErrors errors;
   for (int i = 0; i < n; ++i) {
-    Config c = config;
-    c.receivers = 1;
-    c.receivers_given = false;
-    c.receiver_tables.clear();
-    c.seed = config.seed + static_cast<std::uint64_t>(i);
-    if (!config.receiver_tables.empty()) apply_receiver_table(c, config.receiver_tables[static_cast<std::size_t>(i)]);
+    ReceiverDraft d = draft.receiver;
+    d.settings.seed = draft.receiver.settings.seed + static_cast<std::uint64_t>(i);
+    const ReceiverTable* table = tables ? &draft.receiver_tables[static_cast<std::size_t>(i)] : nullptr;
+    if (table) apply_receiver_table(d, *table);
+    ReceiverSettings r;
+    try {
+      r = resolve_receiver(d, draft.timeline);
+    } catch (const std::exception& e) {
+      if (!table) throw;
+      throw ConfigError(fmt::format("config file {}:{}: [[receiver]]: {}", table->file, table->line, e.what()));
+    }
     auto& mine = claims[static_cast<std::size_t>(i)];
-    const auto table_sets = [&](const char* key) {
-      if (config.receiver_tables.empty()) return false;
-      const auto& keys = config.receiver_tables[static_cast<std::size_t>(i)].keys;
-      return std::any_of(keys.begin(), keys.end(), [key](const ReceiverTable::Key& k) { return k.name == key; });
+    const auto table_sets = [table](const char* key) {
+      return table && std::any_of(table->keys.begin(), table->keys.end(),
+                                  [key](const ReceiverTable::Key& k) { return k.name == key; });
     };
     try {
-      for (std::string& output : c.outputs) {
-        const std::string raw = output;
-        output = expand_receiver_template("output", raw, i);
-        if (auto r = output_resource(output)) mine.push_back({*r, "output", raw, output, table_sets("output")});
+      for (const std::string& raw : d.outputs) {
+        const std::string output = expand_receiver_template("output", raw, i);
+        try {
+          r.outputs.push_back(transport::parse_output_spec(output));
+        } catch (const std::invalid_argument& e) {
+          if (!errors.output) errors.output = e.what();
+          continue;
+        }
+        if (auto c = output_resource(r.outputs.back())) mine.push_back({*c, "output", raw, output, table_sets("output")});
       }
-      const std::string raw_source = c.source;
-      c.source = expand_receiver_template("source", raw_source, i);
-      if (auto r = source_resource(c.source)) mine.push_back({*r, "source", raw_source, c.source, table_sets("source")});
-      if (c.tee) {
-        const std::string raw = *c.tee;
-        c.tee = expand_receiver_template("tee", raw, i);
-        mine.push_back({"file " + normal_path(*c.tee), "tee", raw, *c.tee, table_sets("tee")});
+      const std::string source = expand_receiver_template("source", d.source, i);
+      try {
+        r.source = sources::parse_source_spec(source);
+        if (auto c = source_resource(r.source)) mine.push_back({*c, "source", d.source, source, table_sets("source")});
+      } catch (const std::invalid_argument& e) {
+        if (!errors.source) errors.source = e.what();
+      }
+      if (d.tee) {
+        r.tee = expand_receiver_template("tee", *d.tee, i);
+        mine.push_back({"file " + normal_path(*r.tee), "tee", *d.tee, *r.tee, table_sets("tee")});
       }
     } catch (const std::invalid_argument& e) {
-      throw ConfigError(n > 1 ? fmt::format("{}: {}", who(config, i), e.what()) : std::string(e.what()));
+      throw ConfigError(n > 1 ? fmt::format("{}: {}", who(draft, i), e.what()) : std::string(e.what()));
     }
-    fleet.push_back(std::move(c));
+    fleet.push_back(std::move(r));
   }
-  if (n > 1) check_claims(config, claims);
+  if (n > 1) check_claims(draft, claims);
+  // A spec that does not parse, as opening it would have said (sources are opened first).
+  if (errors.source) throw ConfigError(*errors.source);
+  if (errors.output) throw ConfigError(*errors.output);
   return fleet;
 }
 

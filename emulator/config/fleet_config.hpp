@@ -1,5 +1,5 @@
-// Many receivers in one process (a fleet, e.g. one per simulated vehicle): the shared Config
-// expanded into one full Config per receiver.
+// Many receivers in one process (a fleet, e.g. one per simulated vehicle): the shared receiver
+// settings expanded, when the configuration loads, into one ReceiverSettings per receiver.
 //
 // - `--receivers N`: N receivers from the same settings. In `output` (each), `source` and `tee`,
 //   `{i}` becomes the receiver's index 0..N-1 and `{B+i}` (B a whole number) becomes B + i, so
@@ -17,21 +17,19 @@
 #include <string_view>
 #include <vector>
 
-#include "emulator/config/config.hpp"
+#include "emulator/config/config_options.hpp"
 
 namespace gpsemu {
-
-/// How many receivers `config` describes (its tables, or `receivers`).
-[[nodiscard]] int receiver_count(const Config& config);
 
 /// `text` with `{i}` replaced by `index` and `{B+i}` by B + index. Throws std::invalid_argument
 /// naming `key` for any other `{...}` (or an unclosed `{`).
 [[nodiscard]] std::string expand_receiver_template(const std::string& key, std::string_view text, int index);
 
-/// One full Config per receiver (receivers = 1 and no tables in each), in index order. With one
-/// receiver and no tables, the result is `config` itself (templates expanded). Throws ConfigError
-/// for a bad template, a bad table, or two receivers sharing an output or a source port (the
-/// message names both receivers and, for a setting without {i}, says to add it).
-[[nodiscard]] std::vector<Config> receiver_configs(const Config& config);
+/// One ReceiverSettings per receiver of `draft` (its tables, or `receivers`), in index order: the
+/// table applied, derived values resolved (validate.hpp), templates expanded and the source and
+/// output specs parsed. Throws ConfigError for a bad template, a bad table, two receivers sharing
+/// an output or a source port (the message names both receivers and, for a setting without {i},
+/// says to add it), or a bad spec.
+[[nodiscard]] std::vector<ReceiverSettings> resolve_receivers(const ConfigDraft& draft);
 
 }  // namespace gpsemu

@@ -12,7 +12,7 @@
 #include "emulator/model/time.hpp"
 #include "emulator/pipeline/channel.hpp"
 #include "emulator/pipeline/clock.hpp"
-#include "emulator/pipeline/settings.hpp"
+#include "emulator/pipeline/run_settings.hpp"
 #include "emulator/pipeline/timeline.hpp"
 
 namespace gpsemu::api {
@@ -42,7 +42,7 @@ NoiseGenerator::NoiseGenerator(const Options& options, const std::optional<std::
     : impl_(std::make_unique<Impl>()) {
   const Config config = make_config(options, config_file);
   try {
-    impl_->model = noise::make_noise_model(config.noise, config.seed);
+    impl_->model = noise::make_noise_model(config.receiver().noise, config.receiver().seed);
   } catch (const std::exception& e) {
     throw Error(e.what());
   }
@@ -116,7 +116,7 @@ struct Receiver::Impl {
 Receiver::Receiver(const Options& options, const std::optional<std::string>& config_file) {
   const Config config = make_config(options, config_file);
   try {
-    impl_ = std::make_unique<Impl>(receiver_setup(config), loop_settings(config));
+    impl_ = std::make_unique<Impl>(receiver_setup(config.receiver(), config.timeline), loop_settings(config.timeline));
   } catch (const Error&) {
     throw;
   } catch (const std::exception& e) {
@@ -130,11 +130,12 @@ Receiver& Receiver::operator=(Receiver&&) noexcept = default;
 Epoch Receiver::step() {
   Impl& s = *impl_;
   if (!s.channel.source()) {
-    if (s.setup.source_spec.rfind("sim:", 0) != 0) {
-      throw Error("step(): source '" + s.setup.source_spec +
+    if (!s.setup.sim_source) {
+      throw Error("step(): source '" + s.setup.source_text +
                   "' is not a simulator scenario (sim:...); give the truth with step_enu or step_geodetic");
     }
     try {
+      s.setup.check_source();
       s.channel.set_source(s.setup.make_source(s.channel.frame(), s.timeline.first_epoch()));
     } catch (const std::exception& e) {
       throw Error(e.what());

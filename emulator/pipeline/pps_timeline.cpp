@@ -12,7 +12,7 @@
 namespace gpsemu {
 
 std::unique_ptr<transport::PpsLine> open_pps(const PpsSettings& settings, const Sink& sink) {
-  const transport::PpsSpec spec = transport::parse_pps_spec(settings.spec);
+  const transport::PpsSpec& spec = settings.spec.value();
   const auto polarity = settings.active_low ? transport::PpsPolarity::active_low : transport::PpsPolarity::active_high;
   if (spec.kind == transport::PpsSpec::Kind::gpio) return std::make_unique<transport::GpioPps>(spec.chip, spec.line, polarity);
   if (transport::SerialOutput* serial = sink.first_serial()) {

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "emulator/model/time.hpp"
@@ -19,12 +20,12 @@ namespace gpsemu {
 
 /// --pps and its options (pipeline/settings.hpp builds them from a Config).
 struct PpsSettings {
-  std::string spec;  ///< gpio:CHIP:LINE | modem:RTS | modem:DTR; empty: none
+  std::optional<transport::PpsSpec> spec;  ///< gpio:CHIP:LINE | modem:RTS | modem:DTR; none: no PPS
   std::chrono::nanoseconds width{100'000'000};
   bool active_low = false;
 };
 
-/// Opens the line `settings` names: a GPIO line, or a modem line of the sink's serial output.
+/// Opens the line `settings` names (spec given): a GPIO line, or a modem line of the sink's serial output.
 /// Throws std::runtime_error when a modem line has no serial output to drive.
 [[nodiscard]] std::unique_ptr<transport::PpsLine> open_pps(const PpsSettings& settings, const Sink& sink);
 

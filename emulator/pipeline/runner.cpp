@@ -38,7 +38,7 @@ constexpr std::size_t kHelperWriterFrom = 8;
 
 /// PPS marks real seconds: never with --fast.
 bool with_pps(const LoopSettings& loop, const std::optional<RunnerIo>& io) {
-  return loop.clock.kind != ClockKind::fast && (io ? io->pps != nullptr : !loop.pps.spec.empty());
+  return loop.clock.kind != ClockKind::fast && (io ? io->pps != nullptr : loop.pps.spec.has_value());
 }
 
 RunSettings one_receiver(RunSettings settings) {

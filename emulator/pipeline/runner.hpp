@@ -15,7 +15,7 @@
 #include "emulator/pipeline/channel.hpp"
 #include "emulator/pipeline/clock.hpp"
 #include "emulator/pipeline/pps_timeline.hpp"
-#include "emulator/pipeline/settings.hpp"
+#include "emulator/pipeline/run_settings.hpp"
 #include "emulator/pipeline/sink.hpp"
 #include "emulator/pipeline/timeline.hpp"
 #include "transport/output.hpp"

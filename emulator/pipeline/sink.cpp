@@ -4,14 +4,12 @@
 #include <spdlog/spdlog.h>
 
 #include "emulator/pipeline/serial_line_check.hpp"
-#include "transport/output_spec.hpp"
 #include "transport/tee_output.hpp"
 
 namespace gpsemu {
 
 std::vector<std::unique_ptr<transport::Output>> open_outputs(const OutputSettings& settings) {
-  std::vector<transport::OutputSpec> specs;
-  for (const std::string& text : settings.outputs) specs.push_back(transport::parse_output_spec(text));
+  const std::vector<transport::OutputSpec>& specs = settings.outputs;
   // Refuse a serial line that cannot carry the epochs before opening anything.
   std::optional<std::size_t> epoch_bytes;
   for (const auto& spec : specs) {

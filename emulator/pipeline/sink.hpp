@@ -13,13 +13,14 @@
 #include <vector>
 
 #include "transport/output.hpp"
+#include "transport/output_spec.hpp"
 #include "transport/serial_output.hpp"
 
 namespace gpsemu {
 
 /// One receiver's outputs (pipeline/settings.hpp builds them from a Config).
 struct OutputSettings {
-  std::vector<std::string> outputs;  ///< output specs (transport/output_spec.hpp)
+  std::vector<transport::OutputSpec> outputs;  ///< parsed --output specs
   std::optional<std::string> tee;    ///< a copy of everything sent, with send times
   bool realtime = true;              ///< paced (not --fast): sockets and queues behave as live
   double rate_hz = 1.0;              ///< epochs a second (serial line budget and queue)

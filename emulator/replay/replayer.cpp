@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "emulator/config/validate.hpp"
 #include "emulator/pipeline/epoch_loop.hpp"
 
 namespace gpsemu::replay {
@@ -23,27 +24,11 @@ std::string time_text(const LogEpoch& e) {
   return e.time_of_day ? to_string(LogPosition{*e.time_of_day}) : "(no time)";
 }
 
-EpochRange check_settings(const ReplaySettings& s, const ReplayLog& log, const std::string& log_name) {
-  if (s.clock.kind == ClockKind::scaled || s.clock.kind == ClockKind::lockstep) {
-    throw std::invalid_argument(fmt::format("replay paces by the log's own times: use --speed K (or --fast), not "
-                                            "--clock {}", to_string(s.clock)));
-  }
-  if (log.epochs.empty()) throw std::invalid_argument(fmt::format("NMEA log '{}' has no epochs", log_name));
-  if (s.options.loop && s.fast && !s.duration) {
-    throw std::invalid_argument("--loop with --fast would never end: give --duration S (seconds of log time)");
-  }
-  try {
-    return select_range(log, s.options.from, s.options.to);
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(fmt::format("--{}", e.what()));
-  }
-}
-
 /// The log's epochs of the range, pass after pass. An epoch's time on the loop's timeline is its
 /// log time since the range's first epoch (plus a cycle a pass), from UtcNs{0}.
 class RecordedEpochs final : public EpochProducer {
  public:
-  RecordedEpochs(const ReplayLog& log, const EpochRange& range, const ReplaySettings& settings, UtcNs first_stamp,
+  RecordedEpochs(const ReplayLog& log, const EpochRange& range, const ReplayPacing& settings, UtcNs first_stamp,
                  ReplayStats& stats)
       : log_(log), range_(range), retime_(settings.options.retime), loop_(settings.options.loop),
         duration_(settings.duration.value_or(nanoseconds::max())), first_stamp_(first_stamp), stats_(stats),
@@ -91,36 +76,43 @@ class RecordedEpochs final : public EpochProducer {
 
 }  // namespace
 
-EpochRange check_replay_options(const Config& config, const ReplayLog& log, const std::string& log_name) {
-  return check_settings(replay_settings(config), log, log_name);
+EpochRange check_replay_options(const TimelineSettings& timeline, const ReplaySettings& replay, const ReplayLog& log,
+                                const std::string& log_name) {
+  check_replay_settings(timeline, replay, !log.epochs.empty(), log_name);
+  try {
+    return select_range(log, replay.from, replay.to);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(fmt::format("--{}", e.what()));
+  }
 }
 
-OutputSettings replay_output_settings(const Config& config, const ReplayLog& log) {
-  const ReplaySettings settings = replay_settings(config);
-  OutputSettings out = settings.outputs;
+std::vector<std::unique_ptr<transport::Output>> open_replay_outputs(const ReceiverSettings& receiver,
+                                                                   const TimelineSettings& timeline,
+                                                                   const ReplaySettings& replay, const ReplayLog& log) {
+  OutputSettings out = receiver_setup(receiver, timeline).outputs;
   // Epochs a second at this speed, for the serial line budget and queue.
-  out.rate_hz = settings.options.speed / std::max(to_s(log.period), 1e-3);
+  out.rate_hz = replay.speed / std::max(to_s(log.period), 1e-3);
+  out.widest_epoch_bytes = nullptr;
   if (out.realtime) {
-    const bool retime = settings.options.retime;
-    out.widest_epoch_bytes = [&log, retime] {
+    out.widest_epoch_bytes = [&log, retime = replay.retime] {
       std::size_t widest = 0;
       for (const auto& e : log.epochs) widest = std::max(widest, e.bytes.size() + (retime ? 8 * e.sentences.size() : 0));
       return widest;
     };
   }
-  return out;
+  return open_outputs(out);
 }
 
-Replayer::Replayer(const Config& config, ReplayLog log, std::string log_name,
-                   std::vector<std::unique_ptr<transport::Output>> outputs, ClockIo& io)
-    : Replayer(config, std::move(log), std::move(log_name), std::move(outputs)) {
+Replayer::Replayer(const TimelineSettings& timeline, const ReplaySettings& replay, ReplayLog log,
+                   std::string log_name, std::vector<std::unique_ptr<transport::Output>> outputs, ClockIo& io)
+    : Replayer(timeline, replay, std::move(log), std::move(log_name), std::move(outputs)) {
   io_ = &io;
 }
 
-Replayer::Replayer(const Config& config, ReplayLog log, std::string log_name,
-                   std::vector<std::unique_ptr<transport::Output>> outputs)
-    : settings_(replay_settings(config)), log_(std::move(log)), name_(std::move(log_name)) {
-  range_ = check_settings(settings_, log_, name_);
+Replayer::Replayer(const TimelineSettings& timeline, const ReplaySettings& replay, ReplayLog log,
+                   std::string log_name, std::vector<std::unique_ptr<transport::Output>> outputs)
+    : settings_(replay_pacing(timeline, replay)), log_(std::move(log)), name_(std::move(log_name)) {
+  range_ = check_replay_options(timeline, replay, log_, name_);
   sink_.add(std::move(outputs));
 }
 

@@ -22,9 +22,9 @@
 #include <string>
 #include <vector>
 
-#include "emulator/config/config.hpp"
+#include "emulator/config/settings.hpp"
 #include "emulator/pipeline/clock.hpp"
-#include "emulator/pipeline/settings.hpp"
+#include "emulator/pipeline/run_settings.hpp"
 #include "emulator/pipeline/sink.hpp"
 #include "emulator/replay/replay_log.hpp"
 #include "transport/output.hpp"
@@ -46,10 +46,10 @@ class Replayer {
  public:
   /// Checks the options against the log (range, clock); throws std::invalid_argument naming the
   /// option. `io` paces and services; `outputs` receive the epochs.
-  Replayer(const Config& config, ReplayLog log, std::string log_name,
+  Replayer(const TimelineSettings& timeline, const ReplaySettings& replay, ReplayLog log, std::string log_name,
            std::vector<std::unique_ptr<transport::Output>> outputs, ClockIo& io);
   /// The same, waiting on the system clock and polling the outputs' clients.
-  Replayer(const Config& config, ReplayLog log, std::string log_name,
+  Replayer(const TimelineSettings& timeline, const ReplaySettings& replay, ReplayLog log, std::string log_name,
            std::vector<std::unique_ptr<transport::Output>> outputs);
   ~Replayer();
 
@@ -64,7 +64,7 @@ class Replayer {
  private:
   void log_summary() const;
 
-  ReplaySettings settings_;
+  ReplayPacing settings_;
   ReplayLog log_;
   std::string name_;
   Sink sink_;
@@ -76,10 +76,14 @@ class Replayer {
 
 /// Checks the options against the log: the clock (replay has its own pacing) and the --from/--to
 /// range, which it returns. Throws std::invalid_argument naming the option.
-[[nodiscard]] EpochRange check_replay_options(const Config& config, const ReplayLog& log, const std::string& log_name);
+[[nodiscard]] EpochRange check_replay_options(const TimelineSettings& timeline, const ReplaySettings& replay,
+                                              const ReplayLog& log, const std::string& log_name);
 
-/// The configured outputs (--output, then --tee) for a replay of `log`: at the replay's epoch
-/// rate, with the serial line check against the log's widest epoch (paced replays only).
-[[nodiscard]] OutputSettings replay_output_settings(const Config& config, const ReplayLog& log);
+/// Opens the receiver's outputs (--output, then --tee) for a replay of `log`, at the replay's
+/// epoch rate; refuses a serial line that cannot carry the log's widest epoch (paced replays).
+[[nodiscard]] std::vector<std::unique_ptr<transport::Output>> open_replay_outputs(const ReceiverSettings& receiver,
+                                                                                  const TimelineSettings& timeline,
+                                                                                  const ReplaySettings& replay,
+                                                                                  const ReplayLog& log);
 
 }  // namespace gpsemu::replay

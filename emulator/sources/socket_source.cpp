@@ -170,11 +170,10 @@ std::optional<Truth> SocketPoseSource::truth_at(UtcNs t) {
   return truth;
 }
 
-std::unique_ptr<PoseSource> make_socket_source(const std::string& scheme, const std::string& address,
+std::unique_ptr<PoseSource> make_socket_source(bool udp, const transport::PoseEndpoint& endpoint,
                                                const LocalFrame& frame, const SocketSourceOptions& options) {
-  const transport::PoseEndpoint endpoint = transport::parse_pose_endpoint(address);
   const transport::PoseSocketOptions socket_options{.max_message_bytes = kMaxPoseMessageBytes, .max_clients = 8};
-  std::unique_ptr<transport::PoseSocket> socket = scheme == "udp" ? transport::open_udp_pose_socket(endpoint, socket_options)
+  std::unique_ptr<transport::PoseSocket> socket = udp ? transport::open_udp_pose_socket(endpoint, socket_options)
                                                                   : transport::open_tcp_pose_server(endpoint, socket_options);
   return std::make_unique<SocketPoseSource>(std::move(socket), frame, options);
 }

@@ -82,10 +82,9 @@ class SocketPoseSource final : public PoseSource {
   std::array<std::uint64_t, kPoseRejectCount> unreported_{};
 };
 
-/// Builds a source for "udp:[HOST:]PORT" or "tcp:[HOST:]PORT" (`scheme` "udp" or "tcp", `address`
-/// what follows the colon). Throws std::invalid_argument for a bad address, std::runtime_error
-/// naming host:port when the socket cannot be bound.
-[[nodiscard]] std::unique_ptr<PoseSource> make_socket_source(const std::string& scheme, const std::string& address,
+/// Builds a source listening on `endpoint`: a UDP receiver (`udp`) or a TCP server. Throws
+/// std::runtime_error naming host:port when the socket cannot be bound.
+[[nodiscard]] std::unique_ptr<PoseSource> make_socket_source(bool udp, const transport::PoseEndpoint& endpoint,
                                                              const LocalFrame& frame,
                                                              const SocketSourceOptions& options);
 

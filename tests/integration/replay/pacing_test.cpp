@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "emulator/config/config.hpp"
 #include "emulator/replay/replayer.hpp"
 #include "nmea/sentences.hpp"
 #include "transport/recording_output.hpp"
@@ -49,7 +50,7 @@ Replayed replay(const std::string& log_text, Config config, UtcNs start = parse_
   auto* out = recording.get();
   std::vector<std::unique_ptr<transport::Output>> outputs;
   outputs.push_back(std::move(recording));
-  Replayer r(config, parse_replay_log(log_text), "test.nmea", std::move(outputs), io);
+  Replayer r(config.timeline, config.replay, parse_replay_log(log_text), "test.nmea", std::move(outputs), io);
   const std::atomic<bool> stop{false};
   EXPECT_EQ(r.run(stop), 0);
   return {out->epochs, io.sleeps, start, r.first_stamp(), r.stats()};
@@ -83,7 +84,7 @@ TEST(ReplayPacing, LoopStartsOverOnePeriodAfterTheLastEpochAndDurationStopsIt) {
   const std::string log = epoch("120000.00") + epoch("120001.00") + epoch("120002.00");
   Config config;
   config.replay.loop = true;
-  config.duration_s = 7.5;  // log time: 0 1 2 | 3 4 5 | 6 7 (8 is past 7.5)
+  config.timeline.duration_s = 7.5;  // log time: 0 1 2 | 3 4 5 | 6 7 (8 is past 7.5)
   const Replayed run = replay(log, config);
   ASSERT_EQ(run.epochs.size(), 8u);
   EXPECT_EQ(run.epochs[3], run.epochs[0]);
@@ -95,7 +96,7 @@ TEST(ReplayPacing, LoopStartsOverOnePeriodAfterTheLastEpochAndDurationStopsIt) {
 TEST(ReplayPacing, FromToSelectTheRangeAndFastDoesNotWait) {
   const std::string log = epoch("120000.00") + epoch("120001.00") + epoch("120002.00") + epoch("120003.00");
   Config config;
-  config.fast = true;
+  config.timeline.clock.kind = ClockKind::fast;
   config.replay.from = parse_log_position("from", "12:00:01");
   config.replay.to = parse_log_position("to", "2");
   const Replayed run = replay(log, config);
@@ -110,7 +111,7 @@ TEST(ReplayPacing, RetimeWithStartTimeStampsEpochsFromItAtTheLogsSpacing) {
   Config config;
   config.replay.retime = true;
   config.replay.speed = 2.0;
-  config.start_time = parse_iso8601_utc("2024-02-28T23:59:59Z");
+  config.timeline.start_time = parse_iso8601_utc("2024-02-28T23:59:59Z");
   const Replayed run = replay(log, config);
   ASSERT_EQ(run.epochs.size(), 3u);
   for (std::size_t i = 0; i < 3; ++i) {
@@ -132,7 +133,7 @@ TEST(ReplayPacing, RetimeToThePresentKeepsTheLogsPhaseAndSendsAtStampPlusLatency
   const std::string log = epoch("105153.408") + epoch("105154.408");
   Config config;
   config.replay.retime = true;
-  config.latency_s = 0.05;
+  config.timeline.latency_s = 0.05;
   const UtcNs start = parse_iso8601_utc("2030-01-01T08:00:00.500Z");
   const Replayed run = replay(log, config, start);
   EXPECT_EQ(run.first_stamp, parse_iso8601_utc("2030-01-01T08:00:01.408Z"));
@@ -146,12 +147,12 @@ TEST(ReplayPacing, RetimeToThePresentKeepsTheLogsPhaseAndSendsAtStampPlusLatency
 TEST(ReplayPacing, OtherClocksAndEmptyRangesAreRefusedNamingTheOption) {
   const std::string log = epoch("120000.00") + epoch("120001.00");
   Config config;
-  config.clock = parse_clock_spec("scaled:2");
-  EXPECT_THROW((void)check_replay_options(config, parse_replay_log(log), "x"), std::invalid_argument);
-  config.clock = {};
+  config.timeline.clock = parse_clock_spec("scaled:2");
+  EXPECT_THROW((void)check_replay_options(config.timeline, config.replay, parse_replay_log(log), "x"), std::invalid_argument);
+  config.timeline.clock = {};
   config.replay.from = parse_log_position("from", "5");
   try {
-    (void)check_replay_options(config, parse_replay_log(log), "x");
+    (void)check_replay_options(config.timeline, config.replay, parse_replay_log(log), "x");
     ADD_FAILURE() << "no exception";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("--from: epoch 5 is past the end: the log has 2 epochs"), std::string::npos)

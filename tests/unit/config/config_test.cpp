@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "emulator/config/config.hpp"
+#include "tests/support/output_texts.hpp"
 
 namespace gpsemu {
 namespace {
@@ -26,20 +27,20 @@ std::string error_of(const std::optional<std::string>& file, const RawOptions& c
 
 TEST(Config, DefaultsAreTheEmbeddedScenario) {
   const Config c = build_config(std::nullopt, {});
-  EXPECT_EQ(c.source, "sim:stationary");
-  EXPECT_DOUBLE_EQ(c.rate_hz, 1.0);
-  EXPECT_DOUBLE_EQ(c.origin.lat_deg, 43.0725);
-  EXPECT_DOUBLE_EQ(c.origin.lon_deg, -89.4125);
-  EXPECT_EQ(c.noise.model, noise::Model::cgrw);
-  EXPECT_EQ(c.outputs, std::vector<std::string>{"pty:/tmp/gpsemu"});
+  EXPECT_EQ(to_string(c.receiver().source), "sim:stationary");
+  EXPECT_DOUBLE_EQ(c.timeline.rate_hz, 1.0);
+  EXPECT_DOUBLE_EQ(c.receiver().origin.lat_deg, 43.0725);
+  EXPECT_DOUBLE_EQ(c.receiver().origin.lon_deg, -89.4125);
+  EXPECT_EQ(c.receiver().noise.model, noise::Model::cgrw);
+  EXPECT_EQ(test::output_texts(c.receiver().outputs), std::vector<std::string>{"pty:/tmp/gpsemu"});
 }
 
 TEST(Config, CommandLineOverridesConfigFile) {
   const auto file = write_temp("a.toml", "rate = 5\nlatency = 0.02\noutput = [\"stdout\", \"file:/tmp/x\"]\n");
   const Config c = build_config(file, {{"rate", {"10"}}});
-  EXPECT_DOUBLE_EQ(c.rate_hz, 10.0);
-  EXPECT_DOUBLE_EQ(c.latency_s, 0.02);
-  EXPECT_EQ(c.outputs, (std::vector<std::string>{"stdout", "file:/tmp/x"}));
+  EXPECT_DOUBLE_EQ(c.timeline.rate_hz, 10.0);
+  EXPECT_DOUBLE_EQ(c.timeline.latency_s, 0.02);
+  EXPECT_EQ(test::output_texts(c.receiver().outputs), (std::vector<std::string>{"stdout", "file:/tmp/x"}));
 }
 
 TEST(Config, FileErrorsNameFileLineAndKey) {
@@ -68,9 +69,9 @@ TEST(Config, RateNeedsEnoughTimeDecimals) {
 
 TEST(Config, WidthIsTheCgrwOneKnobUnlessAnAxisIsGiven) {
   const Config c = build_config(std::nullopt, {{"width", {"10"}}, {"cgrw-north", {"2,0.3,0.4,0.05"}}});
-  EXPECT_DOUBLE_EQ(c.noise.cgrw.east.width_m, noise::cgrw_preset(10.0).east.width_m);
-  EXPECT_DOUBLE_EQ(c.noise.cgrw.north.width_m, 2.0);
-  EXPECT_DOUBLE_EQ(c.noise.cgrw.north.sigma_d2_m, 0.05);
+  EXPECT_DOUBLE_EQ(c.receiver().noise.cgrw.east.width_m, noise::cgrw_preset(10.0).east.width_m);
+  EXPECT_DOUBLE_EQ(c.receiver().noise.cgrw.north.width_m, 2.0);
+  EXPECT_DOUBLE_EQ(c.receiver().noise.cgrw.north.sigma_d2_m, 0.05);
 }
 
 TEST(Config, EveryOptionHasHelpWithAUnitOrDefault) {
@@ -102,9 +103,9 @@ TEST(Config, TextAndFileGiveTheSameConfigAndMessages) {
     try {
       const Config c = build_config_from_text(texts[i], path, {{"seed", {"9"}}});
       const Config f = build_config(path, {{"seed", {"9"}}});
-      EXPECT_EQ(c.rate_hz, f.rate_hz);
-      EXPECT_EQ(c.outputs, f.outputs);
-      EXPECT_EQ(c.seed, 9u);
+      EXPECT_EQ(c.timeline.rate_hz, f.timeline.rate_hz);
+      EXPECT_EQ(test::output_texts(c.receiver().outputs), test::output_texts(f.receiver().outputs));
+      EXPECT_EQ(c.receiver().seed, 9u);
     } catch (const ConfigError& e) {
       from_text = e.what();
     }

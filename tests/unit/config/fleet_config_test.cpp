@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "emulator/config/fleet_config.hpp"
+#include "tests/support/output_texts.hpp"
 
 namespace gpsemu {
 namespace {
@@ -21,7 +22,7 @@ std::string write_temp(const std::string& name, const std::string& text) {
 /// The ConfigError message of building the configuration and expanding it, or "(no error)".
 std::string error_of(const std::optional<std::string>& file, const RawOptions& cli) {
   try {
-    (void)receiver_configs(build_config(file, cli));
+    (void)build_config(file, cli);
   } catch (const ConfigError& e) {
     return e.what();
   }
@@ -49,36 +50,32 @@ TEST(Fleet, TemplatesExpandToTheIndexAndAnOffset) {
 
 TEST(Fleet, OneReceiverIsTheConfigItself) {
   const Config c = build_config(std::nullopt, {{"seed", {"9"}}, {"output", {"file:/tmp/a.nmea"}}});
-  const auto fleet = receiver_configs(c);
+  const auto& fleet = c.receivers;
   ASSERT_EQ(fleet.size(), 1u);
   EXPECT_EQ(fleet[0].seed, 9u);
-  EXPECT_EQ(fleet[0].outputs, c.outputs);
-  EXPECT_EQ(fleet[0].source, c.source);
+  EXPECT_EQ(test::output_texts(fleet[0].outputs), test::output_texts(c.receiver().outputs));
+  EXPECT_EQ(to_string(fleet[0].source), to_string(c.receiver().source));
 }
 
 TEST(Fleet, ReceiversGetTheirOwnOutputsSourcesAndSeeds) {
-  const auto fleet = receiver_configs(build_config(std::nullopt, {{"receivers", {"256"}},
+  const auto fleet = build_config(std::nullopt, {{"receivers", {"256"}},
                                                                   {"seed", {"10"}},
                                                                   {"source", {"udp:{5600+i}"}},
                                                                   {"output", {"pty:/tmp/gps{i}", "udp:127.0.0.1:{7000+i}"}},
-                                                                  {"tee", {"/tmp/tee{i}.log"}}}));
+                                                                  {"tee", {"/tmp/tee{i}.log"}}}).receivers;
   ASSERT_EQ(fleet.size(), 256u);
-  EXPECT_EQ(fleet[7].source, "udp:5607");
-  EXPECT_EQ(fleet[7].outputs, (std::vector<std::string>{"pty:/tmp/gps7", "udp:127.0.0.1:7007"}));
+  EXPECT_EQ(to_string(fleet[7].source), "udp:5607");
+  EXPECT_EQ(test::output_texts(fleet[7].outputs), (std::vector<std::string>{"pty:/tmp/gps7", "udp:127.0.0.1:7007"}));
   EXPECT_EQ(fleet[7].tee, "/tmp/tee7.log");
   EXPECT_EQ(fleet[7].seed, 17u);
-  EXPECT_EQ(fleet[255].source, "udp:5855");
-  for (const Config& c : fleet) {
-    EXPECT_EQ(c.receivers, 1);
-    EXPECT_TRUE(c.receiver_tables.empty());
-  }
+  EXPECT_EQ(to_string(fleet[255].source), "udp:5855");
 }
 
 TEST(Fleet, SimSourcesAndBarePtysMayBeGivenToEveryReceiver) {
-  const auto fleet = receiver_configs(
-      build_config(std::nullopt, {{"receivers", {"3"}}, {"source", {"sim:circle"}}, {"output", {"pty"}}}));
+  const auto fleet =
+      build_config(std::nullopt, {{"receivers", {"3"}}, {"source", {"sim:circle"}}, {"output", {"pty"}}}).receivers;
   ASSERT_EQ(fleet.size(), 3u);
-  EXPECT_EQ(fleet[2].source, "sim:circle");
+  EXPECT_EQ(to_string(fleet[2].source), "sim:circle");
 }
 
 TEST(Fleet, ASharedOutputOrSourceIsRefusedWithTheTemplateToUse) {
@@ -127,21 +124,21 @@ TEST(Fleet, ReceiverTablesOverrideTheSharedSettings) {
                                "[[receiver]]\n"
                                "source = \"sim:circle\"\n");
   const Config shared = build_config(file, {{"noise", {"none"}}});
-  EXPECT_EQ(shared.receivers, 3);
-  const auto fleet = receiver_configs(shared);
+  EXPECT_EQ(shared.receivers.size(), 3u);
+  const auto& fleet = shared.receivers;
   ASSERT_EQ(fleet.size(), 3u);
-  EXPECT_EQ(fleet[0].source, "udp:5601");
-  EXPECT_EQ(fleet[0].outputs, std::vector<std::string>{"pty:/tmp/car1"});
+  EXPECT_EQ(to_string(fleet[0].source), "udp:5601");
+  EXPECT_EQ(test::output_texts(fleet[0].outputs), std::vector<std::string>{"pty:/tmp/car1"});
   EXPECT_EQ(fleet[0].seed, 3u);
   EXPECT_EQ(fleet[0].noise.model, noise::Model::none);  // the command line beats the file's top level
-  EXPECT_DOUBLE_EQ(fleet[0].rate_hz, 5.0);
+  EXPECT_DOUBLE_EQ(shared.timeline.rate_hz, 5.0);
   EXPECT_EQ(fleet[1].seed, 70u);
   EXPECT_EQ(fleet[1].noise.model, noise::Model::cgrw);  // a table beats the command line
   EXPECT_DOUBLE_EQ(fleet[1].noise.cgrw.east.width_m, noise::cgrw_preset(3.0).east.width_m);
   EXPECT_DOUBLE_EQ(fleet[1].origin.lat_deg, 44.0);
   EXPECT_DOUBLE_EQ(fleet[0].origin.lat_deg, 43.0725);
-  EXPECT_EQ(fleet[2].source, "sim:circle");
-  EXPECT_EQ(fleet[2].outputs, std::vector<std::string>{"file:/tmp/shared2.nmea"});
+  EXPECT_EQ(to_string(fleet[2].source), "sim:circle");
+  EXPECT_EQ(test::output_texts(fleet[2].outputs), std::vector<std::string>{"file:/tmp/shared2.nmea"});
   EXPECT_EQ(fleet[2].seed, 5u);
 }
 
@@ -173,7 +170,7 @@ TEST(Fleet, ProcessKeysInATableAreRefusedWithFileLineAndWhy) {
 
 TEST(Fleet, ReceiversMustMatchTheTables) {
   const auto file = write_temp("f.toml", "[[receiver]]\noutput = \"pty:/tmp/a\"\n[[receiver]]\noutput = \"pty:/tmp/b\"\n");
-  EXPECT_EQ(receiver_configs(build_config(file, {{"receivers", {"2"}}})).size(), 2u);
+  EXPECT_EQ(build_config(file, {{"receivers", {"2"}}}).receivers.size(), 2u);
   const std::string e = error_of(file, {{"receivers", {"3"}}});
   EXPECT_TRUE(contains(e, "receivers is 3 but config file")) << e;
   EXPECT_TRUE(contains(e, "has 2 [[receiver]] tables")) << e;

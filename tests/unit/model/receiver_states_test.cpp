@@ -240,6 +240,11 @@ TEST(Sky, SameSeedSameSkyOtherSeedOtherSky) {
 
 Config config_of(const RawOptions& cli) { return build_config(std::nullopt, cli); }
 
+nmea::LineBudget line_budget_of(const RawOptions& cli) {
+  const Config c = config_of(cli);
+  return line_budget(c.receiver(), c.timeline.rate_hz);
+}
+
 std::string error_of(const RawOptions& cli) {
   try {
     (void)config_of(cli);
@@ -250,10 +255,10 @@ std::string error_of(const RawOptions& cli) {
 }
 
 TEST(ReceiverOptionsConfig, SentencesAreWrittenInReceiverOrderWhateverTheGivenOrder) {
-  EXPECT_EQ(config_of({}).format.sentences, nmea::SentenceSet::ublox_default());
+  EXPECT_EQ(config_of({}).receiver().format.sentences, nmea::SentenceSet::ublox_default());
   const Config c = config_of({{"sentences", {"zda, gga,RMC"}}});
   std::string order;
-  c.format.sentences.for_each([&](nmea::SentenceType t) { order += nmea::sentence_name(t); });
+  c.receiver().format.sentences.for_each([&](nmea::SentenceType t) { order += nmea::sentence_name(t); });
   EXPECT_EQ(order, "RMCGGAZDA");
   EXPECT_NE(error_of({{"sentences", {"GGA,TXT"}}}).find("--sentences: sentences: unknown sentence 'TXT'"), std::string::npos)
       << error_of({{"sentences", {"GGA,TXT"}}});
@@ -264,14 +269,14 @@ TEST(ReceiverOptionsConfig, FixQualityColdStartAndRepeatableOutages) {
   const Config c = config_of({{"fix-quality", {"rtk-fixed"}},
                               {"cold-start", {"30"}},
                               {"outage", {"60+5", "120.5+0.5"}}});
-  EXPECT_EQ(c.receiver.quality, nmea::FixQuality::rtk_fixed);
-  EXPECT_EQ(c.receiver.cold_start_s, 30.0);
-  EXPECT_EQ(c.receiver.cold_start_2d_s, 2.0);
-  ASSERT_EQ(c.receiver.outages.size(), 2u);
-  EXPECT_EQ(c.receiver.outages[1].start_s, 120.5);
-  EXPECT_EQ(c.receiver.outages[1].duration_s, 0.5);
-  EXPECT_EQ(config_of({{"cold-start", {"0,4"}}}).receiver.cold_start_2d_s, 4.0);
-  EXPECT_EQ(config_of({}).receiver.cold_start_2d_s, 0.0);
+  EXPECT_EQ(c.receiver().model.quality, nmea::FixQuality::rtk_fixed);
+  EXPECT_EQ(c.receiver().model.cold_start_s, 30.0);
+  EXPECT_EQ(c.receiver().model.cold_start_2d_s, 2.0);
+  ASSERT_EQ(c.receiver().model.outages.size(), 2u);
+  EXPECT_EQ(c.receiver().model.outages[1].start_s, 120.5);
+  EXPECT_EQ(c.receiver().model.outages[1].duration_s, 0.5);
+  EXPECT_EQ(config_of({{"cold-start", {"0,4"}}}).receiver().model.cold_start_2d_s, 4.0);
+  EXPECT_EQ(config_of({}).receiver().model.cold_start_2d_s, 0.0);
   EXPECT_NE(error_of({{"fix-quality", {"ppp"}}}).find("--fix-quality"), std::string::npos);
   EXPECT_NE(error_of({{"outage", {"60"}}}).find("START+DURATION"), std::string::npos);
   EXPECT_NE(error_of({{"outage", {"60+0"}}}).find("DURATION must be > 0"), std::string::npos);
@@ -284,20 +289,20 @@ TEST(ReceiverOptionsConfig, OutagesAndSentencesFromAConfigFileArray) {
   std::ofstream(path) << "outage = [\"10+2\", \"20+3\"]\nsentences = [\"GGA\", \"RMC\", \"GST\"]\nfix-quality = \"dgps\"\n";
   const Config c = build_config(path.string(), {});
   std::filesystem::remove(path);
-  ASSERT_EQ(c.receiver.outages.size(), 2u);
-  EXPECT_EQ(c.receiver.outages[0].start_s, 10.0);
-  EXPECT_EQ(c.receiver.outages[1].duration_s, 3.0);
-  EXPECT_TRUE(c.format.sentences.contains(nmea::SentenceType::gst));
-  EXPECT_FALSE(c.format.sentences.contains(nmea::SentenceType::gsv));
-  EXPECT_EQ(c.receiver.quality, nmea::FixQuality::dgps);
+  ASSERT_EQ(c.receiver().model.outages.size(), 2u);
+  EXPECT_EQ(c.receiver().model.outages[0].start_s, 10.0);
+  EXPECT_EQ(c.receiver().model.outages[1].duration_s, 3.0);
+  EXPECT_TRUE(c.receiver().format.sentences.contains(nmea::SentenceType::gst));
+  EXPECT_FALSE(c.receiver().format.sentences.contains(nmea::SentenceType::gsv));
+  EXPECT_EQ(c.receiver().model.quality, nmea::FixQuality::dgps);
 }
 
 TEST(ReceiverOptionsConfig, LineBudgetOfTheConfiguredRun) {
   // Default: u-blox set, cgrw 1 m -> about 12 used of 17 in view; 10 Hz needs 115200 baud.
-  const nmea::LineBudget b10 = line_budget(config_of({{"rate", {"10"}}}));
+  const nmea::LineBudget b10 = line_budget_of({{"rate", {"10"}}});
   EXPECT_EQ(nmea::smallest_standard_baud(b10), 115200);
   EXPECT_FALSE(b10.fits(57600));
-  const nmea::LineBudget gga_rmc = line_budget(config_of({{"rate", {"10"}}, {"sentences", {"GGA,RMC"}}}));
+  const nmea::LineBudget gga_rmc = line_budget_of({{"rate", {"10"}}, {"sentences", {"GGA,RMC"}}});
   EXPECT_EQ(gga_rmc.bytes_per_epoch, 158u);
   EXPECT_EQ(nmea::smallest_standard_baud(gga_rmc), 19200);
 }

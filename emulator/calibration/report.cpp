@@ -1,9 +1,9 @@
-#include "emulator/calibration/commands.hpp"
+#include "emulator/calibration/report.hpp"
 
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -16,19 +16,21 @@ namespace {
 
 const char* const kAxes[3] = {"east", "north", "up"};
 
-struct Args {
-  std::string log;
-  std::string out;   // calibrate: config file; empty = stdout
-  std::string csv;   // compare: series for plots
-  int runs = 8;
-};
-
-Calibration run_calibration(const Args& a, const Config& config) {
-  CalibrateOptions o;
-  o.seed = config.seed;
-  o.runs = a.runs;
-  return calibrate(read_receiver_log_file(a.log), o);
+std::string scores_line(const Calibration& c) {
+  std::string out = "score (mean |ln(model/real)| over every statistic and axis; 0 = identical, 0.22 = "
+                    "25% off on average):";
+  for (std::size_t i = 0; i < c.models.size(); ++i)
+    out += fmt::format("  {}{} {:.3f}", i == c.best ? "*" : "", model_label(c.models[i].config),
+                       c.models[i].score);
+  return out + "\n";
 }
+
+std::string cell(std::optional<double> v) {
+  if (!v || std::isnan(*v)) return "-";
+  return fmt::format("{:.4g}", *v);
+}
+
+}  // namespace
 
 std::string log_summary(const Calibration& c, const std::string& path) {
   const EnuSeries& s = c.series;
@@ -45,15 +47,6 @@ std::string log_summary(const Calibration& c, const std::string& path) {
                      n.stream.bad_checksum, n.stream.malformed, n.stream.garbage_bytes,
                      n.stream.comment_lines);
   return out;
-}
-
-std::string scores_line(const Calibration& c) {
-  std::string out = "score (mean |ln(model/real)| over every statistic and axis; 0 = identical, 0.22 = "
-                    "25% off on average):";
-  for (std::size_t i = 0; i < c.models.size(); ++i)
-    out += fmt::format("  {}{} {:.3f}", i == c.best ? "*" : "", model_label(c.models[i].config),
-                       c.models[i].score);
-  return out + "\n";
 }
 
 std::string calibration_summary(const Calibration& c) {
@@ -93,11 +86,6 @@ std::string calibration_summary(const Calibration& c) {
     }
   }
   return out + scores_line(c);
-}
-
-std::string cell(std::optional<double> v) {
-  if (!v || std::isnan(*v)) return "-";
-  return fmt::format("{:.4g}", *v);
 }
 
 std::string comparison_table(const Calibration& c) {
@@ -149,69 +137,6 @@ void write_csv(const Calibration& c, const std::string& path) {
       for (std::size_t a = 0; a < 3; ++a) f << "," << value(m.first_run_m[a][k]);
     f << "\n";
   }
-}
-
-void add_common(CLI::App* sub, const std::shared_ptr<Args>& args) {
-  sub->add_option("log", args->log, "NMEA log of a stationary receiver (binary and junk are skipped)")
-      ->required()
-      ->check(CLI::ExistingFile)
-      ->option_text("LOG");
-  sub->add_option("--runs", args->runs, "simulated runs per model, seeds --seed, --seed+1, ... (default 8)")
-      ->check(CLI::Range(1, 1000))
-      ->option_text("N");
-}
-
-}  // namespace
-
-Subcommand add_calibrate_command(CLI::App& app) {
-  auto args = std::make_shared<Args>();
-  CLI::App* sub = app.add_subcommand(
-      "calibrate",
-      "fit every noise model to a stationary receiver's NMEA log and write a config file the emulator "
-      "loads with --config (noise = the best-scoring model)");
-  add_common(sub, args);
-  sub->add_option("-o,--config-out", args->out,
-                  "write the config here and the summary to stdout (default: config to stdout, summary "
-                  "to stderr)")
-      ->option_text("FILE");
-  return {sub, [args](const Config& config, const std::atomic<bool>&) {
-            const Calibration c = run_calibration(*args, config);
-            const std::string toml = config_toml(c, args->log);
-            const std::string summary = log_summary(c, args->log) + calibration_summary(c);
-            if (args->out.empty()) {
-              std::fputs(toml.c_str(), stdout);
-              std::fputs(summary.c_str(), stderr);
-            } else {
-              std::ofstream f(args->out);
-              if (!f || !(f << toml) || !f.flush())
-                throw std::runtime_error(fmt::format("-o: cannot write '{}'", args->out));
-              std::fputs(summary.c_str(), stdout);
-              std::fputs(fmt::format("config written to {}\n", args->out).c_str(), stdout);
-            }
-            return 0;
-          }};
-}
-
-Subcommand add_compare_command(CLI::App& app) {
-  auto args = std::make_shared<Args>();
-  CLI::App* sub = app.add_subcommand(
-      "compare",
-      "calibrate every noise model to a stationary receiver's NMEA log, simulate each at the log's "
-      "rate, duration and resolution, and print real vs models side by side with a score");
-  add_common(sub, args);
-  sub->add_option("--csv", args->csv, "also write the real and each model's first simulated series (metres) as CSV")
-      ->option_text("FILE");
-  return {sub, [args](const Config& config, const std::atomic<bool>&) {
-            const Calibration c = run_calibration(*args, config);
-            std::string out = log_summary(c, args->log);
-            out += fmt::format("{} runs per model, seeds {}..{}; models simulated at the log's rate, length, "
-                               "gaps and resolution\n",
-                               args->runs, config.seed, config.seed + static_cast<std::uint64_t>(args->runs) - 1);
-            out += comparison_table(c);
-            std::fputs(out.c_str(), stdout);
-            if (!args->csv.empty()) write_csv(c, args->csv);
-            return 0;
-          }};
 }
 
 }  // namespace gpsemu::calibration

@@ -1,8 +1,10 @@
-// The one place the pipeline reads a Config: what the channels, the sink, the loop and replay
-// need, in small settings structs. Everything downstream takes these, never the whole Config.
+// The one place the pipeline reads the configuration (config/settings.hpp, by scope): what the
+// channels, the sink, the loop and replay's pacing need, in small settings structs. Everything
+// downstream takes these.
 #pragma once
 
 #include <chrono>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -10,13 +12,13 @@
 #include <vector>
 
 #include "emulator/config/config.hpp"
+#include "emulator/config/settings.hpp"
 #include "emulator/model/geo.hpp"
 #include "emulator/model/time.hpp"
 #include "emulator/pipeline/channel.hpp"
 #include "emulator/pipeline/clock.hpp"
 #include "emulator/pipeline/pps_timeline.hpp"
 #include "emulator/pipeline/sink.hpp"
-#include "emulator/replay/replay_options.hpp"
 #include "emulator/sources/pose_source.hpp"
 
 namespace gpsemu {
@@ -25,9 +27,13 @@ namespace gpsemu {
 struct ReceiverSetup {
   ChannelSettings channel;
   OutputSettings outputs;
-  std::string source_spec;  ///< --source as given ("sim:circle", "udp:5600")
+  bool sim_source = true;   ///< a simulator scenario (sim:...): the library may step it alone
+  std::string source_text;  ///< --source as given ("sim:circle", "udp:5600")
   /// Makes the pose source (it refers to the channel's frame). Throws naming the spec.
   std::function<std::unique_ptr<sources::PoseSource>(const LocalFrame&, UtcNs first_epoch)> make_source;
+  /// Checks the source against the clock (validate.hpp; the emulator checks every receiver before
+  /// it opens anything). Throws std::invalid_argument.
+  std::function<void()> check_source;
 };
 
 /// The shared timeline and pacing of a run.
@@ -43,26 +49,24 @@ struct LoopSettings {
 
 struct RunSettings {
   LoopSettings loop;
-  std::vector<ReceiverSetup> receivers;  ///< one, or a fleet's (fleet_config.hpp)
+  std::vector<ReceiverSetup> receivers;  ///< one, or a fleet's
 };
 
 /// The shared timeline and pacing.
-[[nodiscard]] LoopSettings loop_settings(const Config& config);
-/// Every receiver of `config` (its fleet expanded). Throws like receiver_configs().
+[[nodiscard]] LoopSettings loop_settings(const TimelineSettings& timeline);
+/// One receiver on `timeline`.
+[[nodiscard]] ReceiverSetup receiver_setup(const ReceiverSettings& receiver, const TimelineSettings& timeline);
+/// Every receiver of `config`.
 [[nodiscard]] RunSettings run_settings(const Config& config);
-/// `config`'s one receiver (the library facade).
-[[nodiscard]] ReceiverSetup receiver_setup(const Config& config);
 
-/// `gpsemu replay`'s settings.
-struct ReplaySettings {
+/// How `gpsemu replay` paces and stops.
+struct ReplayPacing {
   replay::ReplayOptions options;
   bool fast = false;
-  ClockSpec clock;
   std::optional<std::chrono::nanoseconds> duration;  ///< of log time
   std::chrono::nanoseconds latency{0};
   std::optional<UtcNs> start_time;
-  OutputSettings outputs;  ///< rate and line check: set from the log (replayer.hpp)
 };
-[[nodiscard]] ReplaySettings replay_settings(const Config& config);
+[[nodiscard]] ReplayPacing replay_pacing(const TimelineSettings& timeline, const ReplaySettings& replay);
 
 }  // namespace gpsemu

@@ -1,0 +1,66 @@
+// `gpsemu calibrate LOG`, and the arguments it shares with `gpsemu compare`.
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "emulator/app/calibration_commands.hpp"
+#include "emulator/calibration/report.hpp"
+#include "emulator/config/config.hpp"
+
+namespace gpsemu {
+namespace {
+
+constexpr const char* kHelp =
+    "fit every noise model to a stationary receiver's NMEA log and write a config file the emulator "
+    "loads with --config (noise = the best-scoring model)";
+
+}  // namespace
+
+CLI::App* add_calibration_subcommand(CLI::App& app, const std::string& name, const std::string& description,
+                                     const std::shared_ptr<CalibrationArgs>& args) {
+  CLI::App* sub = app.add_subcommand(name, description);
+  sub->add_option("log", args->log, "NMEA log of a stationary receiver (binary and junk are skipped)")
+      ->required()
+      ->check(CLI::ExistingFile)
+      ->option_text("LOG");
+  sub->add_option("--runs", args->runs, "simulated runs per model, seeds --seed, --seed+1, ... (default 8)")
+      ->check(CLI::Range(1, 1000))
+      ->option_text("N");
+  return sub;
+}
+
+calibration::Calibration run_calibration(const CalibrationArgs& args, std::uint64_t seed) {
+  calibration::CalibrateOptions o;
+  o.seed = seed;
+  o.runs = args.runs;
+  return calibration::calibrate(calibration::read_receiver_log_file(args.log), o);
+}
+
+Subcommand add_calibrate_command(CLI::App& app) {
+  auto args = std::make_shared<CalibrationArgs>();
+  CLI::App* sub = add_calibration_subcommand(app, "calibrate", kHelp, args);
+  sub->add_option("-o,--config-out", args->out,
+                  "write the config here and the summary to stdout (default: config to stdout, summary "
+                  "to stderr)")
+      ->option_text("FILE");
+  return {sub, [args](const Config& config, const std::atomic<bool>&) {
+            const calibration::Calibration c = run_calibration(*args, config.receiver().seed);
+            const std::string toml = calibration::config_toml(c, args->log);
+            const std::string summary = calibration::log_summary(c, args->log) + calibration::calibration_summary(c);
+            if (args->out.empty()) {
+              std::fputs(toml.c_str(), stdout);
+              std::fputs(summary.c_str(), stderr);
+            } else {
+              std::ofstream f(args->out);
+              if (!f || !(f << toml) || !f.flush())
+                throw std::runtime_error(fmt::format("-o: cannot write '{}'", args->out));
+              std::fputs(summary.c_str(), stdout);
+              std::fputs(fmt::format("config written to {}\n", args->out).c_str(), stdout);
+            }
+            return 0;
+          }};
+}
+
+}  // namespace gpsemu

@@ -1,0 +1,35 @@
+// `gpsemu calibrate LOG` and `gpsemu compare LOG` (calibration/calibrate.hpp computes, report.hpp
+// prints). calibrate writes the config file (to -o FILE, or to standard output with the summary on
+// standard error) and prints a summary; compare prints the log and every calibrated model side by
+// side with their scores, and can write the series as CSV for plots. Both take --seed.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "emulator/app/subcommands.hpp"
+#include "emulator/calibration/calibrate.hpp"
+
+namespace gpsemu {
+
+/// The arguments both subcommands take.
+struct CalibrationArgs {
+  std::string log;   ///< the stationary receiver's NMEA log
+  std::string out;   ///< calibrate: config file; empty = stdout
+  std::string csv;   ///< compare: series for plots
+  int runs = 8;      ///< simulated runs per model, seeds seed, seed+1, ...
+};
+
+/// Adds the subcommand `name` to `app` with LOG and --runs, stored in `args`.
+[[nodiscard]] CLI::App* add_calibration_subcommand(CLI::App& app, const std::string& name, const std::string& description,
+                                                   const std::shared_ptr<CalibrationArgs>& args);
+/// Reads the log and calibrates every model, runs seeded from `seed`.
+[[nodiscard]] calibration::Calibration run_calibration(const CalibrationArgs& args, std::uint64_t seed);
+
+[[nodiscard]] Subcommand add_calibrate_command(CLI::App& app);  // calibrate_command.cpp
+[[nodiscard]] Subcommand add_compare_command(CLI::App& app);    // compare_command.cpp
+
+}  // namespace gpsemu

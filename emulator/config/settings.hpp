@@ -1,0 +1,67 @@
+// What a run is configured by, grouped by where each setting applies: the process, the one epoch
+// timeline every receiver shares, each receiver, and `gpsemu replay`. Values are typed and
+// resolved when the configuration loads (config.hpp): specs are parsed, the cgrw one knob is
+// folded into the noise configuration, fleet templates are expanded. Modules take the group they
+// use, never the whole Config.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "emulator/model/geo.hpp"
+#include "emulator/model/noise/noise_model.hpp"
+#include "emulator/model/receiver.hpp"
+#include "emulator/model/time.hpp"
+#include "emulator/pipeline/clock.hpp"
+#include "emulator/pipeline/realtime.hpp"
+#include "emulator/replay/replay_options.hpp"
+#include "emulator/sources/sim.hpp"
+#include "emulator/sources/source_spec.hpp"
+#include "nmea/fix.hpp"
+#include "transport/output_spec.hpp"
+#include "transport/pps.hpp"
+
+namespace gpsemu {
+
+/// Settings of the whole process.
+struct ProcessSettings {
+  std::string log_level = "info";  ///< trace | debug | info | warn | error | off
+  RealtimeSettings realtime;       ///< SCHED_FIFO priority, mlockall, timer slack (realtime.hpp)
+};
+
+/// The one epoch timeline all receivers of a process share, and the PPS line that marks it.
+struct TimelineSettings {
+  double rate_hz = 1.0;               ///< epochs per second (on the UTC grid, EpochGrid)
+  double latency_s = 0.05;            ///< epoch time to first byte (seconds)
+  std::optional<UtcNs> start_time;    ///< first epoch; default: the next epoch after now
+  std::optional<double> duration_s;   ///< stop after this much epoch time (seconds); default: until stopped
+  ClockSpec clock;                    ///< realtime | scaled:K | fast (--fast) | lockstep (clock.hpp)
+  std::optional<transport::PpsSpec> pps;  ///< gpio:CHIP:LINE | modem:RTS | modem:DTR; default none
+  double pps_width_s = 0.1;           ///< pulse width (seconds)
+  bool pps_active_low = false;        ///< line low (GPIO 0, modem line cleared) during the pulse
+
+  /// No pacing: epochs generated as fast as possible (--fast or --clock fast).
+  [[nodiscard]] bool fast() const { return clock.kind == ClockKind::fast; }
+};
+
+/// One receiver: where its truth comes from, how it errs, what it writes and where.
+struct ReceiverSettings {
+  sources::SourceSpec source;                  ///< sim:NAME, replay:FILE.csv, udp:/tcp:[HOST:]PORT
+  Geodetic origin{43.0725, -89.4125, 260.0};   ///< local frame origin; alt above MSL (metres)
+  sources::SimOptions sim;                     ///< sim: scenario speed, heading, radius, loop
+  double pose_timeout_s = 1.0;                 ///< udp:/tcp: a pose older than this is no fix (seconds)
+  double pose_horizon_s = 0.2;                 ///< udp:/tcp: longest extrapolation past the newest pose (seconds)
+  noise::NoiseConfig noise;                    ///< model and its parameters (cgrw axes resolved from --width)
+  std::uint64_t seed = 1;                      ///< noise and sky seed (receiver i of --receivers: seed + i)
+  ReceiverOptions model;                       ///< receiver model: fix quality, satellites, HDOP, cold start, outages
+  nmea::FormatOptions format;                  ///< sentences, talker, NMEA version, resolution, time decimals
+  std::vector<transport::OutputSpec> outputs;  ///< where NMEA goes (parsed --output specs)
+  std::optional<std::string> tee;              ///< file copying everything sent, with send times (default none)
+};
+
+/// `gpsemu replay LOG`: speed, loop, from/to, retime (replay_options.hpp).
+using ReplaySettings = replay::ReplayOptions;
+
+}  // namespace gpsemu

@@ -1,0 +1,147 @@
+#include "emulator/config/validate.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "emulator/config/config_options.hpp"
+
+namespace gpsemu {
+namespace {
+
+/// "rate, latency, start-time, duration, fast, clock": the options of one scope, in table order.
+std::string names_of(OptionScope scope) {
+  std::string names;
+  for (const auto& o : option_table()) {
+    if (o.scope == scope) names += names.empty() ? o.name : ", " + o.name;
+  }
+  return names;
+}
+
+}  // namespace
+
+const char* why_not_per_receiver(std::string_view name) {
+  if (name == "config" || name == "receiver") return "a [[receiver]] table holds option keys only";
+  const OptionDef* option = find_option(name);
+  if (!option) return nullptr;
+  switch (option->scope) {
+    case OptionScope::timeline: {
+      static const std::string why =
+          fmt::format("all receivers of a process share one epoch timeline ({})", names_of(OptionScope::timeline));
+      return why.c_str();
+    }
+    case OptionScope::pps: return "a process drives at most one PPS line, for all its receivers";
+    case OptionScope::process: return "it is a setting of the whole process";
+    case OptionScope::replay: return "it applies to 'gpsemu replay' only";
+    case OptionScope::fleet: return "the number of receivers is the number of [[receiver]] tables";
+    case OptionScope::receiver: return nullptr;
+  }
+  return nullptr;
+}
+
+bool is_replay_only(std::string_view name) {
+  const OptionDef* option = find_option(name);
+  return option && option->scope == OptionScope::replay;
+}
+
+void check_fleet_size(ConfigDraft& draft, const std::string& file_name) {
+  if (draft.receiver_tables.empty()) return;
+  const int tables = static_cast<int>(draft.receiver_tables.size());
+  if (tables > kMaxReceivers) {
+    throw ConfigError(fmt::format("config file {}: {} [[receiver]] tables: at most {} receivers in one process",
+                                  file_name, tables, kMaxReceivers));
+  }
+  if (draft.receivers_given && draft.receivers != tables) {
+    throw ConfigError(fmt::format("receivers is {} but config file {} has {} [[receiver]] tables: the tables make "
+                                  "the receivers, so give one table per receiver or leave receivers out",
+                                  draft.receivers, file_name, tables));
+  }
+  draft.receivers = tables;
+}
+
+void resolve_timeline(ConfigDraft& draft) {
+  TimelineSettings& t = draft.timeline;
+  if (t.clock.kind == ClockKind::fast) draft.fast = true;
+  if (draft.fast && t.clock.kind != ClockKind::realtime && t.clock.kind != ClockKind::fast) {
+    throw ConfigError(fmt::format("clock: --fast and --clock {} are two different clocks: give one", to_string(t.clock)));
+  }
+  if (draft.fast) t.clock.kind = ClockKind::fast;
+  if (t.pps && (t.clock.kind == ClockKind::scaled || t.clock.kind == ClockKind::lockstep)) {
+    throw ConfigError(fmt::format("pps: a PPS pulse marks real seconds; it cannot be used with --clock {}",
+                                  to_string(t.clock)));
+  }
+  if (t.pps && t.fast()) throw ConfigError("pps: a PPS pulse marks real seconds; it cannot be used with --fast");
+}
+
+ReceiverSettings resolve_receiver(const ReceiverDraft& draft, const TimelineSettings& timeline) {
+  ReceiverSettings r = draft.settings;
+  if (r.pose_horizon_s > r.pose_timeout_s) {
+    throw ConfigError(fmt::format("pose-horizon {} s is longer than pose-timeout {} s: a pose cannot be "
+                                  "extrapolated past the time it goes stale", r.pose_horizon_s, r.pose_timeout_s));
+  }
+  // The cgrw one knob fills every axis not given explicitly.
+  // The preset's ratios are per 1 Hz sample, so a different measurement rate needs every axis.
+  if (draft.cgrw_rate_hz && !(draft.cgrw_east && draft.cgrw_north && draft.cgrw_up)) {
+    throw ConfigError("cgrw-rate applies to parameters measured at that rate: give cgrw-east, cgrw-north "
+                      "and cgrw-up too (gpsemu calibrate writes all four keys)");
+  }
+  r.noise.cgrw = noise::cgrw_preset(draft.width_m);
+  r.noise.cgrw.window_s = draft.settings.noise.cgrw.window_s;
+  if (draft.cgrw_rate_hz) r.noise.cgrw.rate_hz = *draft.cgrw_rate_hz;
+  if (draft.cgrw_east) r.noise.cgrw.east = *draft.cgrw_east;
+  if (draft.cgrw_north) r.noise.cgrw.north = *draft.cgrw_north;
+  if (draft.cgrw_up) r.noise.cgrw.up = *draft.cgrw_up;
+  if (r.format.time_decimals < 3 && timeline.rate_hz > std::pow(10.0, r.format.time_decimals)) {
+    throw ConfigError(fmt::format(
+        "rate {} Hz needs more than {} time decimals: successive epochs would repeat a time "
+        "(set time-decimals to {})", timeline.rate_hz, r.format.time_decimals, timeline.rate_hz > 100 ? 3 : 2));
+  }
+  return r;
+}
+
+void check_source_clock(const ReceiverSettings& receiver, const TimelineSettings& timeline) {
+  const sources::SourceSpec& spec = receiver.source;
+  const bool lockstep = timeline.clock.kind == ClockKind::lockstep;
+  if (lockstep && !spec.is_socket()) {
+    throw std::invalid_argument(fmt::format("--clock lockstep follows a simulator's time stamps: it needs a udp: or "
+                                            "tcp: source, not --source {}", spec.text));
+  }
+  if (!spec.is_socket() || lockstep) return;
+  if (timeline.clock.kind != ClockKind::realtime) {
+    throw std::invalid_argument(fmt::format("--source {}: a socket source runs on the wall clock (or, with --clock "
+                                            "lockstep, on the simulator's); it cannot be used with --clock {}",
+                                            spec.text, to_string(timeline.clock)));
+  }
+  // Poses are placed at their arrival time on the wall clock, so epochs must be on it too
+  // (lockstep places them at --start-time or the first epoch + their t instead).
+  if (timeline.fast() || timeline.start_time) {
+    throw std::invalid_argument(fmt::format("--source {}: a socket source runs on the wall clock; it cannot be "
+                                            "combined with --fast or --start-time", spec.text));
+  }
+}
+
+void check_subcommand(const Config& config, const std::string& subcommand) {
+  if (config.receivers.size() > 1) {
+    throw ConfigError(fmt::format("--receivers and [[receiver]] tables apply to the emulator loop, not to 'gpsemu {}'",
+                                  subcommand));
+  }
+}
+
+void check_emulator_run(const Config& config) {
+  for (const ReceiverSettings& r : config.receivers) check_source_clock(r, config.timeline);
+}
+
+void check_replay_settings(const TimelineSettings& timeline, const ReplaySettings& replay, bool log_has_epochs,
+                           const std::string& log_name) {
+  if (timeline.clock.kind == ClockKind::scaled || timeline.clock.kind == ClockKind::lockstep) {
+    throw std::invalid_argument(fmt::format("replay paces by the log's own times: use --speed K (or --fast), not "
+                                            "--clock {}", to_string(timeline.clock)));
+  }
+  if (!log_has_epochs) throw std::invalid_argument(fmt::format("NMEA log '{}' has no epochs", log_name));
+  if (replay.loop && timeline.fast() && !timeline.duration_s) {
+    throw std::invalid_argument("--loop with --fast would never end: give --duration S (seconds of log time)");
+  }
+}
+
+}  // namespace gpsemu
