@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "emulator/config/config.hpp"
 #include "emulator/config/receiver_config.hpp"
 #include "emulator/config/validate.hpp"
 #include "emulator/pipeline/serial_line_check.hpp"

@@ -11,7 +11,6 @@
 #include <string>
 #include <vector>
 
-#include "emulator/config/config.hpp"
 #include "emulator/config/settings.hpp"
 #include "emulator/model/geo.hpp"
 #include "emulator/model/time.hpp"
@@ -22,6 +21,8 @@
 #include "emulator/sources/pose_source.hpp"
 
 namespace gpsemu {
+
+struct Config;
 
 /// One receiver of a run: its channel, its outputs and how to make its pose source.
 struct ReceiverSetup {
