@@ -1,7 +1,9 @@
 // The epoch clocks (design.md "Timing semantics"), all paced by the one epoch loop (epoch_loop.hpp):
 //
-// - realtime (default): epoch t leaves at t + latency on the system clock.
+// - realtime (default): epoch t leaves at t + latency on the system clock (shifted by whole epochs,
+//   or whole seconds with PPS, with --start-time); an epoch more than one period late is skipped.
 // - fast: no pacing at all (batch generation; --fast or --clock fast).
+// - replay: a scaled clock (K = --speed) on the log's own times that never skips (replayer.hpp).
 // - scaled:K: epochs on the same UTC grid, but paced at K times real time from the start: the
 //   first epoch t_0 leaves when it would in real time (t_0 + latency, or now with --start-time),
 //   epoch t_k (t_k - t_0) / K later. The NMEA times still advance by one epoch period per epoch,
