@@ -67,13 +67,13 @@ class ClockIo {
   virtual void wait_for_input(std::chrono::nanoseconds timeout, const std::atomic<bool>& stop) = 0;
 };
 
-/// The real ClockIo: every wait is a transport::posix::Waiter's (an absolute CLOCK_REALTIME
+/// The real ClockIo: every wait is a posix::Waiter's (an absolute CLOCK_REALTIME
 /// timerfd, polled with the descriptors the lister appends, serviced as input arrives; the timer
 /// alone when there is nothing to poll).
 class SystemClockIo final : public ClockIo {
  public:
-  using FdLister = transport::posix::Waiter::FdLister;
-  using ReadyServicer = transport::posix::Waiter::ReadyServicer;
+  using FdLister = posix::Waiter::FdLister;
+  using ReadyServicer = posix::Waiter::ReadyServicer;
   /// `service` runs once a wake-up on input and services every input. Throws std::runtime_error
   /// when the timerfd cannot be created.
   SystemClockIo(FdLister fds, std::function<void()> service) : waiter_(std::move(fds), std::move(service)) {}
@@ -90,7 +90,7 @@ class SystemClockIo final : public ClockIo {
   [[nodiscard]] std::uint64_t wakeups() const { return waiter_.wakeups(); }
 
  private:
-  transport::posix::Waiter waiter_;
+  posix::Waiter waiter_;
 };
 
 /// What became of an epoch the clock was asked to wait for.

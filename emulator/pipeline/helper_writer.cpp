@@ -31,7 +31,7 @@ void HelperWriter::wait_done() {
 }
 
 void HelperWriter::loop() {
-  transport::posix::Waiter waiter;  // this thread's own timer: nothing to poll
+  posix::Waiter waiter;  // this thread's own timer: nothing to poll
   const std::atomic<bool> never{false};
   std::unique_lock lock(mutex_);
   for (;;) {

@@ -2,7 +2,7 @@
 // the outputs while the loop's thread writes the other, both from the same instant, so the
 // burst of writes after an epoch's deadline is half as long (a loopback UDP datagram costs the
 // sender ~9 us: 256 of them take 2-2.5 ms in one thread). It is handed an epoch once every text
-// is formatted, sleeps until the write time on its own (its own transport::posix::Waiter), writes,
+// is formatted, sleeps until the write time on its own (its own posix::Waiter), writes,
 // and says when it is done. It inherits the scheduling of the thread that makes it (SCHED_FIFO
 // when the loop was given a real-time priority).
 #pragma once

@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace gpsemu::transport::posix {
+namespace gpsemu::posix {
 namespace {
 
 WallTime realtime_now() {
@@ -123,4 +123,4 @@ void Waiter::wait_for_input(std::chrono::nanoseconds timeout, const std::atomic<
   }
 }
 
-}  // namespace gpsemu::transport::posix
+}  // namespace gpsemu::posix

@@ -15,9 +15,9 @@
 #include <functional>
 #include <vector>
 
-namespace gpsemu::transport::posix {
+namespace gpsemu::posix {
 
-/// UTC on CLOCK_REALTIME, nanoseconds (the same type as gpsemu::UtcNs).
+/// UTC on CLOCK_REALTIME, nanoseconds (the same type as gpsemu::UtcNs and wall_clock.hpp's).
 using WallTime = std::chrono::sys_time<std::chrono::nanoseconds>;
 
 class Waiter {
@@ -61,4 +61,4 @@ class Waiter {
   std::uint64_t wakeups_ = 0;
 };
 
-}  // namespace gpsemu::transport::posix
+}  // namespace gpsemu::posix
