@@ -1,4 +1,4 @@
-// PPS: a pulse whose leading edge marks each whole UTC second (design.md "Timing semantics").
+// PPS: a pulse whose leading edge marks each whole UTC second (docs/design.md "Timing semantics").
 // A small interface for the line that carries it — the runner calls set() at each edge's
 // absolute time, in one timeline with the epoch writes — and the pure pulse-train arithmetic.
 // Backends: a GPIO line through libgpiod (gpio_pps.hpp), a UART modem line RTS/DTR on the serial

@@ -1,4 +1,4 @@
-// The serial line budget (design.md "Serial line budget"): what an 8N1 line at a given baud can
+// The serial line budget (docs/design.md "Serial line budget"): what an 8N1 line at a given baud can
 // carry, and whether a rate and an epoch size fit in it with a safety margin. Pure arithmetic, no
 // I/O: the caller measures the epoch size (by formatting a worst-case epoch) and decides.
 #pragma once

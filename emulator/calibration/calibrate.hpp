@@ -1,5 +1,5 @@
 // Calibration of every noise model from a stationary receiver's log, and their comparison with
-// it (design.md "Calibration"): the log's statistics per axis, the cgrw statistics and fit, the
+// it (docs/design.md "Calibration"): the log's statistics per axis, the cgrw statistics and fit, the
 // gaussian and gauss-markov parameters, a chrono fit, then each model simulated over the log's
 // duration, rate and gaps with the log's output resolution applied (through the emulator's own
 // GGA formatter and parser), scored against the log, and written as a config file the emulator

@@ -4,54 +4,20 @@
 #include <cmath>
 #include <limits>
 
+#include "emulator/model/noise/sample_stats.hpp"
+
 namespace gpsemu::calibration {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-struct Moments {
-  double n = 0, sum = 0, sum2 = 0, lo = std::numeric_limits<double>::infinity(),
-         hi = -std::numeric_limits<double>::infinity();
+// max - min of the samples present.
+struct Range {
+  double n = 0, lo = std::numeric_limits<double>::infinity(), hi = -std::numeric_limits<double>::infinity();
   void add(double v) {
     if (std::isnan(v)) return;
-    n += 1, sum += v, sum2 += v * v, lo = std::min(lo, v), hi = std::max(hi, v);
+    n += 1, lo = std::min(lo, v), hi = std::max(hi, v);
   }
-  [[nodiscard]] double mean() const { return n > 0 ? sum / n : kNaN; }
   [[nodiscard]] double range() const { return n > 0 ? hi - lo : 0.0; }
 };
-
-// Two-pass standard deviation of the non-NaN values.
-double sd_of(const std::vector<double>& v) {
-  Moments m;
-  for (double x : v) m.add(x);
-  if (m.n < 2) return 0.0;
-  const double mean = m.mean();
-  double ss = 0.0;
-  for (double x : v)
-    if (!std::isnan(x)) ss += (x - mean) * (x - mean);
-  return std::sqrt(ss / m.n);
-}
-
-std::vector<double> diff(std::span<const double> x) {
-  std::vector<double> d;
-  for (std::size_t i = 1; i < x.size(); ++i) d.push_back(x[i] - x[i - 1]);  // NaN propagates
-  return d;
-}
-
-double autocorrelation(std::span<const double> x, std::size_t lag) {
-  Moments m;
-  for (double v : x) m.add(v);
-  const double mean = m.mean();
-  // The usual (biased) estimator: sum over the lagged pairs both present / sum over all.
-  double den = 0.0, num = 0.0, pairs = 0.0;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    if (std::isnan(x[i])) continue;
-    den += (x[i] - mean) * (x[i] - mean);
-    if (i >= lag && !std::isnan(x[i - lag])) num += (x[i] - mean) * (x[i - lag] - mean), pairs += 1;
-  }
-  if (den <= 0.0 || pairs == 0.0) return kNaN;
-  return num / den;
-}
 
 std::vector<double> fill_gaps(std::span<const double> x) {
   std::vector<double> y(x.begin(), x.end());
@@ -91,7 +57,7 @@ std::optional<double> allan_deviation(const std::vector<double>& y, std::size_t 
 }  // namespace
 
 noise::CgrwAxis measure_cgrw_with_gaps(std::span<const double> x) {
-  Moments p, d1, d2;
+  Range p, d1, d2;
   std::vector<double> second;
   for (std::size_t i = 0; i < x.size(); ++i) {
     p.add(x[i]);
@@ -102,20 +68,19 @@ noise::CgrwAxis measure_cgrw_with_gaps(std::span<const double> x) {
       second.push_back(v);
     }
   }
-  return {p.range(), d1.range(), d2.range(), sd_of(second)};
+  return {p.range(), d1.range(), d2.range(), noise::standard_deviation(second)};
 }
 
 AxisStats measure_axis(std::span<const double> x, double rate_hz, std::size_t window_samples) {
   AxisStats s;
-  Moments m;
+  Range m;
   for (double v : x) m.add(v);
   s.range_m = m.range();
-  const std::vector<double> xv(x.begin(), x.end());
-  s.sd_m = sd_of(xv);
-  const std::vector<double> d1 = diff(x);
-  s.d1_sd_m = sd_of(d1);
-  s.d2_sd_m = sd_of(diff(d1));
-  for (std::size_t i = 0; i < kLags.size(); ++i) s.acf[i] = autocorrelation(x, kLags[i]);
+  s.sd_m = noise::standard_deviation(x);
+  const std::vector<double> d1 = noise::differences(x);
+  s.d1_sd_m = noise::standard_deviation(d1);
+  s.d2_sd_m = noise::standard_deviation(noise::differences(d1));
+  for (std::size_t i = 0; i < kLags.size(); ++i) s.acf[i] = noise::autocorrelation(x, kLags[i]);
   const std::vector<double> filled = fill_gaps(x);
   for (std::size_t i = 0; i < kAllanTimes_s.size(); ++i) {
     const double samples = kAllanTimes_s[i] * rate_hz;

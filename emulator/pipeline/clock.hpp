@@ -1,4 +1,4 @@
-// The epoch clocks (design.md "Timing semantics"), all paced by the one epoch loop (epoch_loop.hpp):
+// The epoch clocks (docs/design.md "Timing semantics"), all paced by the one epoch loop (epoch_loop.hpp):
 //
 // - realtime (default): epoch t leaves at t + latency on the system clock (shifted by whole epochs,
 //   or whole seconds with PPS, with --start-time); an epoch more than one period late is skipped.

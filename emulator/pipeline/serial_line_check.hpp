@@ -1,4 +1,4 @@
-// The serial line budget check at start-up (design.md "Serial line budget"): the widest epoch the
+// The serial line budget check at start-up (docs/design.md "Serial line budget"): the widest epoch the
 // configured sentences can produce, measured by formatting a worst-case Fix through format_epoch
 // (so whatever sentence set is configured is measured as it will be written), against what a
 // serial output's baud carries with a margin. A configuration that cannot fit is refused with a

@@ -20,10 +20,7 @@ namespace gpsemu::calibration {
 namespace {
 
 std::string emulate(std::vector<std::string> args) {
-  std::vector<std::string> argv{GPSEMU_BINARY, "--fast", "--output", "stdout", "--log-level", "warn",
-                                "--start-time", "2024-05-01T00:00:00Z"};
-  argv.insert(argv.end(), args.begin(), args.end());
-  const auto r = test::run(argv, std::chrono::seconds(120));
+  const auto r = test::run_fast(GPSEMU_BINARY, args);
   EXPECT_EQ(r.status, 0) << r.err;
   return r.out;
 }

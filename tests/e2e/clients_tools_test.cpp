@@ -21,6 +21,7 @@
 #include "emulator/model/time.hpp"
 #include "nmea/parse.hpp"
 #include "tests/support/process.hpp"
+#include "tests/support/scratch.hpp"
 
 namespace gpsemu {
 namespace {
@@ -37,12 +38,7 @@ fs::path temp_dir(const std::string& name) {
   return d;
 }
 
-std::string read_file(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test::read_file;
 
 bool installed(const std::string& program) {
   const bool ok = ::access(program.c_str(), X_OK) == 0;

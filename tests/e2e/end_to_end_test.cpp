@@ -10,6 +10,7 @@
 #include "emulator/model/geo.hpp"
 #include "nmea/parse.hpp"
 #include "tests/support/process.hpp"
+#include "tests/support/statistics.hpp"
 
 namespace gpsemu {
 namespace {
@@ -24,10 +25,7 @@ struct Epoch {
 const Geodetic kOrigin{43.0725, -89.4125, 260.0};
 
 std::vector<Epoch> run_and_parse(std::vector<std::string> args) {
-  std::vector<std::string> argv{GPSEMU_BINARY, "--fast", "--output", "stdout", "--log-level", "warn",
-                                "--start-time", "2024-05-01T00:00:00Z"};
-  argv.insert(argv.end(), args.begin(), args.end());
-  const auto r = test::run(argv, std::chrono::seconds(120));
+  const auto r = test::run_fast(GPSEMU_BINARY, args);
   EXPECT_EQ(r.status, 0) << r.err;
   nmea::StreamReader reader;
   const auto sentences = reader.feed(r.out);
@@ -66,15 +64,7 @@ double mean_window_width(const std::vector<double>& x, std::size_t window) {
   return sum / n;
 }
 
-double lag1_autocorrelation(const std::vector<double>& x) {
-  const double mean = std::accumulate(x.begin(), x.end(), 0.0) / x.size();
-  double num = 0.0, den = 0.0;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    den += (x[i] - mean) * (x[i] - mean);
-    if (i + 1 < x.size()) num += (x[i] - mean) * (x[i + 1] - mean);
-  }
-  return num / den;
-}
+using test::lag1_autocorrelation;
 
 class StationaryWidth : public ::testing::TestWithParam<double> {};
 

@@ -17,6 +17,7 @@
 #include "nmea/sentences.hpp"
 #include "tests/support/process.hpp"
 #include "tests/support/read_deadline.hpp"
+#include "tests/support/scratch.hpp"
 
 namespace gpsemu {
 namespace {
@@ -24,11 +25,7 @@ namespace {
 namespace fs = std::filesystem;
 using namespace std::chrono;
 
-fs::path temp_dir(const std::string& name) {
-  auto d = fs::temp_directory_path() / ("gpsemu_it_" + std::to_string(::getpid()) + "_" + name);
-  fs::create_directories(d);
-  return d;
-}
+fs::path temp_dir(const std::string& name) { return test::scratch_dir("it", name); }
 
 int open_client(const fs::path& link) {
   const int fd = ::open(link.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK);

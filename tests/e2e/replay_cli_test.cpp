@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "tests/support/process.hpp"
+#include "tests/support/scratch.hpp"
 
 namespace gpsemu {
 namespace {
@@ -20,8 +21,7 @@ namespace fs = std::filesystem;
 fs::path write(const std::string& name, const std::string& text) {
   auto d = fs::temp_directory_path() / fmt::format("gpsemu_replay_cli_{}", ::getpid());
   fs::create_directories(d);
-  std::ofstream(d / name, std::ios::binary) << text;
-  return d / name;
+  return test::write_file(d / name, text);
 }
 
 /// A two-epoch 1 Hz log.

@@ -19,6 +19,7 @@
 #include "emulator/replay/replay_log.hpp"
 #include "nmea/sentences.hpp"
 #include "tests/support/process.hpp"
+#include "tests/support/scratch.hpp"
 
 namespace gpsemu::replay {
 namespace {
@@ -28,12 +29,7 @@ using namespace std::chrono;
 
 const std::string kDir = GPSEMU_SOURCE_DIR "/../shared/data/real";
 
-std::string read(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test::read_file;
 
 /// The log's valid sentences with their line endings, by a scan independent of the replay's
 /// reader: '$', printable characters without another '$', '*hh' matching, then CR/LF.
@@ -74,7 +70,7 @@ void replay_real_log(const std::string& name, std::size_t expected_epochs) {
   if (!fs::exists(path)) {
     GTEST_SKIP() << "real receiver log " << path << " not found (shared/data/real is not part of the repository)";
   }
-  const std::string log_bytes = read(path);
+  const std::string log_bytes = read_file(path);
   const ReplayLog log = parse_replay_log(log_bytes);
   ASSERT_EQ(log.epochs.size(), expected_epochs);
   std::string expected_all;

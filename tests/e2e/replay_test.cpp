@@ -22,6 +22,7 @@
 #include "nmea/sentences.hpp"
 #include "tests/support/process.hpp"
 #include "tests/support/read_deadline.hpp"
+#include "tests/support/scratch.hpp"
 
 namespace gpsemu::replay {
 namespace {
@@ -30,23 +31,15 @@ namespace fs = std::filesystem;
 using namespace std::chrono;
 
 fs::path temp_dir() {
-  auto d = fs::temp_directory_path() / fmt::format("gpsemu_replay_{}", ::getpid());
-  fs::create_directories(d);
-  return d;
+  static const fs::path dir = test::scratch_dir("replay", "e2e");  // once a process: files stay
+  return dir;
 }
 
 fs::path write(const std::string& name, const std::string& text) {
-  const auto p = temp_dir() / name;
-  std::ofstream(p, std::ios::binary) << text;
-  return p;
+  return test::write_file(temp_dir() / name, text);
 }
 
-std::string read(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test::read_file;
 
 std::string s(const std::string& body) { return fmt::format("${}*{:02X}\r\n", body, nmea::checksum(body)); }
 
@@ -181,7 +174,7 @@ TEST(ReplayEndToEnd, TeeRecordsEverythingSentWithSendTimesAndReplaysToTheSameByt
   test::Process gpsemu({GPSEMU_BINARY, "replay", log.string(), "--speed", "20", "--output", "stdout", "--tee",
                         tee.string()});
   ASSERT_EQ(gpsemu.wait(seconds(30)), 0) << gpsemu.stderr_text();
-  const std::string text = read(tee);
+  const std::string text = read_file(tee);
   std::string without_comments;
   std::vector<double> sent;
   std::size_t start = 0;
@@ -213,7 +206,7 @@ TEST(ReplayEndToEnd, EmulatorTeeMatchesItsOutputWithOneSentLinePerEpoch) {
   const auto r = test::run({GPSEMU_BINARY, "--fast", "--duration", "5", "--start-time", "2024-05-01T12:00:00Z",
                             "--output", "stdout", "--tee", tee.string(), "--log-level", "warn"});
   ASSERT_EQ(r.status, 0) << r.err;
-  const std::string text = read(tee);
+  const std::string text = read_file(tee);
   std::string without;
   int comments = 0;
   for (std::size_t start = 0, nl; start < text.size(); start = nl + 1) {

@@ -15,6 +15,7 @@
 
 #include "emulator/sources/trajectory_source.hpp"
 #include "tests/support/process.hpp"
+#include "tests/support/scratch.hpp"
 
 namespace gpsemu::sources {
 namespace {
@@ -27,23 +28,15 @@ const UtcNs kStart = parse_iso8601_utc("2024-05-01T12:00:00Z");
 UtcNs at_s(double s) { return kStart + nanoseconds{std::llround(s * 1e9)}; }
 
 fs::path temp_dir() {
-  auto d = fs::temp_directory_path() / fmt::format("gpsemu_traj_{}", ::getpid());
-  fs::create_directories(d);
-  return d;
+  static const fs::path dir = test::scratch_dir("traj", "e2e");  // once a process: files stay
+  return dir;
 }
 
 fs::path write(const std::string& name, const std::string& text) {
-  const auto p = temp_dir() / name;
-  std::ofstream(p) << text;
-  return p;
+  return test::write_file(temp_dir() / name, text);
 }
 
-std::string read(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test::read_file;
 
 /// A drive: east at 2 m/s for 10 s, then north at 1 m/s for 10 s, rows every second.
 std::string drive_csv() {
@@ -155,7 +148,7 @@ std::string run_drive(const fs::path& csv, const std::string& out_name, std::vec
   args.insert(args.end(), extra.begin(), extra.end());
   const auto r = test::run(args);
   EXPECT_EQ(r.status, 0) << r.err;
-  return read(out);
+  return read_file(out);
 }
 
 TEST(TrajectoryReplay, SameDriveAndSeedGiveByteIdenticalNmeaOtherSeedsAndModelsDiffer) {

@@ -23,6 +23,7 @@
 
 #include "tests/support/nmea_check.hpp"
 #include "tests/support/process.hpp"
+#include "tests/support/scratch.hpp"
 
 namespace gpsemu {
 namespace {
@@ -52,12 +53,7 @@ int free_udp_ports(int n) {
   return -1;
 }
 
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test::read_file;
 
 /// The epoch times (RMC time field, seconds of the day) in an NMEA file, in order.
 std::vector<double> epoch_times(const std::string& nmea) {

@@ -17,19 +17,13 @@
 #include "emulator/sources/trajectory_source.hpp"
 #include "emulator/model/time.hpp"
 #include "fuzz_check.hpp"
+#include "tests/support/enu_checks.hpp"
 
 namespace {
 
 using namespace gpsemu;
 using namespace gpsemu::sources;
-
-bool finite(const Enu& e) { return std::isfinite(e.east_m) && std::isfinite(e.north_m) && std::isfinite(e.up_m); }
-double norm_inf(const Enu& e) { return std::max({std::abs(e.east_m), std::abs(e.north_m), std::abs(e.up_m)}); }
-
-const LocalFrame& frame() {
-  static const LocalFrame f(Geodetic{43.0725, -89.4125, 260.0});
-  return f;
-}
+using namespace gpsemu::test;  // finite, norm_inf, frame (tests/support/enu_checks.hpp)
 
 }  // namespace
 

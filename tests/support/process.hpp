@@ -178,4 +178,13 @@ inline Result run(const std::vector<std::string>& argv, std::chrono::millisecond
   return {status, p.stdout_text(), p.stderr_text()};
 }
 
+/// Runs `binary --fast --output stdout --log-level warn --start-time 2024-05-01T00:00:00Z ARGS` to
+/// completion (batch generation with a fixed start: deterministic NMEA on stdout).
+inline Result run_fast(const std::string& binary, const std::vector<std::string>& args) {
+  std::vector<std::string> argv{binary, "--fast", "--output", "stdout", "--log-level", "warn",
+                                "--start-time", "2024-05-01T00:00:00Z"};
+  argv.insert(argv.end(), args.begin(), args.end());
+  return run(argv, std::chrono::seconds(120));
+}
+
 }  // namespace gpsemu::test

@@ -1,5 +1,5 @@
-// Test support: scratch directories, whole files, and a UDP socket to a loopback port: the small
-// helpers the end-to-end tests share.
+// Test support: scratch directories, whole files, and UDP and TCP sockets to a loopback port: the
+// small helpers the end-to-end and integration tests share.
 #pragma once
 
 #include <arpa/inet.h>
@@ -32,9 +32,14 @@ inline std::string read_file(const std::filesystem::path& path) {
   return s.str();
 }
 
-/// A UDP socket connected to 127.0.0.1:`port`, or -1.
-inline int udp_to(std::uint16_t port) {
-  const int fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+/// Writes `text` to `path` (replacing it) and returns the path.
+inline std::filesystem::path write_file(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
+/// Connects `fd` to 127.0.0.1:`port`; returns `fd`, or -1 (and closes it) when that fails.
+inline int connect_to_loopback(int fd, std::uint16_t port) {
   if (fd < 0) return -1;
   sockaddr_in a{};
   a.sin_family = AF_INET;
@@ -45,6 +50,18 @@ inline int udp_to(std::uint16_t port) {
     return -1;
   }
   return fd;
+}
+
+/// A UDP socket connected to 127.0.0.1:`port`, or -1.
+inline int udp_to(std::uint16_t port) {
+  return connect_to_loopback(::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0), port);
+}
+
+/// A TCP socket connected to 127.0.0.1:`port`, or -1; `receive_buffer` > 0 sets SO_RCVBUF first.
+inline int tcp_to(std::uint16_t port, int receive_buffer = 0) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  if (fd >= 0 && receive_buffer > 0) ::setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &receive_buffer, sizeof receive_buffer);
+  return connect_to_loopback(fd, port);
 }
 
 }  // namespace gpsemu::test

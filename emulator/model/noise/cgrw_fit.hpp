@@ -6,7 +6,7 @@
 // One step, per sample at the rate the statistics were measured at (units: metres and samples):
 //   m = -sigma * p / p_max;   a ~ N(m, sigma) clamped to +-a_max;   v = clamp(v + a, +-v_max);
 //   p = p + v
-// Deliberate deviation from design.md's literal m = -p / p_max: with metres as units that pull is
+// Deliberate deviation from docs/design.md's literal m = -p / p_max: with metres as units that pull is
 // 1 m/sample^2 at p = p_max, which for sub-metre receivers collapses the walk into near-white
 // noise (measured lag-1 autocorrelation 0.25-0.8 at 1 Hz, where real receivers show 0.97-0.999).
 // Expressing the gradient in units of sigma keeps a smooth wander, and makes the model

@@ -13,7 +13,7 @@
 namespace gpsemu::noise {
 
 /// The report's four cgrw parameters for one axis, all measured on a stationary receiver's log
-/// at the rate `CgrwParams::rate_hz` (see design.md "Noise models").
+/// at the rate `CgrwParams::rate_hz` (see docs/design.md "Noise models").
 struct CgrwAxis {
   double width_m = 1.0;     ///< max - min of the position (metres)
   double width_d1_m = 0.15; ///< max - min of the first difference (metres per sample)

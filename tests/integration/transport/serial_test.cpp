@@ -39,7 +39,7 @@ using test::epoch;
 // Line budget
 
 TEST(LineBudgetTest, DesignExampleGgaRmcAt10HzDoesNotFit9600AndNames19200) {
-  // design.md: 10 Hz GGA+RMC (~145 bytes) needs >= 14 500 baud; with the 90 % margin 16 111.
+  // docs/design.md: 10 Hz GGA+RMC (~145 bytes) needs >= 14 500 baud; with the 90 % margin 16 111.
   const LineBudget b = line_budget(9600, 145, 10.0);
   EXPECT_FALSE(b.fits);
   EXPECT_DOUBLE_EQ(b.needed_bytes_per_s, 1450.0);

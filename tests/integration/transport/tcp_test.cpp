@@ -17,6 +17,7 @@
 
 #include "tests/support/nmea_check.hpp"
 #include "tests/support/read_deadline.hpp"
+#include "tests/support/scratch.hpp"
 #include "transport/output_spec.hpp"
 #include "transport/tcp_output.hpp"
 
@@ -30,16 +31,8 @@ using test::epoch;
 
 /// A client socket connected to 127.0.0.1:port; `receive_buffer` > 0 shrinks SO_RCVBUF first.
 int connect_client(std::uint16_t port, int receive_buffer = 0) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  if (receive_buffer > 0) ::setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &receive_buffer, sizeof receive_buffer);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_port = htons(port);
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
-    ::close(fd);
-    throw std::runtime_error("connect failed");
-  }
+  const int fd = test::tcp_to(port, receive_buffer);
+  if (fd < 0) throw std::runtime_error("connect failed");
   return fd;
 }
 

@@ -10,19 +10,14 @@
 
 #include "nmea/fields.hpp"
 #include "nmea/text_append.hpp"
+#include "tests/support/nmea_values.hpp"
 
 namespace gpsemu::nmea {
 namespace {
 
 using namespace std::chrono;
-
-UtcTime utc(int y, unsigned mo, unsigned d, int h, int mi, int s, int ms = 0) {
-  return UtcTime{sys_days{year{y} / month{mo} / day{d}}} + hours{h} + minutes{mi} + seconds{s} +
-         milliseconds{ms};
-}
-
-// Degrees from degrees and decimal minutes, for readable expectations.
-constexpr double dm(double degrees, double minutes) { return degrees + minutes / 60.0; }
+using test::utc;
+using test::dm;
 
 struct CoordinateCase {
   const char* name;

@@ -11,19 +11,15 @@
 #include <vector>
 
 #include "nmea/sentences.hpp"
+#include "tests/support/nmea_values.hpp"
 
 namespace gpsemu::nmea {
 namespace {
 
 using namespace std::chrono;
-
-UtcTime utc(int y, unsigned mo, unsigned d, int h, int mi, int s, int ms = 0) {
-  return UtcTime{sys_days{year{y} / month{mo} / day{d}}} + hours{h} + minutes{mi} + seconds{s} +
-         milliseconds{ms};
-}
-
-constexpr double dm(double degrees, double minutes) { return degrees + minutes / 60.0; }
-constexpr double mps_per_knot = 1852.0 / 3600.0;
+using test::utc;
+using test::dm;
+using test::mps_per_knot;
 
 // The comma-separated parts of "$...*hh\r\n" (address first), without parsing it as NMEA.
 std::vector<std::string> parts(const std::string& sentence) {

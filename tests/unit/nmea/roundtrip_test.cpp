@@ -9,13 +9,13 @@
 
 #include "nmea/parse.hpp"
 #include "nmea/sentences.hpp"
+#include "tests/support/nmea_values.hpp"
 
 namespace gpsemu::nmea {
 namespace {
 
 using namespace std::chrono;
-
-constexpr double mps_per_knot = 1852.0 / 3600.0;
+using test::mps_per_knot;
 
 // Half a unit of the last minute decimal, in degrees, plus floating-point slack.
 double half_unit_deg(int minute_decimals) { return 0.5 / (60.0 * std::pow(10.0, minute_decimals)) + 1e-12; }

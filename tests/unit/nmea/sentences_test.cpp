@@ -10,18 +10,14 @@
 #include "nmea/parse.hpp"
 #include "nmea/sentence_set.hpp"
 #include "nmea/sentences.hpp"
+#include "tests/support/nmea_values.hpp"
 
 namespace gpsemu::nmea {
 namespace {
 
 using namespace std::chrono;
-
-UtcTime utc(int y, unsigned mo, unsigned d, int h, int mi, int s, int ms = 0) {
-  return UtcTime{sys_days{year{y} / month{mo} / day{d}}} + hours{h} + minutes{mi} + seconds{s} +
-         milliseconds{ms};
-}
-
-constexpr double dm(double degrees, double minutes) { return degrees + minutes / 60.0; }
+using test::utc;
+using test::dm;
 
 FormatOptions options(std::string talker, NmeaVersion version, int minute_decimals = 5, int time_decimals = 2) {
   return FormatOptions{std::move(talker), minute_decimals, time_decimals, version};

@@ -13,16 +13,14 @@
 #include <string>
 
 #include "transport/file_output.hpp"
+#include "tests/support/scratch.hpp"
 
 namespace gpsemu::transport {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_file(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
+using test::read_file;
 
 std::string epoch(int k) {
   return "$GPGGA,1200" + std::to_string(10 + k % 50) +

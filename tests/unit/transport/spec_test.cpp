@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "transport/output_spec.hpp"
+#include "tests/support/scratch.hpp"
 
 namespace gpsemu::transport {
 namespace {
@@ -96,10 +97,7 @@ class MakeOutputTest : public ::testing::Test {
   fs::path dir_;
 };
 
-std::string read_file(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
+using test::read_file;
 
 TEST_F(MakeOutputTest, RealTimeFileHandsOverEachEpoch) {
   const fs::path path = dir_ / "out.nmea";

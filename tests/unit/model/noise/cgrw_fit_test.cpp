@@ -11,6 +11,7 @@
 
 #include "emulator/model/noise/cgrw_fit.hpp"
 #include "emulator/model/noise/cgrw_model.hpp"
+#include "tests/support/noise_configs.hpp"
 
 namespace gpsemu::noise {
 namespace {
@@ -94,15 +95,7 @@ TEST(NoiseCgrwFit, ScaleInvariant) {
 }
 
 void expect_throw_naming(const CgrwParams& p, const std::string& name) {
-  NoiseConfig c;
-  c.model = Model::cgrw;
-  c.cgrw = p;
-  try {
-    (void)make_noise_model(c, 1);
-    ADD_FAILURE() << "no exception; expected one naming " << name;
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
-  }
+  test::expect_throw_naming(test::cgrw(p), name);
 }
 
 TEST(NoiseCgrwFit, InvalidParametersThrowNamingThem) {

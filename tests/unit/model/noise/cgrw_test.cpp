@@ -8,6 +8,8 @@
 
 #include "emulator/model/noise/cgrw_model.hpp"
 #include "emulator/model/noise/noise_model.hpp"
+#include "tests/support/noise_configs.hpp"
+#include "tests/support/statistics.hpp"
 
 namespace gpsemu::noise {
 namespace {
@@ -15,39 +17,11 @@ namespace {
 using std::chrono::milliseconds;
 using std::chrono::seconds;
 
-double mean_of(const std::vector<double>& x) {
-  double s = 0.0;
-  for (double v : x) s += v;
-  return s / static_cast<double>(x.size());
-}
-double sd_of(const std::vector<double>& x) {
-  const double m = mean_of(x);
-  double s = 0.0;
-  for (double v : x) s += (v - m) * (v - m);
-  return std::sqrt(s / static_cast<double>(x.size()));
-}
-double lag1_autocorrelation(const std::vector<double>& x) {
-  const double m = mean_of(x);
-  double num = 0.0, den = 0.0;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    den += (x[i] - m) * (x[i] - m);
-    if (i > 0) num += (x[i] - m) * (x[i - 1] - m);
-  }
-  return num / den;
-}
-// x[i + lag] - x[i]
-std::vector<double> differences(const std::vector<double>& x, std::size_t lag) {
-  std::vector<double> d;
-  for (std::size_t i = lag; i < x.size(); ++i) d.push_back(x[i] - x[i - lag]);
-  return d;
-}
-
-NoiseConfig cgrw(const CgrwParams& p) {
-  NoiseConfig c;
-  c.model = Model::cgrw;
-  c.cgrw = p;
-  return c;
-}
+using test::cgrw;
+using test::differences;
+using test::lag1_autocorrelation;
+using test::mean_of;
+using test::sd_of;
 
 struct Series {
   std::vector<double> east, north, up;

@@ -14,18 +14,15 @@
 #include "emulator/model/noise/chrono_model.hpp"
 #include "emulator/model/noise/noise_model.hpp"
 #include "emulator/model/noise/rng.hpp"
+#include "tests/support/noise_configs.hpp"
 
 namespace gpsemu::noise {
 namespace {
 
 using std::chrono::milliseconds;
 
-NoiseConfig chrono(double mean, double sigma, double rate, double vmax, double amax) {
-  NoiseConfig c;
-  c.model = Model::chrono;
-  c.chrono = {mean, sigma, rate, vmax, amax};
-  return c;
-}
+using test::chrono;
+using test::expect_throw_naming;
 
 // Chrono's AddNoise loop written out for one full step, with the draws taken from the model's
 // documented stream (Rng(seed, 0): east, north, up per step).
@@ -125,15 +122,6 @@ TEST(NoiseChrono, EarlierQueryReplaysAndSeedsDiffer) {
   EXPECT_EQ(a->offset_at(std::chrono::seconds(50)).east_m, at50);
   auto b = make_noise_model(c, 6);
   EXPECT_NE(b->offset_at(std::chrono::seconds(50)).east_m, at50);
-}
-
-void expect_throw_naming(const NoiseConfig& c, const std::string& name) {
-  try {
-    (void)make_noise_model(c, 1);
-    ADD_FAILURE() << "no exception; expected one naming " << name;
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
-  }
 }
 
 TEST(NoiseChrono, InvalidParametersThrowNamingThem) {

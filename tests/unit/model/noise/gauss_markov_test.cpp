@@ -11,39 +11,18 @@
 #include <vector>
 
 #include "emulator/model/noise/noise_model.hpp"
+#include "tests/support/noise_configs.hpp"
+#include "tests/support/statistics.hpp"
 
 namespace gpsemu::noise {
 namespace {
 
 using std::chrono::milliseconds;
 
-NoiseConfig gauss_markov(GaussMarkovAxis east, GaussMarkovAxis north, GaussMarkovAxis up) {
-  NoiseConfig c;
-  c.model = Model::gauss_markov;
-  c.gauss_markov = {east, north, up};
-  return c;
-}
-
-double sd_of(const std::vector<double>& x) {
-  double m = 0.0;
-  for (double v : x) m += v;
-  m /= static_cast<double>(x.size());
-  double s = 0.0;
-  for (double v : x) s += (v - m) * (v - m);
-  return std::sqrt(s / static_cast<double>(x.size()));
-}
-
-double autocorrelation(const std::vector<double>& x, std::size_t lag) {
-  double m = 0.0;
-  for (double v : x) m += v;
-  m /= static_cast<double>(x.size());
-  double num = 0.0, den = 0.0;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    den += (x[i] - m) * (x[i] - m);
-    if (i >= lag) num += (x[i] - m) * (x[i - lag] - m);
-  }
-  return num / den;
-}
+using test::autocorrelation;
+using test::expect_throw_naming;
+using test::gauss_markov;
+using test::sd_of;
 
 // 100 000 s of the process sampled at `rate_hz`: sigma from the standard deviation, tau from the
 // autocorrelation at a 5 s lag (rho = exp(-5 / tau)), per axis.
@@ -149,15 +128,6 @@ TEST(NoiseGaussMarkov, SameTimeSameValueSameSeedSameSequence) {
     EXPECT_EQ(x.north_m, a->offset_at(milliseconds(250 * k)).north_m);
     EXPECT_EQ(x.north_m, b->offset_at(milliseconds(250 * k)).north_m);
     EXPECT_NE(x.north_m, d->offset_at(milliseconds(250 * k)).north_m);
-  }
-}
-
-void expect_throw_naming(const NoiseConfig& c, const std::string& name) {
-  try {
-    (void)make_noise_model(c, 1);
-    ADD_FAILURE() << "no exception; expected one naming " << name;
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
   }
 }
 

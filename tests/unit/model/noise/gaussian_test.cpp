@@ -9,39 +9,19 @@
 #include <vector>
 
 #include "emulator/model/noise/noise_model.hpp"
+#include "tests/support/noise_configs.hpp"
+#include "tests/support/statistics.hpp"
 
 namespace gpsemu::noise {
 namespace {
 
 using std::chrono::milliseconds;
 
-NoiseConfig gaussian(GaussianAxis east, GaussianAxis north, GaussianAxis up) {
-  NoiseConfig c;
-  c.model = Model::gaussian;
-  c.gaussian = {east, north, up};
-  return c;
-}
-
-double mean_of(const std::vector<double>& x) {
-  double s = 0.0;
-  for (double v : x) s += v;
-  return s / static_cast<double>(x.size());
-}
-double sd_of(const std::vector<double>& x) {
-  const double m = mean_of(x);
-  double s = 0.0;
-  for (double v : x) s += (v - m) * (v - m);
-  return std::sqrt(s / static_cast<double>(x.size()));
-}
-double lag1_autocorrelation(const std::vector<double>& x) {
-  const double m = mean_of(x);
-  double num = 0.0, den = 0.0;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    den += (x[i] - m) * (x[i] - m);
-    if (i > 0) num += (x[i] - m) * (x[i - 1] - m);
-  }
-  return num / den;
-}
+using test::expect_throw_naming;
+using test::gaussian;
+using test::lag1_autocorrelation;
+using test::mean_of;
+using test::sd_of;
 
 TEST(NoiseGaussian, UnitSigmaIsWhiteWithUnitStd) {
   auto model = make_noise_model(gaussian({0, 1}, {0, 1}, {0, 1}), 5);
@@ -97,15 +77,6 @@ TEST(NoiseGaussian, SameSeedSameSequenceOtherSeedDiffers) {
     same += x.east_m == d->offset_at(milliseconds(i)).east_m;
   }
   EXPECT_EQ(same, 0);
-}
-
-void expect_throw_naming(const NoiseConfig& c, const std::string& name) {
-  try {
-    (void)make_noise_model(c, 1);
-    ADD_FAILURE() << "no exception; expected one naming " << name;
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
-  }
 }
 
 TEST(NoiseGaussian, InvalidParametersThrowNamingThem) {

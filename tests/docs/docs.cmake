@@ -1,0 +1,13 @@
+# The documentation kept honest: docs/cli.md is what the generator writes today, and it names every
+# flag `gpsemu --help` and `gpsemu SUBCOMMAND --help` print. (The other .cmake files here are their
+# -P scripts.)
+add_test(NAME docs.cli_reference_is_current
+         COMMAND ${CMAKE_COMMAND} -DGENERATOR=$<TARGET_FILE:gpsemu-cli-doc>
+                 -DDOC=${PROJECT_SOURCE_DIR}/docs/cli.md -DOUT=${CMAKE_CURRENT_BINARY_DIR}/cli.md.generated
+                 -P ${CMAKE_CURRENT_LIST_DIR}/cli_doc_current.cmake)
+set_tests_properties(docs.cli_reference_is_current PROPERTIES LABELS unit)
+
+add_test(NAME docs.cli_reference_covers_help
+         COMMAND ${CMAKE_COMMAND} -DGPSEMU=$<TARGET_FILE:gpsemu> -DDOC=${PROJECT_SOURCE_DIR}/docs/cli.md
+                 -P ${CMAKE_CURRENT_LIST_DIR}/cli_doc_covers_help.cmake)
+set_tests_properties(docs.cli_reference_covers_help PROPERTIES LABELS e2e)
