@@ -52,25 +52,25 @@ void EpochLoop::run(const std::atomic<bool>& stop) {
   ahead_.assign(n, {});
   ClockIo* io = clock_.io();
   for (std::int64_t k = 0; !stop.load(); ++k) {
-    const std::optional<UtcNs> t = producer_.next_epoch();
-    if (!t) break;
+    UtcNs t{};
+    if (!producer_.next_epoch(t)) break;
     if (!io) {
       // Fast: nothing waits and nothing is polled; service client input and new clients now and then.
       if ((stats_.epochs_emitted & 0x3ff) == 0) {
         sink_.service_all();
         producer_.service_inputs();
       }
-    } else if (const std::optional<UtcNs> deadline = clock_.deadline_of(*t)) {
+    } else if (const std::optional<UtcNs> deadline = clock_.deadline_of(t)) {
       // Every PPS edge due before the epoch's bytes goes first (a leading edge at the same
       // instant too: the NMEA of second S follows pulse S). A fleet drives them in run_ahead().
       if (pps_ && !ahead) pps_->run_until(*deadline, *io, stop);
       if (stop.load()) break;
-      if (clock_.late(*t)) {
+      if (clock_.late(t)) {
         ++stats_.epochs_late_skipped;
         continue;
       }
       if (ahead) {
-        if (!run_ahead(k, *t, *deadline, stop)) break;
+        if (!run_ahead(k, t, *deadline, stop)) break;
         ++stats_.epochs_emitted;
         continue;
       }
@@ -86,14 +86,14 @@ void EpochLoop::run(const std::atomic<bool>& stop) {
       }
     } else {
       // Not on the wall clock (lockstep): the clock waits, servicing input meanwhile.
-      const EpochWait wait = clock_.wait_for(*t, stop);
+      const EpochWait wait = clock_.wait_for(t, stop);
       if (wait == EpochWait::stopped) break;
       if (wait == EpochWait::skip) {
         ++stats_.epochs_late_skipped;
         continue;
       }
     }
-    send(*t);
+    send(t);
     ++stats_.epochs_emitted;
   }
   if (helper_) helper_->wait_done();

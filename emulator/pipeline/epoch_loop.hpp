@@ -31,8 +31,9 @@ namespace gpsemu {
 class EpochProducer {
  public:
   virtual ~EpochProducer() = default;
-  /// The next epoch's time on the clock's timeline, or nullopt when there is none left.
-  [[nodiscard]] virtual std::optional<UtcNs> next_epoch() = 0;
+  /// Sets `t` to the next epoch's time on the clock's timeline; false when there is none left.
+  /// (A bool and an out-parameter, not an optional: this runs a million times a second.)
+  [[nodiscard]] virtual bool next_epoch(UtcNs& t) = 0;
   /// False for a receiver with nothing more to send (its source ended).
   [[nodiscard]] virtual bool active(std::size_t /*i*/) const { return true; }
   /// Receiver i's bytes for epoch `t` (the epoch next_epoch() returned); valid until the next call

@@ -54,13 +54,12 @@ class ChannelSet final : public EpochProducer {
   ChannelSet(const Timeline& timeline, std::optional<std::int64_t> epochs)
       : timeline_(timeline), count_(epochs.value_or(std::numeric_limits<std::int64_t>::max())) {}
 
-  std::optional<UtcNs> next_epoch() override {
-    if (k_ >= count_) return std::nullopt;
-    const UtcNs t = timeline_.grid.time_of(timeline_.first_index + k_++);
+  bool next_epoch(UtcNs& t) override {
+    if (k_ >= count_) return false;
+    t = timeline_.grid.time_of(timeline_.first_index + k_++);
     bool all_ended = true;
     for (const auto& ch : channels) all_ended = ch->ended_at(t) && all_ended;
-    if (all_ended) return std::nullopt;
-    return t;
+    return !all_ended;
   }
   [[nodiscard]] bool active(std::size_t i) const override { return !channels[i]->ended(); }
   std::string_view produce(std::size_t i, UtcNs t) override {

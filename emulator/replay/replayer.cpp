@@ -37,16 +37,16 @@ class RecordedEpochs final : public EpochProducer {
         cycle_(std::max(log.epochs[range.last].log_time - base_, nanoseconds::zero()) + log.period),
         next_(range.first) {}
 
-  std::optional<UtcNs> next_epoch() override {
+  bool next_epoch(UtcNs& t) override {
     if (next_ > range_.last || stats_.passes == 0) {
-      if (stats_.passes > 0 && !loop_) return std::nullopt;
+      if (stats_.passes > 0 && !loop_) return false;
       ++stats_.passes;
       next_ = range_.first;
     }
     current_ = next_++;
     const nanoseconds v = static_cast<std::int64_t>(stats_.passes - 1) * cycle_ + (log_.epochs[current_].log_time - base_);
-    if (v >= duration_) return std::nullopt;
-    return UtcNs{v};
+    t = UtcNs{v};
+    return v < duration_;
   }
 
   std::string_view produce(std::size_t /*receiver*/, UtcNs t) override {
