@@ -6,9 +6,9 @@
 
 #include <spdlog/spdlog.h>
 
-#include "emulator/pipeline/realtime.hpp"
 #include "emulator/config/config.hpp"
 #include "emulator/replay/replayer.hpp"
+#include "transport/posix/realtime.hpp"
 
 namespace gpsemu {
 
@@ -29,7 +29,7 @@ Subcommand add_replay_command(CLI::App& app) {
                 open_replay_outputs(config.receiver(), config.timeline, config.replay, log);
             Replayer replayer(config.timeline, config.replay, std::move(log), *path, std::move(outputs));
             // --realtime-priority, --lock-memory, --timer-slack: as for the emulator's loop.
-            for (const std::string& line : apply_realtime_settings(config.process.realtime)) spdlog::info("{}", line);
+            for (const std::string& line : posix::apply_realtime_settings(config.process.realtime)) spdlog::info("{}", line);
             return replayer.run(stop);
           }};
 }

@@ -6,20 +6,12 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <cstring>
 #include <stdexcept>
 #include <string>
 
+#include "transport/posix/errors.hpp"
+
 namespace gpsemu::posix {
-namespace {
-
-WallTime realtime_now() {
-  timespec ts{};
-  clock_gettime(CLOCK_REALTIME, &ts);
-  return WallTime{std::chrono::nanoseconds{static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec}};
-}
-
-}  // namespace
 
 Waiter::Waiter() : Waiter(FdLister{}, std::function<void()>{}) {}
 
@@ -30,7 +22,7 @@ Waiter::Waiter(FdLister fds, ReadyServicer service) : Waiter(std::move(fds), std
 Waiter::Waiter(FdLister fds, std::function<void()> service) : fds_(std::move(fds)), service_(std::move(service)) {
   timer_fd_ = ::timerfd_create(CLOCK_REALTIME, TFD_CLOEXEC);
   if (timer_fd_ < 0) {
-    throw std::runtime_error(std::string("cannot create a CLOCK_REALTIME timerfd: ") + std::strerror(errno));
+    throw std::runtime_error(std::string("cannot create a CLOCK_REALTIME timerfd: ") + errno_text(errno));
   }
 }
 
@@ -67,7 +59,7 @@ bool Waiter::read_timer(const std::atomic<bool>& stop) {
 }
 
 void Waiter::sleep_until(WallTime deadline, const std::atomic<bool>& stop) {
-  if (stop.load() || realtime_now() >= deadline) return;
+  if (stop.load() || wall_clock_now() >= deadline) return;
   const std::int64_t ns = deadline.time_since_epoch().count();
   itimerspec when{};
   when.it_value = {static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};
@@ -95,7 +87,7 @@ void Waiter::sleep_until(WallTime deadline, const std::atomic<bool>& stop) {
     if (poll_list_.front().revents & POLLIN) return;
     // Input at or after the deadline waits for the next wait: the deadline's work goes first
     // (and another thread may be writing to the outputs from the deadline on).
-    if (realtime_now() >= deadline) break;
+    if (wall_clock_now() >= deadline) break;
     service_polled();
     const bool input = std::any_of(poll_list_.begin() + 1, poll_list_.end(),
                                    [](const pollfd& p) { return (p.revents & POLLIN) != 0; });

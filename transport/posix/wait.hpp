@@ -15,10 +15,9 @@
 #include <functional>
 #include <vector>
 
-namespace gpsemu::posix {
+#include "transport/posix/wall_clock.hpp"
 
-/// UTC on CLOCK_REALTIME, nanoseconds (the same type as gpsemu::UtcNs and wall_clock.hpp's).
-using WallTime = std::chrono::sys_time<std::chrono::nanoseconds>;
+namespace gpsemu::posix {
 
 class Waiter {
  public:
