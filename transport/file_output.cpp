@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/stat.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
@@ -17,7 +18,38 @@ namespace {
 constexpr int kFlushWaitMs = 1000;  ///< one wait for a slow reader in flush() (milliseconds)
 constexpr int kFlushWaits = 5;      ///< how many such waits before flush() gives up
 
+/// Opens `path` for writing as `mode` says without changing what it holds; `created` receives
+/// the file this made (none when it existed). Returns -1 with errno set when it cannot.
+int open_unchanged(const std::filesystem::path& path, FileMode mode, std::filesystem::path& created) {
+  const int flags = O_WRONLY | O_CLOEXEC | O_NOCTTY | (mode == FileMode::append ? O_APPEND : 0);
+  int fd = ::open(path.c_str(), flags | O_CREAT | O_EXCL, 0644);
+  if (fd >= 0) {
+    created = path;
+    return fd;
+  }
+  if (errno != EEXIST || mode == FileMode::create_new) return -1;
+  fd = ::open(path.c_str(), flags);
+  if (fd >= 0 || errno != ENOENT) return fd;
+  // A dangling symlink (O_EXCL does not follow it; without O_EXCL its target is created), or a
+  // file removed meanwhile: what was created is whatever the descriptor names.
+  fd = ::open(path.c_str(), flags | O_CREAT, 0644);
+  if (fd >= 0) {
+    std::error_code ec;
+    created = std::filesystem::read_symlink("/proc/self/fd/" + std::to_string(fd), ec);
+  }
+  return fd;
+}
+
 }  // namespace
+
+std::string_view to_string(FileMode mode) {
+  switch (mode) {
+    case FileMode::truncate: return "truncate";
+    case FileMode::append: return "append";
+    case FileMode::create_new: return "new";
+  }
+  return "?";
+}
 
 FileOutput::FileOutput(int fd, bool owns_fd, std::string description, bool flush_each_epoch)
     : fd_(fd),
@@ -27,13 +59,18 @@ FileOutput::FileOutput(int fd, bool owns_fd, std::string description, bool flush
   pending_.reserve(kBufferBytes);
 }
 
-FileOutput::FileOutput(const std::filesystem::path& path, bool flush_each_epoch)
+FileOutput::FileOutput(const std::filesystem::path& path, bool flush_each_epoch, FileMode mode)
     : FileOutput(-1, true, "file " + path.string(), flush_each_epoch) {
-  fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd_ < 0) {
-    throw std::runtime_error(fmt::format("file output: cannot open {} for writing: {}",
-                                         path.string(), posix::errno_text(errno)));
+  mode_ = mode;
+  fd_ = open_unchanged(path, mode, created_);
+  if (fd_ >= 0) return;
+  if (errno == EEXIST) {
+    throw std::runtime_error(fmt::format(
+        "file output: {} already exists and file:PATH?mode=new refuses to overwrite it (remove it, or use "
+        "file:{}?mode=append to add to it, or file:{} to replace it)", path.string(), path.string(), path.string()));
   }
+  throw std::runtime_error(fmt::format("file output: cannot open {} for writing: {}", path.string(),
+                                       posix::errno_text(errno)));
 }
 
 std::unique_ptr<FileOutput> FileOutput::to_stdout(bool flush_each_epoch) {
@@ -50,6 +87,24 @@ FileOutput::~FileOutput() {
   if (owns_fd_ && fd_ >= 0 && ::close(fd_) != 0) {
     spdlog::warn("{}: close failed: {}", description_, posix::errno_text(errno));
   }
+  // Start-up failed before the run began: a file that was not there is not left behind.
+  if (!committed_ && !created_.empty()) ::unlink(created_.c_str());
+}
+
+bool FileOutput::take_over(std::string& error_text) {
+  committed_ = true;
+  if (mode_ != FileMode::truncate || !created_.empty() || fd_ < 0) return true;
+  struct stat st {};
+  if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode)) return true;  // a device or FIFO: nothing to truncate
+  if (::ftruncate(fd_, 0) == 0) return true;
+  error_text = fmt::format("cannot truncate: {}", posix::errno_text(errno));
+  return false;
+}
+
+void FileOutput::commit() {
+  if (committed_) return;
+  std::string error_text;
+  if (!take_over(error_text)) throw std::runtime_error(fmt::format("{}: {}", description_, error_text));
 }
 
 FileOutput::DrainResult FileOutput::drain(bool wait, std::string& error_text) {
@@ -82,6 +137,7 @@ FileOutput::DrainResult FileOutput::drain(bool wait, std::string& error_text) {
 }
 
 WriteStatus FileOutput::write_bytes(std::string_view bytes, std::string& error_text) {
+  if (!committed_ && !take_over(error_text)) return WriteStatus::error;
   if (!pending_.empty() && pending_.size() + bytes.size() > kBufferBytes) {
     if (drain(false, error_text) == DrainResult::failed) return WriteStatus::error;
     if (!pending_.empty() && pending_.size() + bytes.size() > kBufferBytes) {

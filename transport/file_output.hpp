@@ -7,27 +7,47 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <string_view>
 
 #include "transport/output.hpp"
 
 namespace gpsemu::transport {
+
+/// What a file output does with an existing file (`file:PATH?mode=...`). Every mode follows a
+/// symlink at PATH to its target.
+enum class FileMode {
+  truncate,    ///< the default: truncated when the run starts (commit()); created when missing
+  append,      ///< written after what it holds (O_APPEND); created when missing
+  create_new,  ///< `new`: must not exist yet (a symlink, even a dangling one, counts as existing)
+};
+
+/// "truncate", "append", "new".
+[[nodiscard]] std::string_view to_string(FileMode mode);
 
 class FileOutput final : public Output {
  public:
   /// Bytes kept before they are written out when not flushing each epoch (bytes).
   static constexpr std::size_t kBufferBytes = std::size_t{1} << 20;
 
-  /// Creates or truncates `path`. With `flush_each_epoch` every epoch is written out at once
-  /// (real time); without it, bytes are buffered (batch generation). Throws std::runtime_error
-  /// naming the path when it cannot be opened for writing.
-  FileOutput(const std::filesystem::path& path, bool flush_each_epoch);
+  /// Opens `path` for writing as `mode` says, creating it when missing, but changes nothing it
+  /// holds before commit() (or the first write): destroyed before that, it leaves an existing file
+  /// as it was and removes a file it created. With `flush_each_epoch` every epoch is written out
+  /// at once (real time); without it, bytes are buffered (batch generation). Throws
+  /// std::runtime_error naming the path when it cannot be opened for writing, or exists with
+  /// FileMode::create_new.
+  FileOutput(const std::filesystem::path& path, bool flush_each_epoch, FileMode mode = FileMode::truncate);
 
   /// Writes to the process's standard output (file descriptor 1, not std::cout), which it leaves
   /// open. Throws std::runtime_error when standard output is closed.
   static std::unique_ptr<FileOutput> to_stdout(bool flush_each_epoch);
 
-  /// Flushes what is buffered, then closes the file (never standard output).
+  /// Flushes what is buffered, then closes the file (never standard output); removes a file it
+  /// created if it was never committed.
   ~FileOutput() override;
+
+  /// Takes the file over: truncates it (FileMode::truncate, a regular file). Throws
+  /// std::runtime_error naming the path when it cannot.
+  void commit() override;
 
   /// "file out.nmea" or "stdout".
   [[nodiscard]] std::string describe() const override { return description_; }
@@ -42,9 +62,14 @@ class FileOutput final : public Output {
 
   FileOutput(int fd, bool owns_fd, std::string description, bool flush_each_epoch);
   DrainResult drain(bool wait, std::string& error_text);
+  /// commit()'s work; false (with `error_text`) when the file cannot be truncated.
+  bool take_over(std::string& error_text);
 
   int fd_ = -1;
   bool owns_fd_ = false;
+  FileMode mode_ = FileMode::append;  ///< standard output: nothing to truncate
+  bool committed_ = false;
+  std::filesystem::path created_;  ///< the file this output created (removed if never committed)
   std::string description_;
   bool flush_each_epoch_ = false;
   std::string pending_;  ///< bytes accepted but not yet handed to the operating system

@@ -65,6 +65,12 @@ class Output {
   /// Flushes buffered bytes (files). Called at shutdown.
   virtual void flush() {}
 
+  /// Called once every output, the tee and the PPS line of the run are open: the output may now
+  /// change what it writes to (a file output truncates its file). An output destroyed before
+  /// (start-up failed) leaves its destination as it found it. A backend that needs it also
+  /// commits at its first write.
+  virtual void commit() {}
+
   [[nodiscard]] const OutputStats& stats() const { return stats_; }
 
  protected:

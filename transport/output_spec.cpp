@@ -46,6 +46,26 @@ bool all_digits(std::string_view text) {
   return !text.empty() && std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
 }
 
+/// file:PATH[?mode=truncate|append|new]: `value` is what follows "file:". A '?' not followed by
+/// "mode=" is part of the path.
+OutputSpec parse_file(std::string_view spec, std::string_view value) {
+  OutputSpec out{OutputKind::file, {}};
+  std::string_view path = value;
+  if (const std::size_t q = value.rfind('?'); q != std::string_view::npos && value.substr(q + 1, 5) == "mode=") {
+    path = value.substr(0, q);
+    const std::string_view mode = value.substr(q + 6);
+    if (mode == "append") {
+      out.file_mode = FileMode::append;
+    } else if (mode == "new") {
+      out.file_mode = FileMode::create_new;
+    } else if (mode != "truncate") {
+      reject(spec, fmt::format("file mode '{}' is not one of truncate (the default), append, new", printable(mode)));
+    }
+  }
+  out.path = checked_path(spec, "file:PATH", path);
+  return out;
+}
+
 /// serial:DEVICE[@BAUD] or serial:usb:VID:PID[:SERIAL][@BAUD]: `value` is what follows "serial:".
 OutputSpec parse_serial(std::string_view spec, std::string_view value) {
   OutputSpec out{OutputKind::serial, {}};
@@ -116,7 +136,7 @@ OutputSpec parse_output_spec(std::string_view spec) {
   }
   if (kind == "file") {
     if (!value) reject(spec, "file output needs a path (file:PATH)");
-    return OutputSpec{OutputKind::file, checked_path(spec, "file:PATH", *value)};
+    return parse_file(spec, *value);
   }
   if (kind == "stdout") {
     if (value) reject(spec, "stdout takes no argument");
@@ -139,7 +159,8 @@ std::string to_string(const OutputSpec& spec) {
     case OutputKind::pty:
       return spec.path.empty() ? "pty" : "pty:" + spec.path.string();
     case OutputKind::file:
-      return "file:" + spec.path.string();
+      if (spec.file_mode == FileMode::truncate) return "file:" + spec.path.string();
+      return fmt::format("file:{}?mode={}", spec.path.string(), to_string(spec.file_mode));
     case OutputKind::standard_output:
       return "stdout";
     case OutputKind::serial: {
@@ -162,7 +183,7 @@ std::unique_ptr<Output> make_output(const OutputSpec& spec, const OutputOptions&
                                              ? std::nullopt
                                              : std::optional<std::filesystem::path>(spec.path));
     case OutputKind::file:
-      return std::make_unique<FileOutput>(spec.path, options.realtime);
+      return std::make_unique<FileOutput>(spec.path, options.realtime, spec.file_mode);
     case OutputKind::standard_output:
       return FileOutput::to_stdout(options.realtime);
     case OutputKind::serial: {

@@ -9,6 +9,7 @@
 #include <string>
 #include <string_view>
 
+#include "transport/file_output.hpp"
 #include "transport/output.hpp"
 #include "transport/serial_ports.hpp"
 
@@ -17,7 +18,7 @@ namespace gpsemu::transport {
 /// Which backend a spec names.
 enum class OutputKind {
   pty,              ///< `pty` or `pty:LINK`
-  file,             ///< `file:PATH`
+  file,             ///< `file:PATH[?mode=append|new]`
   standard_output,  ///< `stdout`
   serial,           ///< `serial:DEVICE[@BAUD]` or `serial:usb:VID:PID[:SERIAL][@BAUD]`
   tcp,              ///< `tcp:[HOST:]PORT`: a server NMEA clients connect to
@@ -37,13 +38,15 @@ struct OutputSpec {
   std::uint16_t port = 0;
   /// serial: the USB adapter to find by identity (and to re-find after a replug).
   std::optional<UsbSelector> usb{};
+  /// file: what to do with an existing file (`?mode=append|new`; default: truncate it).
+  FileMode file_mode = FileMode::truncate;
 
   friend bool operator==(const OutputSpec&, const OutputSpec&) = default;
 };
 
 /// The accepted forms, for help texts and error messages.
 inline constexpr std::string_view kOutputSpecForms =
-    "pty[:LINK], file:PATH, stdout, serial:DEVICE[@BAUD], serial:usb:VID:PID[:SERIAL][@BAUD], "
+    "pty[:LINK], file:PATH[?mode=append|new], stdout, serial:DEVICE[@BAUD], serial:usb:VID:PID[:SERIAL][@BAUD], "
     "tcp:[HOST:]PORT, udp:HOST:PORT";
 
 /// Parses one of kOutputSpecForms. Throws std::invalid_argument naming the spec and listing the

@@ -27,12 +27,14 @@ class TeeOutput final : public Output {
  public:
   using WallClock = std::function<std::chrono::system_clock::time_point()>;
 
-  /// Creates or truncates `path`. `now` (tests) replaces the system clock. Throws
+  /// Opens `path` like FileOutput (created when missing, truncated at commit()). `now` (tests) replaces the system clock. Throws
   /// std::runtime_error naming the path when it cannot be opened for writing.
   TeeOutput(const std::filesystem::path& path, bool flush_each_epoch, WallClock now = {});
 
   [[nodiscard]] std::string describe() const override { return "tee " + path_; }
   void flush() override { file_.flush(); }
+  /// Truncates the file (FileOutput::commit()): until then an existing file is left as it was.
+  void commit() override { file_.commit(); }
 
   /// "# sent 2024-05-01T12:00:00.050123Z\n" for `time` (microseconds, truncated).
   [[nodiscard]] static std::string sent_line(std::chrono::system_clock::time_point time);

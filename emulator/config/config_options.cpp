@@ -322,12 +322,12 @@ std::vector<OptionDef> make_option_table() {
       [](ConfigDraft& d, V v) { d.receiver.settings.format.time_decimals = static_cast<int>(parse_number("time-decimals", v.back(), 0, 3)); });
   // Outputs and logging
   scope = OptionScope::receiver;
-  add("output", "SPEC", "where NMEA goes, repeatable: pty[:LINK] | file:PATH | stdout | serial:DEVICE[@BAUD] | "
+  add("output", "SPEC", "where NMEA goes, repeatable: pty[:LINK] | file:PATH[?mode=append|new] (truncated unless append; new: must not exist) | stdout | serial:DEVICE[@BAUD] | "
       "serial:usb:VID:PID[:SERIAL][@BAUD] (8N1; BAUD 4800..921600, default 9600) | tcp:[HOST:]PORT (server; HOST "
       "default 127.0.0.1) | udp:HOST:PORT (default pty:/tmp/gpsemu)",
       [](ConfigDraft& d, V v) { d.receiver.outputs = v; }, true);
   add("tee", "FILE", "also write everything sent to FILE, each epoch after a '# sent <UTC send time>' line "
-      "(gpsemu replay reads it back) (default none)",
+      "(gpsemu replay reads it back; truncated) (default none)",
       [](ConfigDraft& d, V v) { d.receiver.tee = v.back(); });
   // PPS
   scope = OptionScope::pps;

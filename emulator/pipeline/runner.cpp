@@ -121,6 +121,8 @@ Runner::Runner(RunSettings settings, std::optional<RunnerIo> io)
   clock_ = make_epoch_clock(loop_.clock, *io_, fleet_time_ ? *fleet_time_ : *channels_->channels.front()->source(),
                             timeline_.first_epoch(), timeline_.first_wall() + loop_.latency, timeline_.grid.nominal_period(),
                             timeline_.epoch_minus_wall, loop_.latency);
+  // Everything that can fail is open: only now are the outputs' files truncated.
+  sink_.commit();
   log_banner();
 }
 

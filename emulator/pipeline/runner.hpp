@@ -46,7 +46,8 @@ class ChannelSet;
 class Runner {
  public:
   /// Opens every receiver's source and outputs. Throws (std::exception with a clear message) when
-  /// any of them cannot be set up: the caller exits with status 2.
+  /// any of them cannot be set up: the caller exits with status 2, and no output file has been
+  /// changed (they are truncated once everything is open: Sink::commit()).
   explicit Runner(const Config& config);
   /// One receiver writing to `io` instead of opening config.outputs and config.pps (tests:
   /// recording fakes).

@@ -51,6 +51,12 @@ void Sink::flush() {
   }
 }
 
+void Sink::commit() {
+  for (const auto& outputs : receivers_) {
+    for (const auto& out : outputs) out->commit();
+  }
+}
+
 void Sink::list_inputs(std::vector<int>& fds, std::vector<transport::Output*>& owners) const {
   for (const auto& outputs : receivers_) {
     for (const auto& out : outputs) {

@@ -56,6 +56,9 @@ class Sink {
   /// Services every output (between epochs when nothing is polled: --fast).
   void service_all();
   void flush();
+  /// Every output of every receiver takes over its destination (Output::commit(): files are
+  /// truncated), once everything that can fail at start-up is open. Throws what an output throws.
+  void commit();
 
   /// Appends the descriptors to poll for client input, and the output each belongs to.
   void list_inputs(std::vector<int>& fds, std::vector<transport::Output*>& owners) const;

@@ -114,6 +114,7 @@ Replayer::Replayer(const TimelineSettings& timeline, const ReplaySettings& repla
     : settings_(replay_pacing(timeline, replay)), log_(std::move(log)), name_(std::move(log_name)) {
   range_ = check_replay_options(timeline, replay, log_, name_);
   sink_.add(std::move(outputs));
+  sink_.commit();  // every output is open: only now are their files truncated
 }
 
 Replayer::~Replayer() = default;

@@ -87,6 +87,58 @@ TEST_F(FileOutputTest, ExistingFileIsTruncated) {
   EXPECT_EQ(read_file(path), epoch(1));
 }
 
+TEST_F(FileOutputTest, NothingChangesBeforeCommitOrTheFirstWrite) {
+  const fs::path existing = dir_ / "existing.nmea";
+  const fs::path missing = dir_ / "missing.nmea";
+  std::ofstream(existing) << "kept\n";
+  {
+    FileOutput kept(existing, false);
+    FileOutput created(missing, false);
+    EXPECT_TRUE(fs::exists(missing));  // opened (so start-up fails early), not yet taken over
+  }  // start-up failed: dropped before commit()
+  EXPECT_EQ(read_file(existing), "kept\n");
+  EXPECT_FALSE(fs::exists(missing));
+  {
+    FileOutput out(existing, false);
+    out.commit();
+    EXPECT_EQ(read_file(existing), "");
+  }
+  EXPECT_TRUE(fs::exists(existing));
+}
+
+TEST_F(FileOutputTest, AppendKeepsWhatTheFileHeld) {
+  const fs::path path = dir_ / "log.nmea";
+  std::ofstream(path) << "before\n";
+  {
+    FileOutput out(path, true, FileMode::append);
+    out.commit();
+    ASSERT_EQ(out.write_epoch(epoch(1)), WriteStatus::ok);
+  }
+  EXPECT_EQ(read_file(path), "before\n" + epoch(1));
+}
+
+TEST_F(FileOutputTest, NewRefusesAnExistingFileOrSymlinkAndCreatesAMissingOne) {
+  const fs::path path = dir_ / "out.nmea";
+  std::ofstream(path) << "precious\n";
+  fs::create_symlink(dir_ / "nowhere", dir_ / "dangling");
+  for (const fs::path& p : {path, dir_ / "dangling"}) {
+    try {
+      FileOutput out(p, false, FileMode::create_new);
+      ADD_FAILURE() << "mode new accepted the existing " << p;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(p.string() + " already exists"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(read_file(path), "precious\n");
+  EXPECT_FALSE(fs::exists(dir_ / "nowhere"));
+  {
+    FileOutput out(dir_ / "fresh.nmea", false, FileMode::create_new);
+    out.commit();
+    ASSERT_EQ(out.write_epoch(epoch(2)), WriteStatus::ok);
+  }
+  EXPECT_EQ(read_file(dir_ / "fresh.nmea"), epoch(2));
+}
+
 TEST_F(FileOutputTest, UnopenablePathThrowsNamingPath) {
   for (const fs::path& path : {dir_ / "no-such-dir" / "out.nmea", dir_}) {
     try {

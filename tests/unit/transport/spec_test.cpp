@@ -79,6 +79,23 @@ TEST(OutputSpecTest, InvalidSpecsThrowNamingTheSpecAndTheAcceptedForms) {
   }
 }
 
+TEST(OutputSpecTest, FileModesParseAndReadBack) {
+  const OutputSpec append = parse_output_spec("file:out.nmea?mode=append");
+  EXPECT_EQ(append.path, "out.nmea");
+  EXPECT_EQ(append.file_mode, FileMode::append);
+  EXPECT_EQ(to_string(append), "file:out.nmea?mode=append");
+  const OutputSpec fresh = parse_output_spec("file:/tmp/a?b?mode=new");  // the last '?mode=' only
+  EXPECT_EQ(fresh.path, "/tmp/a?b");
+  EXPECT_EQ(fresh.file_mode, FileMode::create_new);
+  EXPECT_EQ(to_string(fresh), "file:/tmp/a?b?mode=new");
+  EXPECT_EQ(parse_output_spec("file:a?mode=truncate"), parse_output_spec("file:a"));
+  EXPECT_EQ(parse_output_spec("file:what?").path, "what?");  // a '?' without mode= is part of the path
+  for (const std::string bad : {"file:a?mode=", "file:a?mode=APPEND", "file:?mode=new"}) {
+    SCOPED_TRACE(bad);
+    EXPECT_THROW((void)parse_output_spec(bad), std::invalid_argument);
+  }
+}
+
 TEST(OutputSpecTest, SerialTcpAndUdpKindsParse) {
   // Their forms in detail: transport_serial_test, transport_tcp_test, transport_udp_test.
   EXPECT_EQ(parse_output_spec("serial:/dev/ttyUSB0").kind, OutputKind::serial);
