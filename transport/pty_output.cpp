@@ -27,6 +27,33 @@ namespace {
 
 constexpr std::size_t kMaxInputBytesPerService = 1 << 20;  ///< bounds one service() call
 
+/// The byte of a pty that a gpsemu serving `link` locks on its own slave descriptor (an open file
+/// description lock: any process can test it, and it goes with its holder however that ends).
+/// The byte is picked by the link's absolute path (FNV-1a), so a pty number reused by another
+/// gpsemu for another link does not count.
+struct flock link_marker(const fs::path& link, short type) {
+  std::error_code ec;
+  const fs::path absolute = fs::absolute(link, ec);
+  std::uint64_t hash = 0xcbf29ce484222325ULL;
+  for (const unsigned char c : (ec ? link : absolute).lexically_normal().string()) hash = (hash ^ c) * 0x100000001b3ULL;
+  struct flock lock {};
+  lock.l_type = type;
+  lock.l_whence = SEEK_SET;
+  lock.l_start = static_cast<off_t>((std::uint64_t{1} << 40) + (hash & 0xffffffffULL));
+  lock.l_len = 1;
+  return lock;
+}
+
+/// Whether the pty `target` (an existing link's target) is held by a running gpsemu serving
+/// `link`. Only /dev/pts/N is probed: opening a serial line could toggle its modem lines.
+bool served_by_running_gpsemu(const fs::path& link, const fs::path& target) {
+  if (target.string().rfind("/dev/pts/", 0) != 0) return false;
+  const posix::UniqueFd fd(::open(target.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC));
+  if (!fd.valid()) return false;  // not ours to open: not a gpsemu of this user
+  struct flock lock = link_marker(link, F_WRLCK);
+  return ::fcntl(fd.get(), F_OFD_GETLK, &lock) == 0 && lock.l_type != F_UNLCK;
+}
+
 }  // namespace
 
 PtyOutput::PtyOutput(std::optional<fs::path> link) : link_(std::move(link)) {
@@ -101,18 +128,30 @@ void PtyOutput::create_link() {
           link.string()));
     }
     const fs::path old_target = fs::read_symlink(link, ec);
+    if (!old_target.empty() && served_by_running_gpsemu(link, old_target)) {
+      throw std::runtime_error(fmt::format(
+          "pty output: {} -> {} is the link of another gpsemu that is still running (it holds that pty); "
+          "refusing to take it over: stop that gpsemu or choose another link path", link.string(),
+          old_target.string()));
+    }
     if (!fs::remove(link, ec) || ec) {
       throw std::runtime_error(fmt::format("pty output: cannot remove old symlink {}: {}",
                                            link.string(), ec.message()));
     }
-    if (!old_target.empty() && fs::exists(old_target, ec)) {
-      spdlog::warn("pty output: replaced symlink {} -> {} (its target still exists: is another "
-                   "emulator using it?)",
+    if (!old_target.empty() && old_target != device_path_ && fs::exists(old_target, ec)) {
+      spdlog::warn("pty output: replaced symlink {} -> {} (its target still exists, but no running gpsemu "
+                   "serves it through this link)",
                    link.string(), old_target.string());
     } else {
       spdlog::info("pty output: replaced stale symlink {} -> {} left by an earlier run",
                    link.string(), old_target.string());
     }
+  }
+  // Marks this pty as serving `link` before the link exists, for a second gpsemu to find.
+  struct flock marker = link_marker(link, F_WRLCK);
+  if (::fcntl(slave_fd_, F_OFD_SETLK, &marker) != 0) {
+    spdlog::warn("pty output: cannot lock {} for {}: {} (a second gpsemu could take the link over)",
+                 device_path_.string(), link.string(), posix::errno_text(errno));
   }
   fs::create_symlink(device_path_, link, ec);
   if (ec) {

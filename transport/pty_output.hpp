@@ -25,8 +25,10 @@ struct PtyStats {
 class PtyOutput final : public Output {
  public:
   /// Opens a new pty in raw mode. With `link`, also creates the symlink `link` -> /dev/pts/N,
-  /// replacing a symlink left there by an earlier run. Throws std::runtime_error naming the
-  /// path when the pty cannot be created, when `link` exists and is not a symlink, or when the
+  /// replacing a symlink left there by an earlier run, and marks the pty as serving `link` (a lock
+  /// on its slave side, gone when this process ends however it ends). Throws std::runtime_error
+  /// naming the path when the pty cannot be created, when `link` exists and is not a symlink,
+  /// when `link` points to the pty of another gpsemu still running with that link, or when the
   /// directory of `link` does not exist.
   explicit PtyOutput(std::optional<std::filesystem::path> link = std::nullopt);
   /// Removes the symlink if it still points to this pty, then closes both sides.

@@ -34,6 +34,21 @@ std::string normal_path(const std::filesystem::path& p) {
   return (ec ? p : absolute).lexically_normal().string();
 }
 
+/// What a written path resolves to: absolute, normal, symlinks followed, dangling ones too (./a,
+/// a and a link to a are one file, whether a exists yet or not).
+std::string resolved_path(const std::filesystem::path& p) {
+  namespace fs = std::filesystem;
+  fs::path path = normal_path(p);
+  std::error_code ec;
+  for (int hops = 0; hops < 40 && fs::is_symlink(fs::symlink_status(path, ec)); ++hops) {
+    const fs::path target = fs::read_symlink(path, ec);
+    if (ec) break;
+    path = normal_path(target.is_absolute() ? target : path.parent_path() / target);
+  }
+  const auto resolved = fs::weakly_canonical(path, ec);
+  return ec ? path.string() : resolved.lexically_normal().string();
+}
+
 /// What an output claims, if anything (a pty without a link, tcp port 0: nothing shared).
 std::optional<std::string> output_resource(const transport::OutputSpec& spec) {
   using K = transport::OutputKind;
@@ -41,11 +56,11 @@ std::optional<std::string> output_resource(const transport::OutputSpec& spec) {
     case K::pty:
       if (spec.path.empty()) return std::nullopt;
       return "pty link " + normal_path(spec.path);
-    case K::file: return "file " + normal_path(spec.path);
+    case K::file: return "file " + resolved_path(spec.path);
     case K::standard_output: return std::string("stdout");
     case K::serial:
       if (spec.usb) return "serial adapter " + transport::to_string(spec);
-      return "serial device " + normal_path(spec.path);
+      return "serial device " + resolved_path(spec.path);
     case K::tcp:
       if (spec.port == 0) return std::nullopt;
       return fmt::format("tcp port {}", spec.port);
@@ -89,9 +104,15 @@ void check_claims(const ConfigDraft& shared, const std::vector<std::vector<Claim
   for (int i = 0; i < n; ++i) {
     for (const Claim& claim : claims[static_cast<std::size_t>(i)]) {
       const auto [it, inserted] = owner.try_emplace(claim.resource, i, &claim);
-      if (inserted || it->second.first == i) continue;
+      if (inserted) continue;
       const auto& [first, first_claim] = it->second;
       const bool listens = claim.key == "source" || claim.resource.rfind("tcp port", 0) == 0;
+      if (first == i) {  // one receiver: its bytes would go twice to one place (doubled or mangled)
+        throw ConfigError(fmt::format(
+            "{}{} '{}' and {} '{}' would both {} {}: give each output (and --tee) its own", n > 1 ? who(shared, i) + ": " : "",
+            first_claim->key, first_claim->expanded, claim.key, claim.expanded, listens ? "listen on" : "write to",
+            claim.resource));
+      }
       if (!claim.from_table && !first_claim->from_table && claim.raw == first_claim->raw &&
           claim.raw.find('{') == std::string::npos) {
         throw ConfigError(fmt::format(
@@ -212,14 +233,14 @@ std::vector<ReceiverSettings> resolve_receivers(const ConfigDraft& draft) {
       }
       if (d.tee) {
         r.tee = expand_receiver_template("tee", *d.tee, i);
-        mine.push_back({"file " + normal_path(*r.tee), "tee", *d.tee, *r.tee, table_sets("tee")});
+        mine.push_back({"file " + resolved_path(*r.tee), "tee", *d.tee, *r.tee, table_sets("tee")});
       }
     } catch (const std::invalid_argument& e) {
       throw ConfigError(n > 1 ? fmt::format("{}: {}", who(draft, i), e.what()) : std::string(e.what()));
     }
     fleet.push_back(std::move(r));
   }
-  if (n > 1) check_claims(draft, claims);
+  check_claims(draft, claims);
   // A spec that does not parse, as opening it would have said (sources are opened first).
   if (errors.source) throw ConfigError(*errors.source);
   if (errors.output) throw ConfigError(*errors.output);

@@ -9,8 +9,9 @@
 //   shared settings (defaults < file top level < command line < the receiver's table). A table
 //   that sets `seed` gets that seed; otherwise receiver i gets seed + i.
 //
-// Two receivers may not write to the same thing (pty link, file, serial device, stdout, tcp port,
-// udp destination, tee file) nor listen on the same source port: that is refused at start-up.
+// Two receivers, or two outputs (or an output and the tee) of one receiver, may not write to the
+// same thing (pty link, file, serial device, stdout, tcp port, udp destination, tee file; paths
+// compared after resolving them) nor listen on the same port: that is refused at start-up.
 #pragma once
 
 #include <string>
@@ -29,7 +30,8 @@ namespace gpsemu {
 /// table applied, derived values resolved (validate.hpp), templates expanded and the source and
 /// output specs parsed. Throws ConfigError for a bad template, a bad table, two receivers sharing
 /// an output or a source port (the message names both receivers and, for a setting without {i},
-/// says to add it), or a bad spec.
+/// says to add it), one receiver naming one destination twice (the message names both), or a bad
+/// spec.
 [[nodiscard]] std::vector<ReceiverSettings> resolve_receivers(const ConfigDraft& draft);
 
 }  // namespace gpsemu

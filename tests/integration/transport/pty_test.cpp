@@ -260,11 +260,30 @@ TEST_F(PtyOutputTest, StaleSymlinkIsReplaced) {
 
 TEST_F(PtyOutputTest, LinkTakenOverByAnotherRunIsLeftAlone) {
   std::optional<PtyOutput> first(std::in_place, link_);
-  PtyOutput second(link_);  // replaces the link while the first still runs
-  EXPECT_EQ(fs::read_symlink(link_), second.device_path());
-  first.reset();  // the first run ends: the link is the second's now, so it stays
+  PtyOutput second;  // another run's pty, to which the link is moved while the first still runs
+  fs::remove(link_);
+  fs::create_symlink(second.device_path(), link_);
+  first.reset();  // the first run ends: the link is not its own any more, so it stays
   ASSERT_TRUE(fs::is_symlink(link_));
   EXPECT_EQ(fs::read_symlink(link_), second.device_path());
+}
+
+TEST_F(PtyOutputTest, LinkOfALivePtyServingItIsRefusedAndFreedWhenItEnds) {
+  std::optional<PtyOutput> first(std::in_place, link_);
+  try {
+    PtyOutput second(link_);
+    ADD_FAILURE() << "a second pty took over the link of a live one";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(link_.string()), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("still running"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(fs::read_symlink(link_), first->device_path());  // untouched
+  // A pty serving another link does not hold this one.
+  const fs::path other = dir_ / "other";
+  PtyOutput unrelated(other);
+  first.reset();
+  PtyOutput third(link_);
+  EXPECT_EQ(fs::read_symlink(link_), third.device_path());
 }
 
 }  // namespace

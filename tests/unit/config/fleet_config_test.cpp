@@ -103,6 +103,20 @@ TEST(Fleet, TwoReceiversOnOneResourceAreNamed) {
   EXPECT_TRUE(contains(ports, "listen on tcp port 7002")) << ports;
 }
 
+TEST(Fleet, OneReceiverNamingOneDestinationTwiceIsRefusedNamingBoth) {
+  std::string e = error_of(std::nullopt, {{"output", {"stdout", "stdout"}}});
+  EXPECT_TRUE(contains(e, "output 'stdout' and output 'stdout' would both write to stdout")) << e;
+  e = error_of(std::nullopt, {{"output", {"file:/tmp/gpsemu_dup/a", "file:/tmp/gpsemu_dup/./b/../a"}}});
+  EXPECT_TRUE(contains(e, "output 'file:/tmp/gpsemu_dup/a' and output 'file:/tmp/gpsemu_dup/./b/../a'")) << e;
+  e = error_of(std::nullopt, {{"output", {"file:/tmp/gpsemu_dup/a?mode=append"}}, {"tee", {"/tmp/gpsemu_dup/a"}}});
+  EXPECT_TRUE(contains(e, "and tee '/tmp/gpsemu_dup/a'")) << e;
+  e = error_of(std::nullopt, {{"output", {"udp:127.0.0.1:9", "udp:127.0.0.1:9"}}});
+  EXPECT_TRUE(contains(e, "would both write to udp destination 127.0.0.1:9")) << e;
+  e = error_of(std::nullopt, {{"receivers", {"2"}}, {"output", {"pty:/tmp/g{i}", "pty:/tmp/g{i}"}}});
+  EXPECT_TRUE(contains(e, "receiver 0: output 'pty:/tmp/g0' and output 'pty:/tmp/g0'")) << e;
+  EXPECT_EQ(error_of(std::nullopt, {{"output", {"pty", "pty", "tcp:0", "tcp:0", "stdout"}}}), "(no error)");
+}
+
 TEST(Fleet, ReceiverTablesOverrideTheSharedSettings) {
   const auto file = write_temp("a.toml",
                                "rate = 5\n"
