@@ -73,6 +73,35 @@ std::string default_sbas() {
   return p;
 }
 
+/// Generation-9 keys without a modelled effect that drivers read back (CFG-VALGET), with the
+/// values of a factory-default M9/F9.
+struct DefaultKey {
+  std::uint32_t key;
+  std::uint64_t value;
+};
+constexpr std::array<DefaultKey, 20> kDefaultKeys = {{
+    {0x20030001, 0},  // CFG-TMODE-MODE: disabled
+    {0x20520002, 1},  // CFG-UART1-STOPBITS: 1
+    {0x20520003, 0},  // CFG-UART1-DATABITS: 8
+    {0x20520004, 0},  // CFG-UART1-PARITY: none
+    {0x10520005, 1},  // CFG-UART1-ENABLED
+    {0x201100A3, 6},  // CFG-NAVSPG-INFIL_MINCNO (dBHz)
+    {0x10220001, 0},  // CFG-ODO-USE_ODO
+    {0x10220002, 0},  // CFG-ODO-USE_COG
+    {0x10220003, 0},  // CFG-ODO-OUTLPVEL
+    {0x10220004, 0},  // CFG-ODO-OUTLPCOG
+    {0x1041000D, 0},  // CFG-ITFM-ENABLE
+    {0x20140011, 3},  // CFG-NAVHPG-DGNSSMODE: RTK fixed
+    {0x1031001F, 1},  // CFG-SIGNAL-GPS_ENA
+    {0x10310001, 1},  // CFG-SIGNAL-GPS_L1CA_ENA
+    {0x10310020, 1},  // CFG-SIGNAL-SBAS_ENA
+    {0x10310021, 1},  // CFG-SIGNAL-GAL_ENA
+    {0x10310022, 1},  // CFG-SIGNAL-BDS_ENA
+    {0x10310024, 1},  // CFG-SIGNAL-QZSS_ENA
+    {0x10310025, 1},  // CFG-SIGNAL-GLO_ENA
+    {0x10310018, 1},  // CFG-SIGNAL-GLO_L1_ENA
+}};
+
 }  // namespace
 
 std::uint8_t Settings::rate(MessageId id, Port port) const {
@@ -102,6 +131,9 @@ Settings start_settings(const StartSettings& start) {
   s.nav5 = default_nav5();
   s.gnss = default_gnss();
   s.sbas = default_sbas();
+  if (model_info(start.model).key_value_config) {
+    for (const DefaultKey& k : kDefaultKeys) s.other_keys[k.key] = k.value;
+  }
   return s;
 }
 
