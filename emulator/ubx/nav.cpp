@@ -16,14 +16,20 @@ constexpr double kDegToRad = std::numbers::pi / 180.0;
 constexpr std::uint32_t kTimeAccuracyNs = 20;  // tAcc with a fix (ns)
 constexpr std::uint32_t kNoFixTimeAccuracyNs = 1'000'000'000;
 
+// Out-of-range values saturate; NaN becomes 0 (a fix never carries one, a fuzzer does).
 std::int32_t round_i32(double v) {
+  if (std::isnan(v)) return 0;
   const double clamped = std::clamp(std::round(v), -2147483648.0, 2147483647.0);
   return static_cast<std::int32_t>(clamped);
 }
 std::uint32_t round_u32(double v) {
+  if (std::isnan(v)) return 0;
   return static_cast<std::uint32_t>(std::clamp(std::round(v), 0.0, 4294967295.0));
 }
-std::uint32_t round_u16(double v) { return static_cast<std::uint32_t>(std::clamp(std::round(v), 0.0, 65535.0)); }
+std::uint32_t round_u16(double v) {
+  if (std::isnan(v)) return 0;
+  return static_cast<std::uint32_t>(std::clamp(std::round(v), 0.0, 65535.0));
+}
 
 /// What the fix says about the solution, in u-blox's terms.
 struct Solution {
