@@ -18,11 +18,6 @@ constexpr std::size_t kMaxKeys = 64;  // keys in one CFG-VALSET/VALGET
 constexpr std::uint8_t kLayerRam = 0x01;
 constexpr std::uint8_t kLayerDefault = 7;
 
-bool is_navigation_message(MessageId id) {
-  static const nmea::Fix probe{};
-  return id.msg_class == kClassNav && nav_payload(id, probe, NavExtras{}).has_value();
-}
-
 bool is_key_value_message(MessageId id) {
   return id == msg::cfg_valset || id == msg::cfg_valget || id == msg::cfg_valdel;
 }
@@ -83,7 +78,7 @@ void ConfigMachine::handle_frame(const Frame& frame, Answer& answer) {
     return;
   }
   if (id.msg_class == kClassNav) {
-    if (frame.payload.empty() && is_navigation_message(id)) {
+    if (frame.payload.empty() && nav_encodes(id)) {
       answer.effects.emplace_back(PollOnce{id});
     } else {
       ++stats_.ignored;

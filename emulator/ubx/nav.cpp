@@ -342,6 +342,14 @@ std::string nav_cov(const nmea::Fix& fix, const NavExtras& extras) {
   return p;
 }
 
+bool nav_encodes(MessageId id) {
+  for (const MessageId m : {msg::nav_pvt, msg::nav_posllh, msg::nav_velned, msg::nav_status, msg::nav_sol,
+                            msg::nav_dop, msg::nav_timeutc, msg::nav_timegps, msg::nav_sat, msg::nav_cov}) {
+    if (m == id) return true;
+  }
+  return false;
+}
+
 std::optional<std::string> nav_payload(MessageId id, const nmea::Fix& fix, const NavExtras& extras) {
   if (id == msg::nav_pvt) return nav_pvt(fix, extras);
   if (id == msg::nav_posllh) return nav_posllh(fix);

@@ -61,6 +61,8 @@ inline constexpr std::uint32_t no_fix_speed_accuracy_mm_s = 20000;
 /// NAV-COV, 64 bytes (NED covariances from the sigmas; off-diagonal terms 0).
 [[nodiscard]] std::string nav_cov(const nmea::Fix& fix, const NavExtras& extras);
 
+/// Whether `id` is one of the NAV messages above.
+[[nodiscard]] bool nav_encodes(MessageId id);
 /// The payload of NAV message `id` (one of the above), or nullopt for a message not encoded.
 [[nodiscard]] std::optional<std::string> nav_payload(MessageId id, const nmea::Fix& fix, const NavExtras& extras);
 
