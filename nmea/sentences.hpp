@@ -90,26 +90,4 @@ void append_gsv(const Fix& fix, const FormatOptions& options, std::string& out);
 /// Appends every sentence type in options.sentences, in receiver order, to `out` (not cleared).
 void append_epoch(const Fix& fix, const FormatOptions& options, std::string& out);
 
-/// What a sentence set needs from a serial line (8N1: 10 bits on the wire per byte).
-struct LineBudget {
-  std::size_t bytes_per_epoch = 0;  ///< the longest epoch of the set (bytes, CR LF included)
-  double bytes_per_second = 0.0;    ///< bytes_per_epoch x rate (bytes per second)
-  double min_baud = 0.0;            ///< bits per second the line needs: 10 x bytes_per_second
-  /// True when a line of `baud` bits per second carries every epoch within its period.
-  [[nodiscard]] bool fits(double baud) const { return baud >= min_baud; }
-};
-
-/// The line budget of options.sentences at `rate_hz`, from the longest epoch a receiver with
-/// `satellites_in_view` satellites in view (all tracked) and `satellites_used` used can write:
-/// every field at its widest realistic value (23:59:59.99, 89°59.99999' S, 179°59.99999' W,
-/// HDOP/PDOP/VDOP 99.99, 50 000 m altitude, -106.9 m geoid separation, 500 m/s, course 359.99,
-/// GST values 999.999 m), with options' talker, decimals and version. Counts are clamped to
-/// 0..max_satellites and used <= in view. Pure (formats that epoch and measures it).
-[[nodiscard]] LineBudget line_budget(const FormatOptions& options, int satellites_in_view, int satellites_used,
-                                     double rate_hz);
-
-/// The smallest standard baud rate (4800, 9600, 19200, 38400, 57600, 115200, 230400, 460800,
-/// 921600) that carries `budget`; 0 when none does.
-[[nodiscard]] int smallest_standard_baud(const LineBudget& budget);
-
 }  // namespace gpsemu::nmea

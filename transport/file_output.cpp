@@ -7,13 +7,12 @@
 
 #include <cerrno>
 #include <stdexcept>
-#include <system_error>
+
+#include "transport/posix/errors.hpp"
 
 namespace gpsemu::transport {
 
 namespace {
-
-std::string errno_text(int err) { return std::generic_category().message(err); }
 
 constexpr int kFlushWaitMs = 1000;  ///< one wait for a slow reader in flush() (milliseconds)
 constexpr int kFlushWaits = 5;      ///< how many such waits before flush() gives up
@@ -33,14 +32,14 @@ FileOutput::FileOutput(const std::filesystem::path& path, bool flush_each_epoch)
   fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd_ < 0) {
     throw std::runtime_error(fmt::format("file output: cannot open {} for writing: {}",
-                                         path.string(), errno_text(errno)));
+                                         path.string(), posix::errno_text(errno)));
   }
 }
 
 std::unique_ptr<FileOutput> FileOutput::to_stdout(bool flush_each_epoch) {
   if (::fcntl(STDOUT_FILENO, F_GETFL) < 0) {
     throw std::runtime_error(
-        fmt::format("stdout output: standard output is not open: {}", errno_text(errno)));
+        fmt::format("stdout output: standard output is not open: {}", posix::errno_text(errno)));
   }
   return std::unique_ptr<FileOutput>(
       new FileOutput(STDOUT_FILENO, false, "stdout", flush_each_epoch));
@@ -49,7 +48,7 @@ std::unique_ptr<FileOutput> FileOutput::to_stdout(bool flush_each_epoch) {
 FileOutput::~FileOutput() {
   flush();
   if (owns_fd_ && fd_ >= 0 && ::close(fd_) != 0) {
-    spdlog::warn("{}: close failed: {}", description_, errno_text(errno));
+    spdlog::warn("{}: close failed: {}", description_, posix::errno_text(errno));
   }
 }
 
@@ -74,7 +73,7 @@ FileOutput::DrainResult FileOutput::drain(bool wait, std::string& error_text) {
     // A failed file (disk full, I/O error, reader gone) loses what was buffered: keeping it
     // would only make every later epoch fail too.
     error_text = fmt::format("write failed: {}; {} buffered bytes lost",
-                             n < 0 ? errno_text(errno) : "no progress", pending_.size() - done);
+                             n < 0 ? posix::errno_text(errno) : "no progress", pending_.size() - done);
     pending_.clear();
     return DrainResult::failed;
   }

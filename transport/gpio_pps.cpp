@@ -7,13 +7,12 @@
 #include <cerrno>
 #include <charconv>
 #include <stdexcept>
-#include <system_error>
+
+#include "transport/posix/errors.hpp"
 
 namespace gpsemu::transport {
 
 namespace {
-
-std::string errno_text(int err) { return std::generic_category().message(err); }
 
 constexpr const char* kConsumer = "gpsemu-pps";
 
@@ -31,7 +30,7 @@ std::string chip_failure(const std::string& chip, int err) {
     case EINVAL:
       return fmt::format("'{}' is not a GPIO character device", chip);
     default:
-      return fmt::format("cannot open GPIO chip '{}': {}", chip, errno_text(err));
+      return fmt::format("cannot open GPIO chip '{}': {}", chip, posix::errno_text(err));
   }
 }
 
@@ -66,7 +65,7 @@ GpioPps::GpioPps(const std::string& chip, const std::string& line, PpsPolarity p
       throw fail(fmt::format("{} has no line named '{}' (`gpioinfo {}` lists them)", chip_name, line, chip_name));
     }
   }
-  if (line_ == nullptr) throw fail(fmt::format("cannot get line {} of {}: {}", line, chip_name, errno_text(errno)));
+  if (line_ == nullptr) throw fail(fmt::format("cannot get line {} of {}: {}", line, chip_name, posix::errno_text(errno)));
   if (gpiod_line_request_output(line_, kConsumer, idle_level() ? 1 : 0) != 0) {
     const int err = errno;
     const char* consumer = gpiod_line_consumer(line_);
@@ -77,7 +76,7 @@ GpioPps::GpioPps(const std::string& chip, const std::string& line, PpsPolarity p
     if (err == EACCES || err == EPERM) {
       throw fail(fmt::format("permission denied requesting line {} of {}", line, chip_name));
     }
-    throw fail(fmt::format("cannot request line {} of {} as an output: {}", line, chip_name, errno_text(err)));
+    throw fail(fmt::format("cannot request line {} of {} as an output: {}", line, chip_name, posix::errno_text(err)));
   }
   description_ = fmt::format("gpio {} line {}", chip_name, line);
   spdlog::info("PPS on {} ({})", description_, polarity == PpsPolarity::active_high ? "active high" : "active low");
@@ -93,7 +92,7 @@ GpioPps::~GpioPps() {
 
 bool GpioPps::drive(bool level, std::string& error_text) {
   if (gpiod_line_set_value(line_, level ? 1 : 0) != 0) {
-    error_text = fmt::format("gpiod_line_set_value: {}", errno_text(errno));
+    error_text = fmt::format("gpiod_line_set_value: {}", posix::errno_text(errno));
     return false;
   }
   return true;

@@ -8,10 +8,10 @@
 #include <optional>
 #include <stdexcept>
 
+#include "nmea/line_budget.hpp"
 #include "transport/file_output.hpp"
-#include "transport/pose_socket.hpp"
+#include "transport/posix/sockets.hpp"
 #include "transport/pty_output.hpp"
-#include "transport/serial_budget.hpp"
 #include "transport/serial_output.hpp"
 #include "transport/tcp_output.hpp"
 #include "transport/udp_output.hpp"
@@ -55,8 +55,8 @@ OutputSpec parse_serial(std::string_view spec, std::string_view value) {
     const std::string_view baud = value.substr(at + 1);
     int bps = 0;
     const auto [end, ec] = std::from_chars(baud.data(), baud.data() + baud.size(), bps);
-    if (ec != std::errc{} || end != baud.data() + baud.size() || !is_standard_baud(bps)) {
-      reject(spec, fmt::format("baud {} is not supported; use one of {}", baud, standard_bauds_text()));
+    if (ec != std::errc{} || end != baud.data() + baud.size() || !nmea::is_standard_baud(bps)) {
+      reject(spec, fmt::format("baud {} is not supported; use one of {}", baud, nmea::standard_bauds_text()));
     }
     out.baud_bps = bps;
   } else if (at != std::string_view::npos && at + 1 == value.size()) {
@@ -81,9 +81,9 @@ OutputSpec parse_network(std::string_view spec, OutputKind kind, std::string_vie
   if (udp && value.find(':') == std::string_view::npos) {
     reject(spec, "udp needs a destination host: udp:HOST:PORT (e.g. udp:127.0.0.1:10110)");
   }
-  PoseEndpoint endpoint;
+  posix::Endpoint endpoint;
   try {
-    endpoint = parse_pose_endpoint(value);
+    endpoint = posix::parse_endpoint(value);
   } catch (const std::invalid_argument& e) {
     reject(spec, e.what());
   }
@@ -99,7 +99,7 @@ OutputSpec parse_network(std::string_view spec, OutputKind kind, std::string_vie
 
 std::string host_port(const std::string& host, std::uint16_t port) {
   if (host.empty()) return std::to_string(port);
-  return host.find(':') != std::string::npos ? fmt::format("[{}]:{}", host, port) : fmt::format("{}:{}", host, port);
+  return posix::host_port(host, port);
 }
 
 }  // namespace
@@ -167,7 +167,7 @@ std::unique_ptr<Output> make_output(const OutputSpec& spec, const OutputOptions&
       return FileOutput::to_stdout(options.realtime);
     case OutputKind::serial: {
       SerialOptions serial;
-      serial.baud_bps = spec.baud_bps != 0 ? spec.baud_bps : kDefaultBaud;
+      serial.baud_bps = spec.baud_bps != 0 ? spec.baud_bps : nmea::kDefaultBaud;
       serial.max_queue_s = options.rate_hz > 0.0 ? 1.0 / options.rate_hz : 1.0;
       return std::make_unique<SerialOutput>(SerialTarget{spec.path, spec.usb}, serial);
     }

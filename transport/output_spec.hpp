@@ -29,7 +29,7 @@ struct OutputSpec {
   /// pty: the stable symlink to create (empty: none); file: the file to create or truncate;
   /// serial: the device (empty when `usb` names the adapter).
   std::filesystem::path path;
-  /// serial: the line's speed, bits per second, one of kStandardBauds (0: kDefaultBaud).
+  /// serial: the line's speed, bits per second, one of nmea::kStandardBauds (0: nmea::kDefaultBaud).
   int baud_bps = 0;
   /// tcp: the address to listen on (default 127.0.0.1); udp: where datagrams go.
   std::string host{};

@@ -11,7 +11,9 @@
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
-#include <system_error>
+
+#include "transport/posix/errors.hpp"
+#include "transport/posix/fd.hpp"
 
 namespace gpsemu::transport {
 
@@ -19,10 +21,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string errno_text(int err) { return std::generic_category().message(err); }
-
 [[noreturn]] void throw_errno(const std::string& what) {
-  throw std::runtime_error(fmt::format("pty output: {}: {}", what, errno_text(errno)));
+  throw std::runtime_error(fmt::format("pty output: {}: {}", what, posix::errno_text(errno)));
 }
 
 constexpr std::size_t kMaxInputBytesPerService = 1 << 20;  ///< bounds one service() call
@@ -175,7 +175,7 @@ WriteStatus PtyOutput::write_bytes(std::string_view bytes, std::string& error_te
       error_text = "no room in the pty";
       return WriteStatus::dropped;
     }
-    error_text = fmt::format("write to {} failed: {}", device_path_.string(), errno_text(errno));
+    error_text = fmt::format("write to {} failed: {}", device_path_.string(), posix::errno_text(errno));
     return WriteStatus::error;
   }
 }
@@ -183,24 +183,14 @@ WriteStatus PtyOutput::write_bytes(std::string_view bytes, std::string& error_te
 void PtyOutput::service() {
   // Clients write to the receiver (gpsd probes with kilobytes of configuration strings): read
   // and drop it without ever blocking, so the client never stalls on a full pty.
-  std::array<char, 4096> buf{};
-  std::size_t this_call = 0;
-  while (this_call < kMaxInputBytesPerService) {
-    const ssize_t n = ::read(master_fd_, buf.data(), buf.size());
-    if (n > 0) {
-      this_call += static_cast<std::size_t>(n);
-      pty_stats_.input_bytes_discarded += static_cast<std::uint64_t>(n);
-      continue;
+  const posix::Drained input = posix::drain_input(master_fd_, kMaxInputBytesPerService);
+  pty_stats_.input_bytes_discarded += input.bytes;
+  if (input.end == posix::Drained::End::failed) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_service_error_ >= std::chrono::seconds(1)) {
+      spdlog::warn("{}: reading client input failed: {}", describe(), posix::errno_text(input.error));
+      last_service_error_ = now;
     }
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK) {
-      const auto now = std::chrono::steady_clock::now();
-      if (now - last_service_error_ >= std::chrono::seconds(1)) {
-        spdlog::warn("{}: reading client input failed: {}", describe(), errno_text(errno));
-        last_service_error_ = now;
-      }
-    }
-    break;
   }
   report_discards();
 }

@@ -3,10 +3,9 @@
 // against the NMEA writes. Can be told to fail.
 #pragma once
 
-#include <time.h>
-
 #include <vector>
 
+#include "transport/posix/wall_clock.hpp"
 #include "transport/pps.hpp"
 
 namespace gpsemu::transport {
@@ -26,11 +25,7 @@ class RecordingPps final : public PpsLine {
   [[nodiscard]] std::string describe() const override { return "recording"; }
 
   /// CLOCK_REALTIME now, as the fake reads it.
-  [[nodiscard]] static PpsTime now() {
-    timespec ts{};
-    clock_gettime(CLOCK_REALTIME, &ts);
-    return PpsTime{std::chrono::nanoseconds{static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec}};
-  }
+  [[nodiscard]] static PpsTime now() { return posix::wall_clock_now(); }
 
  protected:
   bool drive(bool level, std::string& error_text) override {

@@ -8,16 +8,15 @@
 #include <termios.h>
 #include <unistd.h>
 
-#include <array>
 #include <cerrno>
 #include <stdexcept>
-#include <system_error>
+
+#include "transport/posix/errors.hpp"
+#include "transport/posix/fd.hpp"
 
 namespace gpsemu::transport {
 
 namespace {
-
-std::string errno_text(int err) { return std::generic_category().message(err); }
 
 constexpr std::size_t kMaxInputBytesPerService = 1 << 20;  ///< bounds one service() call (bytes)
 constexpr int kFlushWaitMs = 1000;                         ///< flush(): longest wait for the line (ms)
@@ -36,7 +35,7 @@ speed_t speed_for(int baud_bps) {
     default: break;
   }
   throw std::invalid_argument(fmt::format("serial output: baud {} is not supported; use one of {}", baud_bps,
-                                          standard_bauds_text()));
+                                          nmea::standard_bauds_text()));
 }
 
 int modem_bit(ModemLine line) { return line == ModemLine::rts ? TIOCM_RTS : TIOCM_DTR; }
@@ -56,7 +55,7 @@ std::string open_failure(int err) {
     case ENODEV:
       return "no such device (the port exists but has no hardware behind it)";
     default:
-      return errno_text(err);
+      return posix::errno_text(err);
   }
 }
 
@@ -111,10 +110,10 @@ void SerialOutput::open_device(const std::string& path) {
   // Another gpsemu (or a program using flock, like picocom) on the same line would interleave
   // sentences: refuse it; TIOCEXCL then keeps later openers (gpsd probing ports) out.
   if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
-    throw give_up(errno == EWOULDBLOCK ? "the device is in use by another program (locked)" : errno_text(errno));
+    throw give_up(errno == EWOULDBLOCK ? "the device is in use by another program (locked)" : posix::errno_text(errno));
   }
   termios tio{};
-  if (::tcgetattr(fd, &tio) != 0) throw give_up(fmt::format("tcgetattr: {}", errno_text(errno)));
+  if (::tcgetattr(fd, &tio) != 0) throw give_up(fmt::format("tcgetattr: {}", posix::errno_text(errno)));
   ::cfmakeraw(&tio);
   tio.c_cflag &= ~static_cast<tcflag_t>(CSIZE | PARENB | CSTOPB | CRTSCTS);
   tio.c_cflag |= CS8 | CLOCAL | CREAD;  // 8N1; ignore DCD (a PPS input must not hang us up)
@@ -125,10 +124,10 @@ void SerialOutput::open_device(const std::string& path) {
   tio.c_cc[VTIME] = 0;
   const speed_t speed = speed_for(options_.baud_bps);
   if (::cfsetispeed(&tio, speed) != 0 || ::cfsetospeed(&tio, speed) != 0) {
-    throw give_up(fmt::format("baud {} not accepted: {}", options_.baud_bps, errno_text(errno)));
+    throw give_up(fmt::format("baud {} not accepted: {}", options_.baud_bps, posix::errno_text(errno)));
   }
   if (::tcsetattr(fd, TCSANOW, &tio) != 0) {
-    throw give_up(fmt::format("cannot set {} 8N1 raw: {}", options_.baud_bps, errno_text(errno)));
+    throw give_up(fmt::format("cannot set {} 8N1 raw: {}", options_.baud_bps, posix::errno_text(errno)));
   }
   termios check{};
   if (::tcgetattr(fd, &check) == 0 && ::cfgetospeed(&check) != speed) {
@@ -212,7 +211,7 @@ bool SerialOutput::flush_tail(std::string& error_text) {
     }
     if (n < 0 && errno == EINTR) continue;
     if (n == 0 || errno == EAGAIN || errno == EWOULDBLOCK) return true;
-    error_text = fmt::format("write failed: {}", errno_text(errno));
+    error_text = fmt::format("write failed: {}", posix::errno_text(errno));
     lose_device(error_text);
     return false;
   }
@@ -235,7 +234,7 @@ WriteStatus SerialOutput::write_bytes(std::string_view bytes, std::string& error
   // A real UART or USB adapter reports its queue; a pty always reports 0 and relies on the tail.
   int queued = 0;
   if (::ioctl(fd_, TIOCOUTQ, &queued) != 0) queued = 0;
-  const double allowed = line_bytes_per_second(options_.baud_bps) * options_.max_queue_s;
+  const double allowed = nmea::line_bytes_per_second(options_.baud_bps) * options_.max_queue_s;
   if (queued > 0 && static_cast<double>(queued) + static_cast<double>(bytes.size()) > allowed) {
     ++serial_stats_.epochs_dropped_queue;
     error_text = fmt::format("line not keeping up: {} bytes still queued, {:.0f} allowed at {} baud", queued,
@@ -256,8 +255,8 @@ WriteStatus SerialOutput::write_bytes(std::string_view bytes, std::string& error
       error_text = "no room in the output buffer (line stalled)";
       return WriteStatus::dropped;
     }
-    error_text = fmt::format("write to {} failed: {}", device_, errno_text(errno));
-    lose_device(errno_text(errno));
+    error_text = fmt::format("write to {} failed: {}", device_, posix::errno_text(errno));
+    lose_device(posix::errno_text(errno));
     return WriteStatus::error;
   }
 }
@@ -267,19 +266,11 @@ void SerialOutput::service() {
     maybe_reopen();
     return;
   }
-  std::array<char, 4096> buf{};
-  std::size_t this_call = 0;
-  while (this_call < kMaxInputBytesPerService) {
-    const ssize_t n = ::read(fd_, buf.data(), buf.size());
-    if (n > 0) {
-      this_call += static_cast<std::size_t>(n);
-      serial_stats_.input_bytes_discarded += static_cast<std::uint64_t>(n);
-      continue;
-    }
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) break;
+  const posix::Drained input = posix::drain_input(fd_, kMaxInputBytesPerService);
+  serial_stats_.input_bytes_discarded += input.bytes;
+  if (input.end != posix::Drained::End::empty) {
     // End of file on a tty, or EIO: the device hung up (unplugged, the pty's other side closed).
-    lose_device(n == 0 ? "hung up" : errno_text(errno));
+    lose_device(input.end == posix::Drained::End::closed ? "hung up" : posix::errno_text(input.error));
     return;
   }
   std::string error_text;
@@ -302,7 +293,7 @@ void SerialOutput::check_modem_line(ModemLine line) {
     throw std::runtime_error(fmt::format(
         "{}: {} has no {} modem control line ({}): {}", spec_text_, device_, to_string(line),
         err == ENOTTY || err == EINVAL ? "TIOCMBIC: not supported by this device"
-                                       : fmt::format("TIOCMBIC: {}", errno_text(err)),
+                                       : fmt::format("TIOCMBIC: {}", posix::errno_text(err)),
         err == ENOTTY || err == EINVAL
             ? "a pseudo-terminal (pty output, socat pty pair) has no modem lines and cannot carry PPS; "
               "use a real UART or USB serial adapter, or --pps gpio:CHIP:LINE"
@@ -319,7 +310,7 @@ bool SerialOutput::set_modem_line(ModemLine line, bool asserted, std::string& er
   int bits = modem_bit(line);
   if (::ioctl(fd_, asserted ? TIOCMBIS : TIOCMBIC, &bits) != 0) {
     error_text = fmt::format("{} {} on {}: {}", asserted ? "TIOCMBIS" : "TIOCMBIC", to_string(line), device_,
-                             errno_text(errno));
+                             posix::errno_text(errno));
     return false;
   }
   return true;

@@ -22,9 +22,9 @@
 #include <optional>
 #include <string>
 
+#include "nmea/line_budget.hpp"
 #include "transport/output.hpp"
 #include "transport/pps.hpp"
-#include "transport/serial_budget.hpp"
 #include "transport/serial_ports.hpp"
 
 namespace gpsemu::transport {
@@ -36,7 +36,7 @@ struct SerialTarget {
 };
 
 struct SerialOptions {
-  int baud_bps = kDefaultBaud;  ///< one of kStandardBauds (bits per second); 8N1
+  int baud_bps = nmea::kDefaultBaud;  ///< one of nmea::kStandardBauds (bits per second); 8N1
   /// Longest the kernel's output queue may be, as time on the line at baud_bps, before a new
   /// epoch is dropped instead of queued behind it (seconds). Runner: one epoch period.
   double max_queue_s = 1.0;
@@ -58,7 +58,7 @@ class SerialOutput final : public Output {
   /// Opens the device (for `usb`, the one adapter `lister` finds; the system's list when
   /// `lister` is null). Throws std::runtime_error naming the device: missing, not a serial
   /// device, permission denied, in use, baud not accepted; for `usb`: none or several adapters
-  /// match. Throws std::invalid_argument for a baud that is not one of kStandardBauds.
+  /// match. Throws std::invalid_argument for a baud that is not one of nmea::kStandardBauds.
   SerialOutput(SerialTarget target, SerialOptions options, std::shared_ptr<PortLister> lister = nullptr);
   ~SerialOutput() override;
 

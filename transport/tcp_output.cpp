@@ -1,153 +1,43 @@
 #include "transport/tcp_output.hpp"
 
-#include <arpa/inet.h>
-#include <netdb.h>
-#include <netinet/in.h>
-#include <netinet/tcp.h>
 #include <spdlog/spdlog.h>
-#include <sys/epoll.h>
 #include <sys/socket.h>
-#include <unistd.h>
 
-#include <array>
 #include <cerrno>
-#include <cstring>
-#include <stdexcept>
-#include <system_error>
+
+#include "transport/posix/sockets.hpp"
 
 namespace gpsemu::transport {
 
 namespace {
 
-std::string errno_text(int err) { return std::generic_category().message(err); }
-
-constexpr int kMaxEventsPerService = 64;     ///< bounds one service() call
-constexpr int kMaxAcceptsPerService = 16;    ///< bounds one service() call
+constexpr int kMaxEventsPerService = 64;               ///< bounds one service() call
 constexpr std::size_t kMaxInputPerClient = 64 * 1024;  ///< bytes read and dropped per client per call
-
-std::string address_text(const sockaddr_storage& addr) {
-  char ip[INET6_ADDRSTRLEN] = "?";
-  if (addr.ss_family == AF_INET) {
-    const auto* a = reinterpret_cast<const sockaddr_in*>(&addr);
-    inet_ntop(AF_INET, &a->sin_addr, ip, sizeof ip);
-    return fmt::format("{}:{}", ip, ntohs(a->sin_port));
-  }
-  if (addr.ss_family == AF_INET6) {
-    const auto* a = reinterpret_cast<const sockaddr_in6*>(&addr);
-    inet_ntop(AF_INET6, &a->sin6_addr, ip, sizeof ip);
-    return fmt::format("[{}]:{}", ip, ntohs(a->sin6_port));
-  }
-  return "?";
-}
 
 }  // namespace
 
-TcpOutput::TcpOutput(const std::string& host, std::uint16_t port, TcpOutputOptions options) : options_(options) {
-  const std::string where = host.find(':') != std::string::npos ? fmt::format("tcp:[{}]:{}", host, port)
-                                                                 : fmt::format("tcp:{}:{}", host, port);
-  addrinfo hints{};
-  hints.ai_family = AF_UNSPEC;
-  hints.ai_socktype = SOCK_STREAM;
-  hints.ai_flags = AI_PASSIVE | AI_NUMERICSERV;
-  addrinfo* found = nullptr;
-  const std::string port_text = std::to_string(port);
-  if (const int rc = getaddrinfo(host.c_str(), port_text.c_str(), &hints, &found); rc != 0) {
-    throw std::runtime_error(fmt::format("tcp output: cannot listen on {}: host '{}': {}", where, host, gai_strerror(rc)));
-  }
-  std::string last_error = "no address";
-  for (const addrinfo* ai = found; ai != nullptr && listen_fd_ < 0; ai = ai->ai_next) {
-    const int fd = ::socket(ai->ai_family, ai->ai_socktype | SOCK_NONBLOCK | SOCK_CLOEXEC, ai->ai_protocol);
-    if (fd < 0) {
-      last_error = errno_text(errno);
-      continue;
-    }
-    const int one = 1;
-    (void)::setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-    if (::bind(fd, ai->ai_addr, ai->ai_addrlen) != 0 || ::listen(fd, 16) != 0) {
-      last_error = errno == EADDRINUSE ? "the port is in use by another program" : errno_text(errno);
-      ::close(fd);
-      continue;
-    }
-    listen_fd_ = fd;
-  }
-  freeaddrinfo(found);
-  if (listen_fd_ < 0) throw std::runtime_error(fmt::format("tcp output: cannot listen on {}: {}", where, last_error));
-
-  sockaddr_storage bound{};
-  socklen_t len = sizeof bound;
-  ::getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&bound), &len);
-  port_ = bound.ss_family == AF_INET6 ? ntohs(reinterpret_cast<sockaddr_in6*>(&bound)->sin6_port)
-                                      : ntohs(reinterpret_cast<sockaddr_in*>(&bound)->sin_port);
-  description_ = "tcp:" + address_text(bound);
-
-  epoll_fd_ = ::epoll_create1(EPOLL_CLOEXEC);
-  epoll_event ev{};
-  ev.events = EPOLLIN;
-  ev.data.u64 = 0;
-  if (epoll_fd_ < 0 || ::epoll_ctl(epoll_fd_, EPOLL_CTL_ADD, listen_fd_, &ev) != 0) {
-    const std::string why = errno_text(errno);
-    ::close(listen_fd_);
-    if (epoll_fd_ >= 0) ::close(epoll_fd_);
-    throw std::runtime_error(fmt::format("tcp output {}: epoll: {}", description_, why));
-  }
+TcpOutput::TcpOutput(const std::string& host, std::uint16_t port, TcpOutputOptions options)
+    : options_(options),
+      server_(host, port, "tcp output: cannot listen on tcp:" + posix::host_port(host, port),
+              {.max_clients = options.max_clients, .no_delay = true,  // an epoch goes out at once
+               .send_buffer_bytes = options.socket_send_buffer_bytes}),
+      description_("tcp:" + server_.address()),
+      pending_(options.max_clients) {
   spdlog::info("tcp output: listening on {}", description_);
 }
 
-TcpOutput::~TcpOutput() {
-  for (auto& [id, client] : clients_) ::close(client.fd);
-  ::close(listen_fd_);
-  ::close(epoll_fd_);
+void TcpOutput::close_client(std::size_t slot, const char* why) {
+  spdlog::debug("{}: client {} {}", description_, server_.peer(slot), why);
+  server_.drop(slot);
+  pending_[slot].clear();
 }
 
-void TcpOutput::accept_clients() {
-  for (int i = 0; i < kMaxAcceptsPerService; ++i) {
-    sockaddr_storage addr{};
-    socklen_t len = sizeof addr;
-    const int fd = ::accept4(listen_fd_, reinterpret_cast<sockaddr*>(&addr), &len, SOCK_NONBLOCK | SOCK_CLOEXEC);
-    if (fd < 0) {
-      if (errno == EINTR || errno == ECONNABORTED) continue;
-      return;  // EAGAIN: none waiting; EMFILE and the like: try again next time
-    }
-    if (clients_.size() >= options_.max_clients) {
-      ++tcp_stats_.clients_refused;
-      ::close(fd);
-      spdlog::warn("{}: refused client {}: already {} clients", description_, address_text(addr), clients_.size());
-      continue;
-    }
-    const int one = 1;
-    (void)::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);  // an epoch goes out at once
-    if (options_.socket_send_buffer_bytes > 0) {
-      (void)::setsockopt(fd, SOL_SOCKET, SO_SNDBUF, &options_.socket_send_buffer_bytes,
-                         sizeof options_.socket_send_buffer_bytes);
-    }
-    const std::uint64_t id = next_id_++;
-    epoll_event ev{};
-    ev.events = EPOLLIN | EPOLLRDHUP;
-    ev.data.u64 = id;
-    if (::epoll_ctl(epoll_fd_, EPOLL_CTL_ADD, fd, &ev) != 0) {
-      ::close(fd);
-      continue;
-    }
-    clients_.emplace(id, Client{fd, address_text(addr), {}, false});
-    ++tcp_stats_.clients_accepted;
-    spdlog::info("{}: client {} connected ({} now)", description_, address_text(addr), clients_.size());
-  }
-}
-
-void TcpOutput::close_client(std::uint64_t id, const char* why) {
-  const auto it = clients_.find(id);
-  if (it == clients_.end()) return;
-  (void)::epoll_ctl(epoll_fd_, EPOLL_CTL_DEL, it->second.fd, nullptr);
-  ::close(it->second.fd);
-  spdlog::debug("{}: client {} {}", description_, it->second.name, why);
-  clients_.erase(it);
-}
-
-bool TcpOutput::send_pending(std::uint64_t id, Client& client) {
+bool TcpOutput::send_pending(std::size_t slot) {
+  std::string& pending = pending_[slot];
+  const int fd = server_.client_fd(slot);
   std::size_t done = 0;
-  while (done < client.pending.size()) {
-    const ssize_t n = ::send(client.fd, client.pending.data() + done, client.pending.size() - done,
-                             MSG_NOSIGNAL | MSG_DONTWAIT);
+  while (done < pending.size()) {
+    const ssize_t n = ::send(fd, pending.data() + done, pending.size() - done, MSG_NOSIGNAL | MSG_DONTWAIT);
     if (n > 0) {
       done += static_cast<std::size_t>(n);
       continue;
@@ -156,39 +46,31 @@ bool TcpOutput::send_pending(std::uint64_t id, Client& client) {
     if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) break;
     return false;
   }
-  client.pending.erase(0, done);
-  update_interest(id, client);
+  pending.erase(0, done);
+  server_.watch(slot, true, !pending.empty());
   return true;
 }
 
-void TcpOutput::update_interest(std::uint64_t id, Client& client) {
-  const bool want_out = !client.pending.empty();
-  if (want_out == client.want_out) return;
-  epoll_event ev{};
-  ev.events = EPOLLIN | EPOLLRDHUP | (want_out ? EPOLLOUT : 0u);
-  ev.data.u64 = id;
-  (void)::epoll_ctl(epoll_fd_, EPOLL_CTL_MOD, client.fd, &ev);
-  client.want_out = want_out;
-}
-
 WriteStatus TcpOutput::write_bytes(std::string_view bytes, std::string& error_text) {
-  std::vector<std::uint64_t> failed;
-  std::vector<std::uint64_t> slow;
-  for (auto& [id, client] : clients_) {
-    if (!client.pending.empty() && client.pending.size() + bytes.size() > options_.client_buffer_bytes) {
-      slow.push_back(id);
+  failed_.clear();
+  slow_.clear();
+  for (std::size_t slot = 0; slot < server_.slots(); ++slot) {
+    if (!server_.occupied(slot)) continue;
+    std::string& pending = pending_[slot];
+    if (!pending.empty() && pending.size() + bytes.size() > options_.client_buffer_bytes) {
+      slow_.push_back(slot);
       continue;
     }
-    client.pending.append(bytes);
-    if (!send_pending(id, client)) failed.push_back(id);
+    pending.append(bytes);
+    if (!send_pending(slot)) failed_.push_back(slot);
   }
-  for (const auto id : slow) {
+  for (const auto slot : slow_) {
     ++tcp_stats_.clients_dropped_slow;
-    close_client(id, "disconnected: too slow (its buffer is full)");
+    close_client(slot, "disconnected: too slow (its buffer is full)");
   }
-  for (const auto id : failed) {
+  for (const auto slot : failed_) {
     ++tcp_stats_.clients_closed;
-    close_client(id, "closed (send failed)");
+    close_client(slot, "closed (send failed)");
   }
   report_drops();
   (void)error_text;
@@ -196,42 +78,38 @@ WriteStatus TcpOutput::write_bytes(std::string_view bytes, std::string& error_te
 }
 
 void TcpOutput::service() {
-  std::array<epoll_event, kMaxEventsPerService> events{};
-  const int n = ::epoll_wait(epoll_fd_, events.data(), static_cast<int>(events.size()), 0);
-  for (int i = 0; i < n; ++i) {
-    const std::uint64_t id = events[static_cast<std::size_t>(i)].data.u64;
-    const std::uint32_t what = events[static_cast<std::size_t>(i)].events;
-    if (id == 0) {
-      accept_clients();
-      continue;
-    }
-    const auto it = clients_.find(id);
-    if (it == clients_.end()) continue;
-    Client& client = it->second;
-    bool closed = (what & EPOLLERR) != 0;
-    if (!closed && (what & (EPOLLIN | EPOLLRDHUP | EPOLLHUP))) {
-      std::array<char, 4096> buf{};
-      std::size_t got = 0;
-      while (got < kMaxInputPerClient) {
-        const ssize_t r = ::recv(client.fd, buf.data(), buf.size(), MSG_DONTWAIT);
-        if (r > 0) {
-          got += static_cast<std::size_t>(r);
-          tcp_stats_.input_bytes_discarded += static_cast<std::uint64_t>(r);
-          continue;
-        }
-        if (r < 0 && errno == EINTR) continue;
-        if (r < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) break;
-        closed = true;  // 0: the client closed; otherwise reset
-        break;
-      }
-    }
-    if (!closed && (what & EPOLLOUT)) closed = !send_pending(id, client);
-    if (closed) {
-      ++tcp_stats_.clients_closed;
-      close_client(id, "closed the connection");
-    }
+  for (int i = 0; i < kMaxEventsPerService; ++i) {
+    const auto event = server_.next_event();
+    if (!event) break;
+    handle(*event);
   }
   report_drops();
+}
+
+void TcpOutput::handle(const posix::TcpServerEvent& event) {
+  using Kind = posix::TcpServerEvent::Kind;
+  if (event.kind == Kind::refused) {
+    ++tcp_stats_.clients_refused;
+    spdlog::warn("{}: refused client {}: already {} clients", description_, event.peer, server_.client_count());
+    return;
+  }
+  if (event.kind == Kind::connected) {
+    pending_[event.slot].clear();
+    ++tcp_stats_.clients_accepted;
+    spdlog::info("{}: client {} connected ({} now)", description_, event.peer, server_.client_count());
+    return;
+  }
+  bool closed = false;
+  if (event.readable) {
+    const posix::Drained input = posix::drain_input(server_.client_fd(event.slot), kMaxInputPerClient);
+    tcp_stats_.input_bytes_discarded += input.bytes;
+    closed = input.end != posix::Drained::End::empty;  // 0: the client closed; otherwise reset
+  }
+  if (!closed && event.writable) closed = !send_pending(event.slot);
+  if (closed) {
+    ++tcp_stats_.clients_closed;
+    close_client(event.slot, "closed the connection");
+  }
 }
 
 void TcpOutput::report_drops() {
@@ -240,7 +118,7 @@ void TcpOutput::report_drops() {
   if (now - last_report_ < std::chrono::seconds(1)) return;
   spdlog::warn("{}: disconnected {} client(s) too slow to keep up (more than {} bytes waiting); {} connected",
                description_, tcp_stats_.clients_dropped_slow - reported_.clients_dropped_slow,
-               options_.client_buffer_bytes, clients_.size());
+               options_.client_buffer_bytes, server_.client_count());
   reported_ = tcp_stats_;
   last_report_ = now;
 }

@@ -3,15 +3,17 @@
 // epochs from the first epoch after it connects. Each client has a bounded buffer; a client too
 // slow to keep up (buffer full) is disconnected and counted, so it never delays the others or the
 // epoch loop. Client input is read and discarded. Listening socket and clients sit behind ONE
-// pollable descriptor (an internal epoll instance).
+// pollable descriptor (posix::TcpServer).
 #pragma once
 
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
-#include <map>
 #include <string>
+#include <vector>
 
 #include "transport/output.hpp"
+#include "transport/posix/tcp_server.hpp"
 
 namespace gpsemu::transport {
 
@@ -38,17 +40,16 @@ class TcpOutput final : public Output {
   /// Listens on `host`:`port` (an IP address or a name; port 0 picks a free one). Throws
   /// std::runtime_error naming host:port when it cannot (in use, unknown host, not local).
   TcpOutput(const std::string& host, std::uint16_t port, TcpOutputOptions options = {});
-  ~TcpOutput() override;
 
   /// Accepts clients, reads and discards their input, sends what waits for slow clients,
   /// notices closed connections. Bounded work per call.
   void service() override;
-  [[nodiscard]] int poll_fd() const override { return epoll_fd_; }
+  [[nodiscard]] int poll_fd() const override { return server_.poll_fd(); }
   /// "tcp:127.0.0.1:10110".
   [[nodiscard]] std::string describe() const override { return description_; }
 
-  [[nodiscard]] std::uint16_t port() const { return port_; }
-  [[nodiscard]] std::size_t client_count() const { return clients_.size(); }
+  [[nodiscard]] std::uint16_t port() const { return server_.port(); }
+  [[nodiscard]] std::size_t client_count() const { return server_.client_count(); }
   [[nodiscard]] const TcpStats& tcp_stats() const { return tcp_stats_; }
 
  protected:
@@ -56,26 +57,18 @@ class TcpOutput final : public Output {
   WriteStatus write_bytes(std::string_view bytes, std::string& error_text) override;
 
  private:
-  struct Client {
-    int fd = -1;
-    std::string name;     ///< "127.0.0.1:50123"
-    std::string pending;  ///< bytes its socket did not take yet (whole epochs, the first partly sent)
-    bool want_out = false;
-  };
-  void accept_clients();
-  void close_client(std::uint64_t id, const char* why);
+  void handle(const posix::TcpServerEvent& event);
+  void close_client(std::size_t slot, const char* why);
   /// Sends what waits; false when the connection failed (the caller closes it).
-  bool send_pending(std::uint64_t id, Client& client);
-  void update_interest(std::uint64_t id, Client& client);
+  bool send_pending(std::size_t slot);
   void report_drops();
 
   TcpOutputOptions options_;
-  int listen_fd_ = -1;
-  int epoll_fd_ = -1;
-  std::uint16_t port_ = 0;
+  posix::TcpServer server_;
   std::string description_;
-  std::uint64_t next_id_ = 1;  ///< epoll data of a client; 0 is the listening socket
-  std::map<std::uint64_t, Client> clients_;
+  /// Per client slot: bytes its socket did not take yet (whole epochs, the first partly sent).
+  std::vector<std::string> pending_;
+  std::vector<std::size_t> failed_, slow_;  ///< write_bytes' scratch lists (slots)
   TcpStats tcp_stats_;
   TcpStats reported_;
   std::chrono::steady_clock::time_point last_report_{};

@@ -2,11 +2,13 @@
 
 #include <fmt/format.h>
 
+#include "transport/posix/wall_clock.hpp"
+
 namespace gpsemu::transport {
 
 TeeOutput::TeeOutput(const std::filesystem::path& path, bool flush_each_epoch, WallClock now)
     : path_(path.string()), file_(path, flush_each_epoch), now_(std::move(now)) {
-  if (!now_) now_ = [] { return std::chrono::system_clock::now(); };
+  if (!now_) now_ = [] { return std::chrono::system_clock::time_point{posix::wall_clock_now()}; };
 }
 
 std::string TeeOutput::sent_line(std::chrono::system_clock::time_point time) {

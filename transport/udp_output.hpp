@@ -3,13 +3,11 @@
 // at once is dropped whole and counted; nobody listening is not an error.
 #pragma once
 
-#include <netinet/in.h>
-#include <sys/socket.h>
-
 #include <cstdint>
 #include <string>
 
 #include "transport/output.hpp"
+#include "transport/posix/fd.hpp"
 
 namespace gpsemu::transport {
 
@@ -18,7 +16,6 @@ class UdpOutput final : public Output {
   /// Resolves `host` (an address or a name) and opens a non-blocking socket (broadcast allowed).
   /// Throws std::runtime_error naming host:port when the host cannot be resolved.
   UdpOutput(const std::string& host, std::uint16_t port);
-  ~UdpOutput() override;
 
   /// "udp:127.0.0.1:10110".
   [[nodiscard]] std::string describe() const override { return description_; }
@@ -27,10 +24,8 @@ class UdpOutput final : public Output {
   WriteStatus write_bytes(std::string_view bytes, std::string& error_text) override;
 
  private:
-  int fd_ = -1;
-  sockaddr_storage destination_{};
-  socklen_t destination_len_ = 0;
   std::string description_;
+  posix::UniqueFd fd_;
 };
 
 }  // namespace gpsemu::transport

@@ -101,6 +101,6 @@ int main(int argc, char** argv) {
     spdlog::error("{}", e.what());
     return 2;
   }
-  for (const std::string& line : gpsemu::apply_realtime_settings(config.process.realtime)) spdlog::info("{}", line);
+  for (const std::string& line : gpsemu::posix::apply_realtime_settings(config.process.realtime)) spdlog::info("{}", line);
   return runner->run(g_stop);
 }

@@ -7,8 +7,8 @@
 #include <spdlog/spdlog.h>
 
 #include "emulator/config/config.hpp"
-#include "emulator/pipeline/realtime.hpp"
 #include "emulator/replay/replay_command.hpp"
+#include "transport/posix/realtime.hpp"
 
 namespace gpsemu {
 
@@ -40,7 +40,7 @@ Subcommand add_replay_command(CLI::App& app) {
                 });
             Replayer replayer(config.timeline, config.replay, std::move(log), *path, std::move(outputs), io);
             // --realtime-priority, --lock-memory, --timer-slack: as for the emulator's loop.
-            for (const std::string& line : apply_realtime_settings(config.process.realtime)) spdlog::info("{}", line);
+            for (const std::string& line : posix::apply_realtime_settings(config.process.realtime)) spdlog::info("{}", line);
             return replayer.run(stop);
           }};
 }

@@ -9,7 +9,7 @@
 #include "emulator/config/settings.hpp"
 #include "emulator/model/receiver.hpp"
 #include "emulator/sources/pose_source.hpp"
-#include "nmea/sentences.hpp"
+#include "nmea/line_budget.hpp"
 
 namespace gpsemu {
 

@@ -15,20 +15,20 @@
 #include "emulator/model/receiver.hpp"
 #include "emulator/model/time.hpp"
 #include "emulator/pipeline/clock.hpp"
-#include "emulator/pipeline/realtime.hpp"
 #include "emulator/replay/replay_options.hpp"
 #include "emulator/sources/sim.hpp"
 #include "emulator/sources/source_spec.hpp"
 #include "nmea/fix.hpp"
 #include "transport/output_spec.hpp"
+#include "transport/posix/realtime.hpp"
 #include "transport/pps.hpp"
 
 namespace gpsemu {
 
 /// Settings of the whole process.
 struct ProcessSettings {
-  std::string log_level = "info";  ///< trace | debug | info | warn | error | off
-  RealtimeSettings realtime;       ///< SCHED_FIFO priority, mlockall, timer slack (realtime.hpp)
+  std::string log_level = "info";    ///< trace | debug | info | warn | error | off
+  posix::RealtimeSettings realtime;  ///< SCHED_FIFO priority, mlockall, timer slack (realtime.hpp)
 };
 
 /// The one epoch timeline all receivers of a process share, and the PPS line that marks it.

@@ -13,6 +13,7 @@
 #include "emulator/model/time.hpp"
 #include "emulator/config/receiver_config.hpp"
 #include "emulator/config/validate.hpp"
+#include "transport/posix/wall_clock.hpp"
 
 namespace gpsemu::api {
 namespace {
@@ -28,9 +29,7 @@ Config make_config(const Options& options, const std::optional<std::string>& con
 gpsemu::Enu to_internal(const Enu& v) { return {v[0], v[1], v[2]}; }
 Enu to_api(const gpsemu::Enu& v) { return {v.east_m, v.north_m, v.up_m}; }
 
-UtcNs wall_now() {
-  return std::chrono::time_point_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now());
-}
+UtcNs wall_now() { return posix::wall_clock_now(); }
 
 }  // namespace
 

@@ -14,6 +14,8 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "transport/posix/wall_clock.hpp"
+
 namespace gpsemu {
 namespace {
 
@@ -51,11 +53,7 @@ std::string to_string(const ClockSpec& spec) {
   return "?";
 }
 
-UtcNs system_utc_now() {
-  timespec ts{};
-  clock_gettime(CLOCK_REALTIME, &ts);
-  return UtcNs{std::chrono::nanoseconds{static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec}};
-}
+UtcNs system_utc_now() { return posix::wall_clock_now(); }
 
 // ---- SystemClockIo ----------------------------------------------------------------------------
 

@@ -15,17 +15,14 @@
 #include "emulator/pipeline/serial_line_check.hpp"
 #include "transport/gpio_pps.hpp"
 #include "transport/modem_pps.hpp"
+#include "transport/posix/wall_clock.hpp"
 #include "transport/serial_output.hpp"
 #include "transport/tee_output.hpp"
 
 namespace gpsemu {
 namespace {
 
-UtcNs wall_now() {
-  timespec ts{};
-  clock_gettime(CLOCK_REALTIME, &ts);
-  return UtcNs{std::chrono::nanoseconds{static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec}};
-}
+UtcNs wall_now() { return posix::wall_clock_now(); }
 
 /// Many receivers with --clock lockstep: the simulators' common present is the slowest one's.
 /// Only its sim_time() is used (by the lockstep clock).

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <sstream>
@@ -11,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "nmea/sentences.hpp"
+#include "transport/posix/errors.hpp"
 
 namespace gpsemu::replay {
 namespace {
@@ -221,7 +221,7 @@ ReplayLog parse_replay_log(std::string_view bytes) {
 
 ReplayLog read_replay_log(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(fmt::format("cannot open NMEA log '{}': {}", path.string(), std::strerror(errno)));
+  if (!in) throw std::runtime_error(fmt::format("cannot open NMEA log '{}': {}", path.string(), posix::errno_text(errno)));
   std::ostringstream content;
   content << in.rdbuf();
   if (in.bad()) throw std::runtime_error(fmt::format("cannot read NMEA log '{}'", path.string()));

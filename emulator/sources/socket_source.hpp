@@ -27,7 +27,7 @@
 #include "emulator/sources/pose_history.hpp"
 #include "emulator/sources/pose_message.hpp"
 #include "emulator/sources/pose_source.hpp"
-#include "transport/pose_socket.hpp"
+#include "transport/input/pose_socket.hpp"
 
 namespace gpsemu::sources {
 

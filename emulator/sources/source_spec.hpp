@@ -6,7 +6,7 @@
 #include <string>
 #include <string_view>
 
-#include "transport/pose_socket.hpp"
+#include "transport/input/pose_socket.hpp"
 
 namespace gpsemu::sources {
 

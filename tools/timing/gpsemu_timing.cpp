@@ -15,15 +15,13 @@
 // again: "repeated"). A UDP datagram is always one epoch. On a stream the first epoch is not
 // counted: it may be cut in half, or be the one the device held before this tool opened it.
 #include <sys/epoll.h>
-#include <sys/socket.h>
-#include <time.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <fstream>
 #include <optional>
 #include <stdexcept>
@@ -34,30 +32,19 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "emulator/pipeline/realtime.hpp"
-#include "tools/timing/timing_inputs.hpp"
 #include "nmea/parse.hpp"
+#include "tools/timing/timing_figures.hpp"
+#include "tools/timing/timing_inputs.hpp"
+#include "transport/posix/errors.hpp"
+#include "transport/posix/realtime.hpp"
+#include "transport/posix/sockets.hpp"
+#include "transport/posix/wall_clock.hpp"
 
 using namespace gpsemu::timing;
 
 namespace {
 
-double realtime_s() {
-  timespec ts{};
-  clock_gettime(CLOCK_REALTIME, &ts);
-  return static_cast<double>(ts.tv_sec) + static_cast<double>(ts.tv_nsec) * 1e-9;
-}
-
-std::string errno_text() { return std::strerror(errno); }
-
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  const double idx = p * static_cast<double>(v.size() - 1);
-  const auto lo = static_cast<std::size_t>(std::floor(idx));
-  const auto hi = std::min(lo + 1, v.size() - 1);
-  return v[lo] + (v[hi] - v[lo]) * (idx - static_cast<double>(lo));
-}
+double realtime_s() { return gpsemu::posix::to_unix_seconds(gpsemu::posix::wall_clock_now()); }
 
 /// One epoch as one output delivered it.
 struct EpochRecord {
@@ -65,28 +52,6 @@ struct EpochRecord {
   double arrival_s;     ///< first-byte arrival, Unix seconds
   double deviation_ms;  ///< arrival - (epoch + latency)
 };
-
-/// Deviation statistics of a set of epochs (milliseconds).
-struct Figures {
-  std::size_t epochs = 0;
-  double median_ms = NAN, p99_ms = NAN, max_ms = NAN, min_ms = NAN, abs_p99_ms = NAN, abs_max_ms = NAN;
-};
-
-Figures figures_of(const std::vector<double>& dev_ms) {
-  Figures f;
-  f.epochs = dev_ms.size();
-  if (dev_ms.empty()) return f;
-  std::vector<double> abs_dev;
-  abs_dev.reserve(dev_ms.size());
-  for (const double d : dev_ms) abs_dev.push_back(std::abs(d));
-  f.median_ms = percentile(dev_ms, 0.5);
-  f.p99_ms = percentile(dev_ms, 0.99);
-  f.max_ms = *std::max_element(dev_ms.begin(), dev_ms.end());
-  f.min_ms = *std::min_element(dev_ms.begin(), dev_ms.end());
-  f.abs_p99_ms = percentile(abs_dev, 0.99);
-  f.abs_max_ms = *std::max_element(abs_dev.begin(), abs_dev.end());
-  return f;
-}
 
 /// One output being measured: its descriptor, parser state and the epochs it delivered.
 struct Output {
@@ -105,7 +70,7 @@ struct Output {
   std::vector<EpochRecord> epochs;
   long missing = 0, repeated = 0, out_of_order = 0;
   std::uint64_t kernel_dropped = 0;   ///< UDP: datagrams our socket buffer dropped (SO_RXQ_OVFL)
-  std::uint32_t kernel_drop_seen = 0;
+  gpsemu::posix::DropCounter kernel_drops;
   std::uint64_t user_stamped = 0;     ///< UDP datagrams without a kernel stamp (stamped in user space)
   double last_data_s = 0.0;
 };
@@ -203,45 +168,19 @@ bool read_stream(Output& o, Meter& meter) {
 
 /// Receives the datagrams a UDP output has, each stamped by the kernel.
 void read_udp(Output& o, Meter& meter) {
-  char buf[65536];
-  alignas(cmsghdr) char control[256];
-  while (true) {
-    iovec iov{buf, sizeof buf};
-    msghdr msg{};
-    msg.msg_iov = &iov;
-    msg.msg_iovlen = 1;
-    msg.msg_control = control;
-    msg.msg_controllen = sizeof control;
-    const ssize_t n = recvmsg(o.fd, &msg, 0);
-    if (n < 0) return;  // EAGAIN: drained
+  std::array<char, 65536> buf{};
+  while (const auto d = gpsemu::posix::receive_datagram(o.fd, buf)) {  // none left: drained
+    if (d->drop_counter) o.kernel_dropped += o.kernel_drops.update(*d->drop_counter);
     std::optional<double> stamp;
-    for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c != nullptr; c = CMSG_NXTHDR(&msg, c)) {
-      if (c->cmsg_level != SOL_SOCKET) continue;
-      if (c->cmsg_type == SCM_TIMESTAMPNS) {
-        timespec ts{};
-        std::memcpy(&ts, CMSG_DATA(c), sizeof ts);
-        stamp = static_cast<double>(ts.tv_sec) + static_cast<double>(ts.tv_nsec) * 1e-9;
-      } else if (c->cmsg_type == SO_RXQ_OVFL) {
-        std::uint32_t dropped = 0;
-        std::memcpy(&dropped, CMSG_DATA(c), sizeof dropped);
-        o.kernel_dropped += static_cast<std::uint32_t>(dropped - o.kernel_drop_seen);
-        o.kernel_drop_seen = dropped;
-      }
-    }
-    if (!stamp) {
+    if (d->kernel_time) {
+      stamp = gpsemu::posix::to_unix_seconds(*d->kernel_time);
+    } else {
       stamp = realtime_s();
       ++o.user_stamped;
     }
     o.last_data_s = realtime_s();
-    meter.datagram(o, std::string_view(buf, static_cast<std::size_t>(n)), *stamp);
+    meter.datagram(o, std::string_view(buf.data(), std::min(d->size, buf.size())), *stamp);
   }
-}
-
-nlohmann::json figures_json(const Figures& f) {
-  auto num = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
-  return {{"epochs", f.epochs},         {"median_ms", num(f.median_ms)}, {"p99_ms", num(f.p99_ms)},
-          {"max_ms", num(f.max_ms)},    {"min_ms", num(f.min_ms)},       {"abs_p99_ms", num(f.abs_p99_ms)},
-          {"abs_max_ms", num(f.abs_max_ms)}};
 }
 
 }  // namespace
@@ -293,11 +232,11 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  gpsemu::RealtimeSettings realtime;
+  gpsemu::posix::RealtimeSettings realtime;
   if (priority > 0) realtime.fifo_priority = priority;
   realtime.lock_memory = lock_memory;
   if (timer_slack_ns > 0) realtime.timer_slack_ns = timer_slack_ns;
-  for (const std::string& line : gpsemu::apply_realtime_settings(realtime)) {
+  for (const std::string& line : gpsemu::posix::apply_realtime_settings(realtime)) {
     std::fprintf(stderr, "gpsemu-timing: %s\n", line.c_str());
   }
 
@@ -334,7 +273,7 @@ int main(int argc, char** argv) {
     ev.events = EPOLLIN;
     ev.data.u64 = i;
     if (epoll_ctl(ep, EPOLL_CTL_ADD, outputs[i].fd, &ev) != 0) {
-      std::fprintf(stderr, "gpsemu-timing: epoll on %s: %s\n", outputs[i].name.c_str(), errno_text().c_str());
+      std::fprintf(stderr, "gpsemu-timing: epoll on %s: %s\n", outputs[i].name.c_str(), gpsemu::posix::errno_text(errno).c_str());
       return 2;
     }
   }

@@ -1,4 +1,4 @@
-// Serial output: the line budget arithmetic, serial specs, finding a USB adapter by identity in a
+// Serial output: serial specs, finding a USB adapter by identity in a
 // port list (and re-finding it after a replug, with a fake list), and SerialOutput against a
 // socat pseudo-terminal pair standing in for a UART: whole epochs at the far end, input
 // discarded, a stalled line dropping whole epochs without blocking, hang-up and reopen.
@@ -22,7 +22,6 @@
 #include "tests/support/read_deadline.hpp"
 #include "tests/support/socat_pair.hpp"
 #include "transport/output_spec.hpp"
-#include "transport/serial_budget.hpp"
 #include "transport/serial_output.hpp"
 #include "transport/serial_ports.hpp"
 
@@ -34,39 +33,6 @@ using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
 
 using test::epoch;
-
-// ---------------------------------------------------------------------------------------------
-// Line budget
-
-TEST(LineBudgetTest, DesignExampleGgaRmcAt10HzDoesNotFit9600AndNames19200) {
-  // docs/design.md: 10 Hz GGA+RMC (~145 bytes) needs >= 14 500 baud; with the 90 % margin 16 111.
-  const LineBudget b = line_budget(9600, 145, 10.0);
-  EXPECT_FALSE(b.fits);
-  EXPECT_DOUBLE_EQ(b.needed_bytes_per_s, 1450.0);
-  EXPECT_DOUBLE_EQ(b.line_bytes_per_s, 960.0);
-  EXPECT_DOUBLE_EQ(b.usable_bytes_per_s, 864.0);
-  ASSERT_TRUE(b.fitting_baud);
-  EXPECT_EQ(*b.fitting_baud, 19200);
-}
-
-TEST(LineBudgetTest, MarginDecidesAtTheEdge) {
-  EXPECT_TRUE(line_budget(4800, 432, 1.0).fits);    // exactly 90 % of 480 bytes/s
-  EXPECT_FALSE(line_budget(4800, 433, 1.0).fits);
-  EXPECT_TRUE(line_budget(4800, 480, 1.0, 1.0).fits);  // no margin: the whole line
-}
-
-TEST(LineBudgetTest, NothingFitsBeyond921600) {
-  const LineBudget b = line_budget(115200, 10000, 50.0);
-  EXPECT_FALSE(b.fits);
-  EXPECT_FALSE(b.fitting_baud);
-}
-
-TEST(LineBudgetTest, StandardBauds) {
-  for (const int baud : {4800, 9600, 19200, 38400, 57600, 115200, 230400, 460800, 921600}) {
-    EXPECT_TRUE(is_standard_baud(baud)) << baud;
-  }
-  for (const int baud : {0, 300, 1200, 2400, 14400, 250000, 1000000}) EXPECT_FALSE(is_standard_baud(baud)) << baud;
-}
 
 // ---------------------------------------------------------------------------------------------
 // Specs

@@ -250,33 +250,5 @@ TEST(NmeaSentences, EveryTypeFits82CharactersAtTheWidestValues) {
   EXPECT_EQ(lines(format_sentences(SentenceType::gsa, fix, FormatOptions{})).size(), 3u);
 }
 
-TEST(NmeaSentences, LineBudgetOfGgaRmcAt10HzNeedsMoreThan9600Baud) {
-  FormatOptions o = options("GP", NmeaVersion::v4_1);
-  o.sentences = SentenceSet{};
-  o.sentences.insert(SentenceType::gga);
-  o.sentences.insert(SentenceType::rmc);
-  const LineBudget b = line_budget(o, 12, 10, 10.0);
-  EXPECT_EQ(b.bytes_per_epoch, 158u);  // the widest GGA (80) and RMC (78)
-  EXPECT_DOUBLE_EQ(b.bytes_per_second, 1580.0);
-  EXPECT_DOUBLE_EQ(b.min_baud, 15800.0);
-  EXPECT_FALSE(b.fits(9600));
-  EXPECT_TRUE(b.fits(19200));
-  EXPECT_EQ(smallest_standard_baud(b), 19200);
-  EXPECT_EQ(smallest_standard_baud(line_budget(o, 12, 10, 1.0)), 4800);
-}
-
-TEST(NmeaSentences, LineBudgetGrowsWithSatellitesInViewAndRate) {
-  const FormatOptions o = options("GN", NmeaVersion::v4_1);  // u-blox default set
-  const LineBudget few = line_budget(o, 4, 4, 1.0);
-  const LineBudget many = line_budget(o, 15, 11, 1.0);
-  EXPECT_GT(many.bytes_per_epoch, few.bytes_per_epoch + 3 * 60);  // three more GSV sentences
-  EXPECT_DOUBLE_EQ(line_budget(o, 15, 11, 10.0).bytes_per_second, 10.0 * many.bytes_per_epoch);
-  EXPECT_EQ(smallest_standard_baud(line_budget(o, 15, 11, 10.0)), 115200);
-  EXPECT_EQ(smallest_standard_baud(line_budget(o, 15, 11, 1.0)), 9600);
-  EXPECT_EQ(smallest_standard_baud(line_budget(o, 32, 32, 50.0)), 921600);
-  // Counts beyond the limits are clamped, used to at most in view.
-  EXPECT_EQ(line_budget(o, 99, 99, 1.0).bytes_per_epoch, line_budget(o, 32, 32, 1.0).bytes_per_epoch);
-}
-
 }  // namespace
 }  // namespace gpsemu::nmea

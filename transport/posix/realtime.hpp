@@ -1,5 +1,6 @@
-// Scheduling settings for the real-time clock: a SCHED_FIFO priority, locked memory and the
-// smallest timer slack, so an epoch's bytes leave at their deadline even on a loaded machine.
+// Scheduling settings for a real-time process (the emulator's loop, gpsemu-timing's reader): a
+// SCHED_FIFO priority, locked memory and the smallest timer slack, so an epoch's bytes leave (or
+// are stamped) at their deadline even on a loaded machine.
 // Each is best effort: where the process is not permitted (no CAP_SYS_NICE / RLIMIT_RTPRIO, no
 // CAP_IPC_LOCK / RLIMIT_MEMLOCK), it says so once and the emulator runs on without it.
 #pragma once
@@ -8,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace gpsemu {
+namespace gpsemu::posix {
 
 struct RealtimeSettings {
   std::optional<int> fifo_priority;     ///< SCHED_FIFO priority 1..99; empty: normal scheduling
@@ -20,4 +21,4 @@ struct RealtimeSettings {
 /// was done or why not (for the log); never throws for a refused permission.
 [[nodiscard]] std::vector<std::string> apply_realtime_settings(const RealtimeSettings& settings);
 
-}  // namespace gpsemu
+}  // namespace gpsemu::posix

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "transport/pose_socket.hpp"
+#include "transport/input/pose_socket.hpp"
 
 namespace gpsemu::transport {
 namespace {

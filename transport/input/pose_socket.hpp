@@ -1,8 +1,8 @@
 // Pose sockets: where an external simulator's pose messages come in. A UDP receiver (one message
 // per datagram) and a TCP line server (one message per '\n'-terminated line, several clients),
-// both non-blocking behind ONE pollable file descriptor (the TCP server polls its listening
-// socket and clients through an internal epoll instance). They return raw messages with their
-// arrival time and sender; decoding is the caller's business.
+// both non-blocking behind ONE pollable file descriptor (the TCP server is posix::TcpServer, as
+// the NMEA tcp output's). They return raw messages with their arrival time and sender; decoding is
+// the caller's business.
 #pragma once
 
 #include <chrono>
@@ -13,17 +13,16 @@
 #include <string>
 #include <string_view>
 
+#include "transport/posix/sockets.hpp"
+
 namespace gpsemu::transport {
 
 /// Where to listen: "[HOST:]PORT"; HOST defaults to 127.0.0.1, an IPv6 literal goes in brackets
 /// ("[::1]:5005"); PORT 0 picks a free port (describe() then names it).
-struct PoseEndpoint {
-  std::string host = "127.0.0.1";
-  std::uint16_t port = 0;
-};
+using PoseEndpoint = posix::Endpoint;
 
-/// Parses "[HOST:]PORT". Throws std::invalid_argument naming the text.
-[[nodiscard]] PoseEndpoint parse_pose_endpoint(std::string_view text);
+/// Parses "[HOST:]PORT" (posix::parse_endpoint). Throws std::invalid_argument naming the text.
+[[nodiscard]] inline PoseEndpoint parse_pose_endpoint(std::string_view text) { return posix::parse_endpoint(text); }
 
 struct PoseSocketOptions {
   std::size_t max_message_bytes = 4096;  ///< longer datagrams or lines are refused (reported, not returned)

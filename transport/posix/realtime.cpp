@@ -1,22 +1,23 @@
-#include "emulator/pipeline/realtime.hpp"
+#include "transport/posix/realtime.hpp"
 
 #include <sched.h>
 #include <sys/mman.h>
 #include <sys/prctl.h>
 
 #include <cerrno>
-#include <cstring>
 
 #include <fmt/format.h>
 
-namespace gpsemu {
+#include "transport/posix/errors.hpp"
+
+namespace gpsemu::posix {
 namespace {
 
 std::string why(int error) {
   if (error == EPERM) return "not permitted (run as root, with CAP_SYS_NICE / CAP_IPC_LOCK, or raise the "
                              "rtprio / memlock limits in /etc/security/limits.conf)";
   if (error == ENOMEM) return "not permitted: the memlock limit is too small (ulimit -l; CAP_IPC_LOCK)";
-  return std::strerror(error);
+  return errno_text(error);
 }
 
 }  // namespace
@@ -50,4 +51,4 @@ std::vector<std::string> apply_realtime_settings(const RealtimeSettings& setting
   return report;
 }
 
-}  // namespace gpsemu
+}  // namespace gpsemu::posix

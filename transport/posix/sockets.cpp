@@ -1,0 +1,186 @@
+#include "transport/posix/sockets.hpp"
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <charconv>
+#include <cstring>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "transport/posix/errors.hpp"
+
+namespace gpsemu::posix {
+namespace {
+
+std::string socket_error_text(int err) {
+  return err == EADDRINUSE ? "the port is in use by another program" : errno_text(err);
+}
+
+}  // namespace
+
+Endpoint parse_endpoint(std::string_view text) {
+  const auto bad = [&](const char* why) {
+    return std::invalid_argument(fmt::format("'{}' is not [HOST:]PORT: {}", text, why));
+  };
+  Endpoint e;
+  std::string_view port = text;
+  if (!text.empty() && text.front() == '[') {
+    const auto close = text.find(']');
+    if (close == std::string_view::npos || close + 1 >= text.size() || text[close + 1] != ':') {
+      throw bad("an IPv6 host is written [ADDRESS]:PORT");
+    }
+    e.host = std::string(text.substr(1, close - 1));
+    port = text.substr(close + 2);
+  } else if (const auto colon = text.rfind(':'); colon != std::string_view::npos) {
+    if (text.find(':') != colon) throw bad("an IPv6 host is written [ADDRESS]:PORT");
+    e.host = std::string(text.substr(0, colon));
+    port = text.substr(colon + 1);
+  }
+  if (e.host.empty()) throw bad("empty host");
+  unsigned value = 0;
+  const auto [end, ec] = std::from_chars(port.data(), port.data() + port.size(), value);
+  if (port.empty() || ec != std::errc{} || end != port.data() + port.size() || value > 65535) {
+    throw bad("the port must be a number from 0 to 65535");
+  }
+  e.port = static_cast<std::uint16_t>(value);
+  return e;
+}
+
+std::string host_port(std::string_view host, std::uint16_t port) {
+  return host.find(':') != std::string_view::npos ? fmt::format("[{}]:{}", host, port)
+                                                  : fmt::format("{}:{}", host, port);
+}
+
+std::size_t format_address(const sockaddr_storage& address, std::span<char> out) {
+  if (out.empty()) return 0;
+  char ip[INET6_ADDRSTRLEN] = "?";
+  fmt::format_to_n_result<char*> r{};
+  if (address.ss_family == AF_INET) {
+    const auto* a = reinterpret_cast<const sockaddr_in*>(&address);
+    inet_ntop(AF_INET, &a->sin_addr, ip, sizeof ip);
+    r = fmt::format_to_n(out.data(), out.size(), "{}:{}", ip, ntohs(a->sin_port));
+  } else if (address.ss_family == AF_INET6) {
+    const auto* a = reinterpret_cast<const sockaddr_in6*>(&address);
+    inet_ntop(AF_INET6, &a->sin6_addr, ip, sizeof ip);
+    r = fmt::format_to_n(out.data(), out.size(), "[{}]:{}", ip, ntohs(a->sin6_port));
+  } else {
+    r = fmt::format_to_n(out.data(), out.size(), "?");
+  }
+  return std::min(r.size, out.size());
+}
+
+std::string address_text(const sockaddr_storage& address) {
+  std::array<char, INET6_ADDRSTRLEN + 8> text{};
+  return std::string(text.data(), format_address(address, text));
+}
+
+std::uint16_t bound_port(int fd) {
+  sockaddr_storage address{};
+  socklen_t len = sizeof address;
+  if (::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &len) != 0) return 0;
+  if (address.ss_family == AF_INET) return ntohs(reinterpret_cast<const sockaddr_in*>(&address)->sin_port);
+  if (address.ss_family == AF_INET6) return ntohs(reinterpret_cast<const sockaddr_in6*>(&address)->sin6_port);
+  return 0;
+}
+
+UniqueFd open_socket(const SocketRequest& request, const SocketSetup& setup) {
+  addrinfo hints{};
+  hints.ai_family = AF_UNSPEC;
+  hints.ai_socktype = request.type;
+  hints.ai_flags = AI_NUMERICSERV | (request.passive ? AI_PASSIVE : 0);
+  addrinfo* found = nullptr;
+  const std::string port = std::to_string(request.port);
+  const char* host = request.host.empty() ? nullptr : request.host.c_str();
+  if (const int rc = ::getaddrinfo(host, port.c_str(), &hints, &found); rc != 0) {
+    throw std::runtime_error(fmt::format("{}: host '{}': {}", request.context, request.host, gai_strerror(rc)));
+  }
+  const int flags = SOCK_CLOEXEC | (request.blocking ? 0 : SOCK_NONBLOCK);
+  std::string last_error = "no address";
+  for (const addrinfo* ai = found; ai != nullptr; ai = ai->ai_next) {
+    UniqueFd fd(::socket(ai->ai_family, ai->ai_socktype | flags, ai->ai_protocol));
+    if (!fd.valid()) {
+      last_error = errno_text(errno);
+      continue;
+    }
+    if (const int err = setup(fd.get(), *ai); err != 0) {
+      last_error = socket_error_text(err);
+      continue;
+    }
+    ::freeaddrinfo(found);
+    return fd;
+  }
+  ::freeaddrinfo(found);
+  throw std::runtime_error(fmt::format("{}: {}{}", request.context, request.failure, last_error));
+}
+
+UniqueFd listen_tcp(const SocketRequest& request, int backlog) {
+  SocketRequest tcp = request;
+  tcp.type = SOCK_STREAM;
+  tcp.passive = true;
+  return open_socket(tcp, [backlog](int fd, const addrinfo& ai) {
+    const int on = 1;
+    (void)::setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &on, sizeof on);
+    return ::bind(fd, ai.ai_addr, ai.ai_addrlen) == 0 && ::listen(fd, backlog) == 0 ? 0 : errno;
+  });
+}
+
+UniqueFd bind_socket(const SocketRequest& request, const std::function<void(int fd)>& configure) {
+  SocketRequest bound = request;
+  bound.passive = true;
+  return open_socket(bound, [&configure](int fd, const addrinfo& ai) {
+    if (configure) configure(fd);
+    return ::bind(fd, ai.ai_addr, ai.ai_addrlen) == 0 ? 0 : errno;
+  });
+}
+
+UniqueFd connect_socket(const SocketRequest& request, const std::function<void(int fd)>& configure) {
+  SocketRequest connected = request;
+  connected.passive = false;
+  return open_socket(connected, [&configure](int fd, const addrinfo& ai) {
+    if (configure) configure(fd);
+    return ::connect(fd, ai.ai_addr, ai.ai_addrlen) == 0 ? 0 : errno;
+  });
+}
+
+int enable_datagram_stamps(int fd) {
+  const int on = 1;
+  const int err = ::setsockopt(fd, SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof on) == 0 ? 0 : errno;
+  (void)::setsockopt(fd, SOL_SOCKET, SO_RXQ_OVFL, &on, sizeof on);
+  return err;
+}
+
+std::optional<Datagram> receive_datagram(int fd, std::span<char> buffer) {
+  Datagram d;
+  iovec iov{buffer.data(), buffer.size()};
+  alignas(cmsghdr) std::array<char, 256> control{};
+  msghdr msg{};
+  msg.msg_name = &d.from;
+  msg.msg_namelen = sizeof d.from;
+  msg.msg_iov = &iov;
+  msg.msg_iovlen = 1;
+  msg.msg_control = control.data();
+  msg.msg_controllen = control.size();
+  const ssize_t n = ::recvmsg(fd, &msg, MSG_DONTWAIT | MSG_TRUNC);
+  if (n < 0) return std::nullopt;
+  d.size = static_cast<std::size_t>(n);
+  for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c != nullptr; c = CMSG_NXTHDR(&msg, c)) {
+    if (c->cmsg_level != SOL_SOCKET) continue;
+    if (c->cmsg_type == SCM_TIMESTAMPNS) {
+      timespec ts{};
+      std::memcpy(&ts, CMSG_DATA(c), sizeof ts);
+      d.kernel_time = to_wall_time(ts);
+    } else if (c->cmsg_type == SO_RXQ_OVFL) {
+      std::uint32_t counter = 0;
+      std::memcpy(&counter, CMSG_DATA(c), sizeof counter);
+      d.drop_counter = counter;
+    }
+  }
+  return d;
+}
+
+}  // namespace gpsemu::posix
