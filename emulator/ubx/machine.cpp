@@ -106,7 +106,7 @@ void ConfigMachine::handle_frame(const Frame& frame, Answer& answer) {
     return;
   }
   const Settings before = settings_;
-  const bool ok = apply_cfg(frame, answer);
+  const bool ok = apply_cfg(frame);
   ack(id, ok, answer);
   if (ok) diff(before, answer);
 }
@@ -115,7 +115,8 @@ bool ConfigMachine::answer_cfg_poll(const Frame& frame, Answer& answer) {
   const MessageId id = frame.id;
   const std::size_t size = frame.payload.size();
   if (id == msg::cfg_prt && size <= 1) {
-    const Port port = size == 0 ? start_.port : static_cast<Port>(std::min<std::uint8_t>(get_u1(frame.payload, 0), 4));
+    if (size == 1 && get_u1(frame.payload, 0) > static_cast<std::uint8_t>(Port::spi)) return false;  // NAKed as a write
+    const Port port = size == 0 ? start_.port : static_cast<Port>(get_u1(frame.payload, 0));
     append_frame(answer.bytes, id, cfg_prt_payload(settings_, port));
   } else if (id == msg::cfg_msg && size == 2) {
     append_frame(answer.bytes, id, cfg_msg_payload(settings_, {get_u1(frame.payload, 0), get_u1(frame.payload, 1)}));
@@ -133,7 +134,7 @@ bool ConfigMachine::answer_cfg_poll(const Frame& frame, Answer& answer) {
   return true;
 }
 
-bool ConfigMachine::apply_cfg(const Frame& frame, Answer& answer) {
+bool ConfigMachine::apply_cfg(const Frame& frame) {
   const MessageId id = frame.id;
   const std::string_view p = frame.payload;
   if (id == msg::cfg_prt) return apply_cfg_prt(settings_, p);
@@ -153,7 +154,6 @@ bool ConfigMachine::apply_cfg(const Frame& frame, Answer& answer) {
     }
     return true;
   }
-  (void)answer;
   return !p.empty();  // another CFG write (TP5, PM2, ITFM...): accepted without an effect
 }
 

@@ -84,7 +84,7 @@ class ConfigMachine {
   /// Answers a CFG poll (empty or selector payload); false when `frame` is no poll.
   bool answer_cfg_poll(const Frame& frame, Answer& answer);
   /// Applies a CFG write; false: NAK.
-  bool apply_cfg(const Frame& frame, Answer& answer);
+  bool apply_cfg(const Frame& frame);
   void answer_valget(const Frame& frame, Answer& answer);
   [[nodiscard]] bool apply_valset(std::string_view payload);
   void ack(MessageId id, bool ok, Answer& answer);
