@@ -34,6 +34,16 @@ nmea::SentenceSet due_sentences(const Settings& s, Port port, std::uint64_t solu
   return set;
 }
 
+std::size_t widest_solution_ubx_bytes(const Settings& s, Port port) {
+  nmea::Fix widest;
+  widest.satellites_in_view = static_cast<int>(nmea::max_satellites);
+  std::size_t bytes = 0;
+  for (const MessageId id : due_messages(s, port, 0)) {
+    bytes += frame_overhead_bytes + nav_payload(id, widest, NavExtras{})->size();
+  }
+  return bytes;
+}
+
 void append_solution(std::string& out, const Settings& s, Port port, std::uint64_t solution_index,
                      const nmea::Fix& fix, const NavExtras& extras, std::span<const MessageId> polled) {
   std::vector<MessageId> ids = due_messages(s, port, solution_index);

@@ -5,6 +5,7 @@
 // NAV-TIMEUTC, NAV-SAT, NAV-COV), polled messages once more. Pure.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -20,6 +21,9 @@ namespace gpsemu::ubx {
 [[nodiscard]] std::vector<MessageId> due_messages(const Settings& s, Port port, std::uint64_t solution_index);
 /// NMEA sentences gpsemu writes that are due with solution `solution_index`.
 [[nodiscard]] nmea::SentenceSet due_sentences(const Settings& s, Port port, std::uint64_t solution_index);
+/// The most UBX bytes one solution can carry on `port` with these settings (every message that is
+/// on, NAV-SAT with max_satellites): the serial line budget's share of UBX.
+[[nodiscard]] std::size_t widest_solution_ubx_bytes(const Settings& s, Port port);
 /// Appends the frames of the due UBX messages, then those of `polled` not already written.
 void append_solution(std::string& out, const Settings& s, Port port, std::uint64_t solution_index,
                      const nmea::Fix& fix, const NavExtras& extras, std::span<const MessageId> polled = {});

@@ -63,5 +63,14 @@ TEST(UbxOutput, SolutionBytesAreTheDueFramesThenThePolledOnes) {
   EXPECT_EQ(frames[1].id, msg::nav_dop);
 }
 
+TEST(UbxOutput, WidestSolutionCountsEveryMessageOnWithAllSatellites) {
+  ConfigMachine m(nmea_and_pvt());
+  EXPECT_EQ(widest_solution_ubx_bytes(m.settings(), Port::uart1), 100u);  // NAV-PVT: 92 + 8
+  (void)send(m, msg::cfg_msg, unhex("0135 05"));  // NAV-SAT every 5th solution still counts
+  EXPECT_EQ(widest_solution_ubx_bytes(m.settings(), Port::uart1), 100u + 8 + 8 + 12 * nmea::max_satellites);
+  (void)m.feed(nmea::frame("PUBX,41,1,0007,0002,9600,0"));  // NMEA only out
+  EXPECT_EQ(widest_solution_ubx_bytes(m.settings(), Port::uart1), 0u);
+}
+
 }  // namespace
 }  // namespace gpsemu::ubx
