@@ -4,12 +4,18 @@ of the cgrw report ("Using random walks to simulate GPS sensing", SBEL TR-2022-0
 
   tools/plot_noise.py [--gpsemu BIN] [--out DIR] [LOG ...]
 
+  tools/plot_noise.py judge DIR [--out DIR2]   (the figures of `gpsemu judge LOG --plots DIR` alone)
+
 For each LOG (a stationary receiver's NMEA log) it runs `gpsemu compare LOG --csv` and draws the
 real series against every calibrated model's first run per axis (LOG_series.png) and the
-histograms of their first differences (LOG_d1_hist.png). Without logs or with them, it draws:
+histograms of their first differences (LOG_d1_hist.png); then `gpsemu judge LOG --plots` and draws
+the Kalman filter's NIS histograms, real against each model (LOG_judge_nis.png), and its four
+scores side by side (LOG_judge_scores.png). Without logs or with them, it draws:
   stationary_trace.png   a stationary receiver with the default cgrw noise (report Fig. 1/5)
   widths.png             cgrw one knob at 0.1, 1 and 10 m (report Fig. 10)
   line_drive.png         the straight-line drive, cgrw vs gaussian sigma 1 m (report Fig. 8/9)
+  composite.png          the composite model against its smooth part alone (same seed): the
+                         difference is its white jitter and its jumps
 Data comes from the emulator itself (`gpsemu --fast --output stdout`), parsed from its GGA
 sentences. Needs numpy and matplotlib (Debian: python3-numpy python3-matplotlib).
 """
@@ -30,7 +36,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 ORIGIN = (43.0725, -89.4125, 260.0)  # the emulator's default origin
 START = "2024-05-01T12:00:00Z"
 COLOURS = {"real": "black", "cgrw": "tab:blue", "chrono": "tab:orange", "gaussian": "tab:gray",
-           "gauss-markov": "tab:green", "gauss-markov-2": "tab:red"}
+           "gauss-markov": "tab:green", "gauss-markov-2": "tab:red", "composite": "tab:purple"}
 
 
 def find_gpsemu(given):
@@ -159,6 +165,91 @@ def plot_log(gpsemu, log, out_dir):
     save(fig, os.path.join(out_dir, name + "_d1_hist.png"))
 
 
+def plot_judge(judge_dir, name, out_dir):
+    """The figures of `gpsemu judge --plots judge_dir`: NIS histograms and the four scores."""
+    nis = {}
+    with open(os.path.join(judge_dir, "judge_nis.csv")) as f:
+        for row in csv.DictReader(f):
+            nis.setdefault(row["source"], []).append(float(row["nis"]))
+    with open(os.path.join(judge_dir, "judge_summary.csv")) as f:
+        summary = {row["source"]: row for row in csv.DictReader(f)}
+    models = [m for m in summary if m != "real"]
+    best = min(models, key=lambda m: float(summary[m]["distance"]))
+    real = np.asarray(nis["real"])
+    top = max(3 * np.percentile(real, 95), 12.0)
+    bins = np.linspace(0, top, 50)
+    fig, axes = plt.subplots(2, (len(models) + 1) // 2, figsize=(14, 7), sharex=True, sharey=True)
+    for ax, m in zip(axes.flat, models):
+        ax.hist(np.clip(real, 0, top), bins=bins, density=True, histtype="stepfilled", alpha=0.35, color="black",
+                label="real")
+        ax.hist(np.clip(np.asarray(nis.get(m, [0.0])), 0, top), bins=bins, density=True, histtype="step", lw=1.6,
+                color=COLOURS.get(m), label=m)
+        x = np.linspace(0.01, top, 200)
+        ax.plot(x, 0.5 * np.exp(-x / 2), "k:", lw=0.8, label="chi-square, 2 dof")
+        s_ = summary[m]
+        ax.set_title(f"{'* ' if m == best else ''}{m}: NIS mean {float(s_['nis_mean']):.2f} "
+                     f"(real {float(summary['real']['nis_mean']):.2f})", fontsize=9)
+        ax.set_yscale("log")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    for ax in axes.flat[len(models):]:
+        ax.axis("off")
+    fig.suptitle(f"{name}: NIS of the judge's constant-velocity Kalman filter, real vs each calibrated model "
+                 f"(all runs; last bin holds everything beyond)")
+    fig.tight_layout()
+    save(fig, os.path.join(out_dir, name + "_judge_nis.png"))
+
+    keys = [("nis_mean", "NIS mean"), ("nis_p95", "NIS 95th percentile"), ("innov_rho1", "innovation lag-1 acf"),
+            ("pos_err_m", "position error (m)")]
+    fig, axes = plt.subplots(1, 4, figsize=(15, 4))
+    for ax, (key, title) in zip(axes, keys):
+        names = ["real"] + models
+        values = [float(summary[n][key]) for n in names]
+        ax.bar(range(len(names)), values, color=[COLOURS.get(n, "tab:gray") for n in names])
+        ax.axhline(float(summary["real"][key]), color="black", lw=0.8, ls="--")
+        ax.set_xticks(range(len(names)))
+        ax.set_xticklabels(names, rotation=45, ha="right", fontsize=8)
+        ax.set_title(title, fontsize=10)
+        ax.grid(alpha=0.3, axis="y")
+    fig.suptitle(f"{name}: the judge's filter on the real log (dashed) and on each model (best: {best})")
+    fig.tight_layout()
+    save(fig, os.path.join(out_dir, name + "_judge_scores.png"))
+
+
+def judge_log(gpsemu, log, out_dir):
+    name = os.path.splitext(os.path.basename(log))[0]
+    judge_dir = os.path.join(out_dir, name + "_judge")
+    report = subprocess.run([gpsemu, "judge", log, "--plots", judge_dir, "--log-level", "warn"], check=True,
+                            capture_output=True, text=True).stdout
+    with open(os.path.join(out_dir, name + "_judge.txt"), "w") as f:
+        f.write(report)
+    plot_judge(judge_dir, name, out_dir)
+
+
+def plot_composite(gpsemu, out_dir):
+    smooth = ["--duration", "600", "--seed", "4", "--resolution", "7"]
+    _, e0, n0, _ = emulate(gpsemu, smooth + ["--noise", "gauss-markov", "--gm-order", "2", "--gm-sigma", "0.5",
+                                             "--gm-tau", "20"])
+    t, e1, n1, _ = emulate(gpsemu, smooth + ["--noise", "composite", "--composite-sigma", "0.5", "--composite-tau",
+                                             "20", "--composite-jitter", "0.03", "--composite-jump-rate", "0.01",
+                                             "--composite-jump-size", "0.4", "--composite-jump-decay", "30"])
+    fig, axes = plt.subplots(2, 1, figsize=(12, 7), sharex=True)
+    axes[0].plot(t, e0, color="tab:red", lw=1.0, label="smooth part alone (gauss-markov-2, sigma 0.5 m, tau 20 s)")
+    axes[0].plot(t, e1, color="tab:purple", lw=0.8, label="composite: + jitter 0.03 m + jumps 0.01/s of 0.4 m, "
+                 "decay 30 s")
+    axes[0].set_ylabel("east (m)")
+    axes[0].legend(fontsize=8)
+    axes[0].grid(alpha=0.3)
+    axes[1].plot(t, e1 - e0, color="tab:purple", lw=0.8)
+    axes[1].set_ylabel("composite - smooth (m)")
+    axes[1].set_xlabel("time (s)")
+    axes[1].grid(alpha=0.3)
+    axes[1].set_title("the difference: white jitter and decaying jumps", fontsize=9)
+    fig.suptitle("The composite model (same seed: the smooth part is the same process)")
+    fig.tight_layout()
+    save(fig, os.path.join(out_dir, "composite.png"))
+
+
 def plot_stationary(gpsemu, out_dir):
     t, e, n, _ = emulate(gpsemu, ["--duration", "600", "--seed", "3"])
     fig, (a, b) = plt.subplots(1, 2, figsize=(12, 5.2), gridspec_kw={"width_ratios": [1, 1.4]})
@@ -234,6 +325,11 @@ def plot_line(gpsemu, out_dir):
 
 
 def main():
+    if len(sys.argv) >= 3 and sys.argv[1] == "judge":
+        out = sys.argv[sys.argv.index("--out") + 1] if "--out" in sys.argv else "plots"
+        os.makedirs(out, exist_ok=True)
+        plot_judge(sys.argv[2], os.path.basename(os.path.normpath(sys.argv[2])), out)
+        return
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("logs", nargs="*", help="stationary receivers' NMEA logs to compare")
     p.add_argument("--gpsemu", help="the gpsemu binary (default: $GPSEMU, then build/emulator/gpsemu)")
@@ -243,6 +339,8 @@ def main():
     os.makedirs(a.out, exist_ok=True)
     for log in a.logs:
         plot_log(gpsemu, log, a.out)
+        judge_log(gpsemu, log, a.out)
+    plot_composite(gpsemu, a.out)
     plot_stationary(gpsemu, a.out)
     plot_widths(gpsemu, a.out)
     plot_line(gpsemu, a.out)

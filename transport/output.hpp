@@ -1,6 +1,9 @@
 // The one transport interface: where a receiver's bytes go (pty, file, stdout, serial, sockets).
 // The base class counts and rate-limits error reports (spdlog's sink pattern); a backend
 // implements write_bytes() and, when it has input to drain or clients to accept, service().
+// What a client writes to the output (a receiver's command port: gpsd's probes, a UBX poll) is
+// handed to the output's ClientInput, if one is attached (the receiver channel's encoders), and
+// otherwise dropped.
 #pragma once
 
 #include <chrono>
@@ -23,6 +26,14 @@ struct OutputStats {
   std::uint64_t bytes_written = 0;
 };
 
+/// Where the bytes a client wrote to an output go (pipeline/channel.hpp: the receiver's encoders).
+class ClientInput {
+ public:
+  virtual ~ClientInput() = default;
+  /// Bytes a client wrote, in arrival order (any framing: a protocol decoder reassembles).
+  virtual void client_wrote(std::string_view bytes) = 0;
+};
+
 class Output {
  public:
   virtual ~Output() = default;
@@ -33,8 +44,12 @@ class Output {
   /// Writes one epoch (all its sentences) in one go. Never blocks for long; counts the result.
   WriteStatus write_epoch(std::string_view bytes);
 
-  /// Non-blocking housekeeping between epochs: read and discard client input, accept clients.
+  /// Non-blocking housekeeping between epochs: read client input (handed to the ClientInput, or
+  /// dropped), accept clients.
   virtual void service() {}
+
+  /// Attaches where client input goes (nullptr: dropped). Not owned; outlives the output's use.
+  void set_client_input(ClientInput* input) { client_input_ = input; }
 
   /// Work that must precede the next write_epoch() but need not be on time (a pty discards the
   /// bytes no client read). Many receivers in one process call it for every output ahead of the
@@ -57,7 +72,13 @@ class Output {
   /// or drop, which the base class logs at most once a second.
   virtual WriteStatus write_bytes(std::string_view bytes, std::string& error_text) = 0;
 
+  /// Backend hook: hands what a client wrote to the attached ClientInput (none: dropped).
+  void client_wrote(std::string_view bytes) {
+    if (client_input_) client_input_->client_wrote(bytes);
+  }
+
  private:
+  ClientInput* client_input_ = nullptr;
   OutputStats stats_;
   std::chrono::steady_clock::time_point last_report_{};
   std::uint64_t unreported_ = 0;

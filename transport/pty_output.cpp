@@ -181,9 +181,11 @@ WriteStatus PtyOutput::write_bytes(std::string_view bytes, std::string& error_te
 }
 
 void PtyOutput::service() {
-  // Clients write to the receiver (gpsd probes with kilobytes of configuration strings): read
-  // and drop it without ever blocking, so the client never stalls on a full pty.
-  const posix::Drained input = posix::drain_input(master_fd_, kMaxInputBytesPerService);
+  // Clients write to the receiver (gpsd probes with kilobytes of configuration strings): read it
+  // without ever blocking, so the client never stalls on a full pty, and hand it to the client
+  // input (the receiver's encoders; NMEA drops it).
+  const posix::Drained input = posix::drain_input(master_fd_, kMaxInputBytesPerService,
+                                                  [this](std::string_view bytes) { client_wrote(bytes); });
   pty_stats_.input_bytes_discarded += input.bytes;
   if (input.end == posix::Drained::End::failed) {
     const auto now = std::chrono::steady_clock::now();

@@ -101,7 +101,8 @@ void TcpOutput::handle(const posix::TcpServerEvent& event) {
   }
   bool closed = false;
   if (event.readable) {
-    const posix::Drained input = posix::drain_input(server_.client_fd(event.slot), kMaxInputPerClient);
+    const posix::Drained input = posix::drain_input(server_.client_fd(event.slot), kMaxInputPerClient,
+                                                      [this](std::string_view bytes) { client_wrote(bytes); });
     tcp_stats_.input_bytes_discarded += input.bytes;
     closed = input.end != posix::Drained::End::empty;  // 0: the client closed; otherwise reset
   }

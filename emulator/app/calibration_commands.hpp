@@ -20,7 +20,10 @@ struct CalibrationArgs {
   std::string log;   ///< the stationary receiver's NMEA log
   std::string out;   ///< calibrate: config file; empty = stdout
   std::string csv;   ///< compare: series for plots
-  int runs = 8;      ///< simulated runs per model, seeds seed, seed+1, ...
+  std::string json;  ///< judge: scores as JSON
+  std::string plots; ///< judge: directory for the CSV files of tools/plot_noise.py
+  int runs = 32;     ///< simulated runs per model, seeds seed, seed+1, ...
+  bool detrend = false;  ///< remove a smooth trajectory instead of refusing a log that moves
 };
 
 /// Adds the subcommand `name` to `app` with LOG and --runs, stored in `args`.
@@ -31,5 +34,6 @@ struct CalibrationArgs {
 
 [[nodiscard]] Subcommand add_calibrate_command(CLI::App& app);  // calibrate_command.cpp
 [[nodiscard]] Subcommand add_compare_command(CLI::App& app);    // compare_command.cpp
+[[nodiscard]] Subcommand add_judge_command(CLI::App& app);      // judge_command.cpp
 
 }  // namespace gpsemu

@@ -7,7 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "emulator/config/config.hpp"
-#include "emulator/replay/replay_command.hpp"
+#include "emulator/replay/replayer.hpp"
 #include "transport/posix/realtime.hpp"
 
 namespace gpsemu {
@@ -27,18 +27,7 @@ Subcommand add_replay_command(CLI::App& app) {
             (void)check_replay_options(config.timeline, config.replay, log, *path);  // before any output is opened
             std::vector<std::unique_ptr<transport::Output>> outputs =
                 open_replay_outputs(config.receiver(), config.timeline, config.replay, log);
-            std::vector<transport::Output*> raw;
-            for (const auto& out : outputs) raw.push_back(out.get());
-            SystemClockIo io(
-                [raw](std::vector<int>& fds) {
-                  for (auto* out : raw) {
-                    if (out->poll_fd() >= 0) fds.push_back(out->poll_fd());
-                  }
-                },
-                [raw] {
-                  for (auto* out : raw) out->service();
-                });
-            Replayer replayer(config.timeline, config.replay, std::move(log), *path, std::move(outputs), io);
+            Replayer replayer(config.timeline, config.replay, std::move(log), *path, std::move(outputs));
             // --realtime-priority, --lock-memory, --timer-slack: as for the emulator's loop.
             for (const std::string& line : posix::apply_realtime_settings(config.process.realtime)) spdlog::info("{}", line);
             return replayer.run(stop);

@@ -1,4 +1,4 @@
-// `gpsemu replay LOG`: the command line of the replayer (replay/replay_command.hpp), which sends a
+// `gpsemu replay LOG`: the command line of the replayer (replay/replayer.hpp), which sends a
 // recorded NMEA log to the configured outputs paced by its own time fields.
 #pragma once
 

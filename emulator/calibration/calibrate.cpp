@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "emulator/calibration/model_fits.hpp"
 #include "emulator/model/geo.hpp"
 #include "emulator/model/noise/cgrw_model.hpp"
 #include "emulator/model/noise/gauss_markov_model.hpp"
@@ -18,10 +19,9 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 const char* const kAxisNames[3] = {"east", "north", "up"};
-// Least fraction of a Gauss-Markov process's variance a log is taken to show about its mean:
-// sigma is at most 5x the log's standard deviation (a log much shorter than tau says little
-// about sigma).
-constexpr double kMinKept = 1.0 / 25.0;
+// An axis whose fixes span less than this is constant (a receiver that holds its altitude: the
+// east/north offsets still give its up coordinate nanometres of curvature): no noise on it.
+constexpr double kConstantAxisRange_m = 1e-3;
 
 std::array<AxisStats, 3> measure_all(const std::array<std::vector<double>, 3>& x, double rate_hz,
                                      std::size_t window) {
@@ -29,9 +29,11 @@ std::array<AxisStats, 3> measure_all(const std::array<std::vector<double>, 3>& x
           measure_axis(x[2], rate_hz, window)};
 }
 
-std::array<AxisStats, 3> mean_over_runs(const noise::NoiseConfig& config, const EnuSeries& series,
-                                        std::size_t window, std::uint64_t seed, int runs,
-                                        std::array<std::vector<double>, 3>* first_run) {
+}  // namespace
+
+std::array<AxisStats, 3> simulated_stats(const noise::NoiseConfig& config, const EnuSeries& series,
+                                         std::size_t window, std::uint64_t seed, int runs,
+                                         std::array<std::vector<double>, 3>* first_run) {
   std::array<std::vector<AxisStats>, 3> per_axis;
   for (int r = 0; r < runs; ++r) {
     auto x = simulate(config, series, seed + static_cast<std::uint64_t>(r));
@@ -41,63 +43,6 @@ std::array<AxisStats, 3> mean_over_runs(const noise::NoiseConfig& config, const 
   }
   return {mean_stats(per_axis[0]), mean_stats(per_axis[1]), mean_stats(per_axis[2])};
 }
-
-// Downhill simplex (Nelder & Mead 1965) on a deterministic objective; returns the best vertex.
-template <class F>
-std::array<double, 3> nelder_mead(F f, std::array<double, 3> x0, double step, int evaluations) {
-  using P = std::array<double, 3>;
-  std::array<P, 4> v{x0, x0, x0, x0};
-  for (int i = 0; i < 3; ++i) v[i + 1][i] += step;
-  std::array<double, 4> fv{};
-  for (int i = 0; i < 4; ++i) fv[i] = f(v[i]);
-  int used = 4;
-  const auto along = [](const P& c, const P& w, double t) {
-    P r{};
-    for (int i = 0; i < 3; ++i) r[i] = c[i] + t * (w[i] - c[i]);
-    return r;
-  };
-  while (used < evaluations) {
-    std::array<int, 4> order{0, 1, 2, 3};
-    std::sort(order.begin(), order.end(), [&](int a, int b) { return fv[a] < fv[b]; });
-    std::array<P, 4> sv;
-    std::array<double, 4> sf{};
-    for (int i = 0; i < 4; ++i) sv[i] = v[order[i]], sf[i] = fv[order[i]];
-    v = sv, fv = sf;
-    if (fv[3] - fv[0] < 1e-4) break;
-    P c{};
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) c[j] += v[i][j] / 3.0;
-    const P xr = along(c, v[3], -1.0);
-    const double fr = f(xr);
-    ++used;
-    if (fr < fv[0]) {
-      const P xe = along(c, v[3], -2.0);
-      const double fe = f(xe);
-      ++used;
-      if (fe < fr) v[3] = xe, fv[3] = fe;
-      else v[3] = xr, fv[3] = fr;
-    } else if (fr < fv[2]) {
-      v[3] = xr, fv[3] = fr;
-    } else {
-      const P xc = along(c, v[3], fr < fv[3] ? -0.5 : 0.5);
-      const double fc = f(xc);
-      ++used;
-      if (fc < std::min(fr, fv[3])) {
-        v[3] = xc, fv[3] = fc;
-      } else {  // shrink towards the best
-        for (int i = 1; i < 4; ++i) {
-          v[i] = along(v[0], v[i], 0.5);
-          fv[i] = f(v[i]);
-          ++used;
-        }
-      }
-    }
-  }
-  const auto best = std::min_element(fv.begin(), fv.end()) - fv.begin();
-  return v[static_cast<std::size_t>(best)];
-}
-
-}  // namespace
 
 std::array<std::vector<double>, 3> simulate(const noise::NoiseConfig& config, const EnuSeries& series,
                                             std::uint64_t seed) {
@@ -135,84 +80,31 @@ std::string model_label(const noise::NoiseConfig& config) {
   return noise::to_string(config.model);
 }
 
-noise::GaussMarkovAxis fit_gauss_markov(std::span<const double> x, double rate_hz, int order) {
-  const AxisStats s = measure_axis(x, rate_hz, x.size());
-  return fit_gauss_markov(s.sd_m, s.d1_sd_m, x.size(), rate_hz, order);
-}
-
-noise::GaussMarkovAxis fit_gauss_markov(double sd_m, double d1_sd_m, std::size_t n, double rate_hz,
-                                        int order) {
-  struct {
-    double sd_m, d1_sd_m;
-  } s{sd_m, d1_sd_m};
-  const double dt = 1.0 / rate_hz;
-  // Fraction of sigma^2 a series of n samples keeps about its own mean: 1 - var(mean) / sigma^2.
-  const auto kept = [&](double tau) {
-    double acc = 1.0;
-    for (std::size_t k = 1; k < n; ++k) {
-      const double r = noise::gauss_markov_autocorrelation(order, static_cast<double>(k) * dt, tau);
-      if (r < 1e-12) break;
-      acc += 2.0 * (1.0 - static_cast<double>(k) / static_cast<double>(n)) * r;
-    }
-    return std::max(1.0 - acc / static_cast<double>(n), 1e-12);
-  };
-  const auto ratio = [&](double tau) {  // E[d1^2] / (2 E[sample variance])
-    return (1.0 - noise::gauss_markov_autocorrelation(order, dt, tau)) / kept(tau);
-  };
-  const double want = s.sd_m > 0.0 ? s.d1_sd_m * s.d1_sd_m / (2.0 * s.sd_m * s.sd_m) : 1.0;
-  double lo = std::log(0.05 * dt), hi = std::log(10.0 * static_cast<double>(n) * dt);
-  double tau = 0.0;
-  if (want >= ratio(std::exp(lo))) {
-    tau = std::exp(lo);
-  } else if (want <= ratio(std::exp(hi))) {
-    tau = std::exp(hi);
-  } else {
-    for (int i = 0; i < 60; ++i) {  // the ratio falls as tau grows
-      const double mid = 0.5 * (lo + hi);
-      (ratio(std::exp(mid)) > want ? lo : hi) = mid;
-    }
-    tau = std::exp(0.5 * (lo + hi));
-  }
-  return {s.sd_m / std::sqrt(std::max(kept(tau), kMinKept)), tau};
-}
-
-noise::ChronoParams fit_chrono(const EnuSeries& series, const std::array<AxisStats, 3>& real) {
-  const double rate = series.rate_hz;
-  // Start from the oscillator the walk is: omega^2 = 0.2 sigma, velocity amplitude about
-  // omega x position amplitude; clamps at twice the typical velocity and acceleration.
-  double sd = 0.0, d1 = 0.0, d2 = 0.0;
-  for (const AxisStats& a : real) sd += a.sd_m / 3, d1 += a.d1_sd_m / 3, d2 += a.d2_sd_m / 3;
-  const double omega = std::max(d1 * rate / std::max(sd, 1e-6), 1e-4);
-  const std::array<double, 3> x0{std::log(std::max(omega * omega / 0.2, 1e-8)),
-                                 std::log(std::max(2.0 * d1 * rate, 1e-5)),
-                                 std::log(std::max(2.0 * d2 * rate * rate, 1e-6))};
-  const std::size_t window = series.size();
-  const auto params = [&](const std::array<double, 3>& x) {
-    noise::ChronoParams p;
-    p.mean = 0.0;
-    p.sigma = std::exp(x[0]);
-    p.update_rate_hz = rate;
-    p.v_max_mps = std::exp(x[1]);
-    p.a_max_mps2 = std::exp(x[2]);
-    return p;
-  };
-  const auto objective = [&](const std::array<double, 3>& x) {
-    noise::NoiseConfig c;
-    c.model = noise::Model::chrono;
-    c.chrono = params(x);
-    return score(real, mean_over_runs(c, series, window, 0x63687266ULL, 2, nullptr));
-  };
-  const int budget = series.size() > 20000 ? 60 : 150;
-  return params(nelder_mead(objective, x0, 1.0, budget));
-}
-
 Calibration calibrate(ReceiverLog log, const CalibrateOptions& options) {
   if (options.runs < 1) throw std::invalid_argument("runs must be >= 1");
   Calibration c;
   c.series = to_enu_series(log);
   c.counts = log.counts;
-  const EnuSeries& s = c.series;
+  EnuSeries& s = c.series;
   c.window_samples = std::min<std::size_t>(s.size(), static_cast<std::size_t>(noise::kCgrwMaxWindowSamples));
+  c.motion = check_motion(s);
+  if (options.detrend) {
+    const Detrended d = detrend(s);
+    c.notes.push_back(fmt::format("detrended: a smooth trajectory (local quadratic over {:.0f} s) removed first: "
+                                  "{:.2f} m rms from the mean, {:.1f} m of path (the log: {})",
+                                  kDetrendWindow_s, d.rms_m, d.path_m, c.motion.describe()));
+  } else if (c.motion.moving) {
+    throw MotionError(fmt::format("the log moves: {}; a stationary receiver stays within {:.0f} m and {:.1f} m/s. "
+                                  "Calibration needs a stationary receiver (--detrend removes a smooth trajectory first)",
+                                  c.motion.describe(), kMaxStationaryDisplacement_m, kMaxStationarySpeed_mps));
+  }
+  for (std::size_t a = 0; a < 3; ++a) {
+    const double range_m = measure_axis(s.axis_m[a], s.rate_hz, c.window_samples).range_m;
+    if (range_m >= kConstantAxisRange_m) continue;
+    for (double& v : s.axis_m[a])
+      if (!std::isnan(v)) v = 0.0;
+    c.notes.push_back(fmt::format("{}: constant (fixes span {:.2g} m): no noise on this axis", kAxisNames[a], range_m));
+  }
   c.real = measure_all(s.axis_m, s.rate_hz, c.window_samples);
   if (c.real[0].sd_m <= 0.0 && c.real[1].sd_m <= 0.0)
     throw std::invalid_argument("the log's horizontal position never changes: nothing to calibrate");
@@ -220,18 +112,9 @@ Calibration calibrate(ReceiverLog log, const CalibrateOptions& options) {
   // cgrw: the report's four statistics over the log's length at its rate.
   noise::NoiseConfig cgrw;
   cgrw.model = noise::Model::cgrw;
-  cgrw.cgrw.rate_hz = s.rate_hz;
-  cgrw.cgrw.window_s = static_cast<double>(c.window_samples) / s.rate_hz;
-  std::array<noise::CgrwAxis*, 3> written{&cgrw.cgrw.east, &cgrw.cgrw.north, &cgrw.cgrw.up};
   try {
-    for (std::size_t a = 0; a < 3; ++a) {
-      c.cgrw_measured[a] = c.real[a].cgrw;
-      c.cgrw_fit[a] = noise::fit_cgrw_axis(c.cgrw_measured[a], static_cast<double>(c.window_samples),
-                                           fmt::format("cgrw.{}", kAxisNames[a]),
-                                           std::numeric_limits<double>::infinity());
-      *written[a] = c.cgrw_fit[a].worst_ratio <= noise::kCgrwMaxFitRatio ? c.cgrw_measured[a]
-                                                                         : c.cgrw_fit[a].achieved;
-    }
+    for (std::size_t a = 0; a < 3; ++a) c.cgrw_measured[a] = c.real[a].cgrw;
+    cgrw.cgrw = fit_cgrw_dequantised(s, c.real, c.window_samples, c.cgrw_fit, c.notes);
     (void)noise::make_noise_model(cgrw, 1);  // the emulator must accept what is written
   } catch (const std::exception& e) {
     c.cgrw_unusable = e.what();
@@ -243,41 +126,18 @@ Calibration calibrate(ReceiverLog log, const CalibrateOptions& options) {
 
   noise::NoiseConfig gaussian;
   gaussian.model = noise::Model::gaussian;
-  noise::NoiseConfig gm1, gm2;
-  gm1.model = gm2.model = noise::Model::gauss_markov;
-  gm1.gauss_markov_order = 1;
-  gm2.gauss_markov_order = 2;
   for (std::size_t a = 0; a < 3; ++a) {
     double mean = 0.0, n = 0.0;
     for (double v : s.axis_m[a])
       if (!std::isnan(v)) mean += v, n += 1;
     gaussian.gaussian[a] = {mean / n, c.real[a].sd_m};
-    gm1.gauss_markov[a] = fit_gauss_markov(s.axis_m[a], s.rate_hz, 1);
-    gm2.gauss_markov[a] = fit_gauss_markov(s.axis_m[a], s.rate_hz, 2);
   }
-
-  // The log's output resolution makes first differences coarser than the process under it (a
-  // 4-decimal log moves in 0.1-0.2 m quanta): refit the gauss-markov processes until their
-  // rounded simulation has the log's standard deviation and first-difference standard deviation.
-  for (noise::NoiseConfig* gm : {&gm1, &gm2}) {
-    std::array<double, 3> sd_target{}, d1_target{};
-    for (std::size_t a = 0; a < 3; ++a) sd_target[a] = c.real[a].sd_m, d1_target[a] = c.real[a].d1_sd_m;
-    for (int iteration = 0; iteration < 4; ++iteration) {
-      const auto sim = mean_over_runs(*gm, s, c.window_samples, 0x676d666974ULL, 16, nullptr);
-      for (std::size_t a = 0; a < 3; ++a) {
-        // Bounded corrections: where the process cannot reach the log (order 1 on a smooth
-        // receiver) they would otherwise grow without end.
-        if (sim[a].sd_m > 0.0)
-          sd_target[a] = std::clamp(sd_target[a] * c.real[a].sd_m / sim[a].sd_m, 0.5 * c.real[a].sd_m,
-                                    2.0 * c.real[a].sd_m);
-        if (sim[a].d1_sd_m > 0.0)
-          d1_target[a] = std::clamp(d1_target[a] * c.real[a].d1_sd_m / sim[a].d1_sd_m,
-                                    0.25 * c.real[a].d1_sd_m, 2.0 * c.real[a].d1_sd_m);
-        gm->gauss_markov[a] =
-            fit_gauss_markov(sd_target[a], d1_target[a], s.size(), s.rate_hz, gm->gauss_markov_order);
-      }
-    }
-  }
+  noise::NoiseConfig gm1, gm2;
+  gm1.model = gm2.model = noise::Model::gauss_markov;
+  gm1.gauss_markov_order = 1;
+  gm2.gauss_markov_order = 2;
+  gm1.gauss_markov = fit_gauss_markov_dequantised(s, c.real, c.window_samples, 1);
+  gm2.gauss_markov = fit_gauss_markov_dequantised(s, c.real, c.window_samples, 2);
 
   std::vector<noise::NoiseConfig> configs;
   if (c.cgrw_unusable.empty()) configs.push_back(cgrw);
@@ -285,10 +145,11 @@ Calibration calibrate(ReceiverLog log, const CalibrateOptions& options) {
   configs.push_back(gaussian);
   configs.push_back(gm1);
   configs.push_back(gm2);
+  configs.push_back(fit_composite(s, c.real, c.window_samples));
   for (const noise::NoiseConfig& config : configs) {
     ModelResult r;
     r.config = config;
-    r.stats = mean_over_runs(config, s, c.window_samples, options.seed, options.runs, &r.first_run_m);
+    r.stats = simulated_stats(config, s, c.window_samples, options.seed, options.runs, &r.first_run_m);
     r.score = score(c.real, r.stats);
     c.models.push_back(std::move(r));
   }
@@ -314,6 +175,7 @@ std::string config_toml(const Calibration& c, const std::string& log_name) {
     scores += fmt::format(" {} {:.3f}", model_label(m.config), m.score);
   line(fmt::format("# score (mean |ln(model/real)| over the compared statistics, lower is better):{}",
                    scores));
+  for (const std::string& note : c.notes) line("# " + note);
   line(fmt::format("noise = \"{}\"", noise::to_string(c.models[c.best].config.model)));
   line(fmt::format("rate = {}", s.rate_hz));
   line(fmt::format("resolution = {}", std::clamp(s.minute_decimals, 1, 8)));
@@ -362,6 +224,19 @@ std::string config_toml(const Calibration& c, const std::string& log_name) {
         line(fmt::format("gm-order = {}", k.gauss_markov_order));
         line(fmt::format("gm-sigma = \"{:.6g},{:.6g},{:.6g}\"", g[0].sigma_m, g[1].sigma_m, g[2].sigma_m));
         line(fmt::format("gm-tau = \"{:.6g},{:.6g},{:.6g}\"", g[0].tau_s, g[1].tau_s, g[2].tau_s));
+        break;
+      }
+      case noise::Model::composite: {
+        const auto& g = k.composite.smooth_gm;
+        const auto& x = k.composite.axes;
+        const auto three = [](double a, double b, double c) { return fmt::format("\"{:.6g},{:.6g},{:.6g}\"", a, b, c); };
+        line("composite-smooth = \"gauss-markov-2\"");
+        line("composite-sigma = " + three(g[0].sigma_m, g[1].sigma_m, g[2].sigma_m));
+        line("composite-tau = " + three(g[0].tau_s, g[1].tau_s, g[2].tau_s));
+        line("composite-jitter = " + three(x[0].jitter_sigma_m, x[1].jitter_sigma_m, x[2].jitter_sigma_m));
+        line("composite-jump-rate = " + three(x[0].jump_rate_hz, x[1].jump_rate_hz, x[2].jump_rate_hz));
+        line("composite-jump-size = " + three(x[0].jump_sigma_m, x[1].jump_sigma_m, x[2].jump_sigma_m));
+        line("composite-jump-decay = " + three(x[0].jump_decay_s, x[1].jump_decay_s, x[2].jump_decay_s));
         break;
       }
       case noise::Model::none: break;

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "emulator/calibration/model_fits.hpp"
+#include "emulator/calibration/motion.hpp"
 #include "emulator/calibration/receiver_log.hpp"
 #include "emulator/calibration/series_stats.hpp"
 #include "emulator/model/noise/cgrw_fit.hpp"
@@ -20,7 +22,10 @@ namespace gpsemu::calibration {
 
 struct CalibrateOptions {
   std::uint64_t seed = 1;  ///< runs use seeds seed, seed + 1, ...
-  int runs = 8;            ///< simulated runs per model (statistics are averaged over them)
+  int runs = 32;           ///< simulated runs per model (statistics are averaged over them; 8 runs of a
+                           ///< log of a few minutes vary by 20% between seed sets)
+  /// Remove a smooth trajectory first (motion.hpp) instead of refusing a log that moves.
+  bool detrend = false;
 };
 
 /// One model with its calibrated parameters and how it compares.
@@ -34,6 +39,7 @@ struct ModelResult {
 struct Calibration {
   EnuSeries series;                       ///< the log on its grid, metres about its mean
   LogCounts counts;                       ///< what reading it skipped
+  MotionCheck motion;                     ///< the log's displacement and speed (before any detrending)
   std::array<AxisStats, 3> real;          ///< the log's statistics
   std::size_t window_samples = 0;         ///< cgrw window (the log's length, at most 100 000)
   /// cgrw: the measured four statistics, the best compromise fit of each (max_ratio infinite),
@@ -42,12 +48,16 @@ struct Calibration {
   std::array<noise::CgrwAxis, 3> cgrw_measured{};
   std::array<noise::CgrwFit, 3> cgrw_fit{};
   std::string cgrw_unusable;
+  /// What calibration changed to make every model load: constant axes set to no noise,
+  /// statistics nudged into a model's valid region, de-quantisation (written as comments).
+  std::vector<std::string> notes;
   std::vector<ModelResult> models;        ///< cgrw (if usable), chrono, gaussian, gauss-markov 1, 2
   std::size_t best = 0;                   ///< index of the lowest score in models
 };
 
 /// Reads nothing: works on a log already read. Throws std::invalid_argument when the log is
-/// unusable (too few fixes, no spread at all).
+/// unusable (too few fixes, no spread at all), MotionError when it moves (unless
+/// options.detrend).
 [[nodiscard]] Calibration calibrate(ReceiverLog log, const CalibrateOptions& options = {});
 
 /// `config` simulated at the series' epochs (rate, length, gaps as NaN), with the emulator's
@@ -61,23 +71,11 @@ struct Calibration {
 /// keys of every model, with a header of comments saying where it comes from.
 [[nodiscard]] std::string config_toml(const Calibration& c, const std::string& log_name);
 
-/// Chrono's parameters whose walk, at the log's rate, best matches the log (Nelder-Mead on the
-/// score of 2 runs over log sigma, log v_max, log a_max; deterministic).
-[[nodiscard]] noise::ChronoParams fit_chrono(const EnuSeries& series,
-                                             const std::array<AxisStats, 3>& real);
-
-/// Gauss-Markov parameters of one axis for the process of `order` (1 or 2): tau such that the
-/// expected lag-1 behaviour of a log of this length matches it (expected first-difference
-/// variance over expected sample variance about the mean equal to the log's), sigma such that
-/// the expected sample standard deviation over the log's length equals the log's (the variance
-/// lost to the mean removed is put back, at most a factor 5 in sigma). When no tau reaches the
-/// log's ratio (order 1 on smooth receivers), the nearest end of [0.05 samples, 10 x the log's
-/// length] is taken.
-[[nodiscard]] noise::GaussMarkovAxis fit_gauss_markov(std::span<const double> x, double rate_hz,
-                                                      int order);
-/// The same from the two statistics of a series of `n` samples.
-[[nodiscard]] noise::GaussMarkovAxis fit_gauss_markov(double sd_m, double d1_sd_m, std::size_t n,
-                                                      double rate_hz, int order);
+/// The statistics of `config` simulated `runs` times (seeds seed, seed + 1, ...) at the series'
+/// epochs and resolution (simulate), averaged; `first_run` (if given) gets the first run's series.
+[[nodiscard]] std::array<AxisStats, 3> simulated_stats(const noise::NoiseConfig& config, const EnuSeries& series,
+                                                       std::size_t window, std::uint64_t seed, int runs,
+                                                       std::array<std::vector<double>, 3>* first_run);
 
 /// The name a model is shown under: its noise name, "gauss-markov-2" for the second order.
 [[nodiscard]] std::string model_label(const noise::NoiseConfig& config);

@@ -45,7 +45,7 @@ ReceiverLog read_receiver_log(std::string_view bytes) {
       continue;
     }
     prev_s = t;
-    log.fixes.push_back({t, {*gga->lat_deg, *gga->lon_deg, *gga->alt_msl_m}});
+    log.fixes.push_back({t, {*gga->lat_deg, *gga->lon_deg, *gga->alt_msl_m}, gga->hdop});
     ++decimals[gga->minute_decimals];
   }
   std::size_t best = 0;

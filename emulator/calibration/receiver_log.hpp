@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -28,6 +29,7 @@ struct LogCounts {
 struct LogFix {
   double time_s = 0.0;  ///< seconds since the first fix (midnight roll-over handled)
   Geodetic position;    ///< latitude, longitude (degrees), altitude above MSL (metres)
+  std::optional<double> hdop;  ///< the HDOP the receiver stated with the fix, if any
 };
 
 struct ReceiverLog {

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "emulator/calibration/calibrate.hpp"
+#include "emulator/model/noise/gauss_markov_model.hpp"
 
 namespace gpsemu::calibration {
 namespace {
@@ -30,6 +31,35 @@ std::string cell(std::optional<double> v) {
   return fmt::format("{:.4g}", *v);
 }
 
+// The composite model's parameters and each component's share of the position variance and of
+// the first-difference variance (expected values at the log's rate; jumps that never decay are
+// counted over the log's duration).
+std::string composite_lines(const noise::NoiseConfig& k, const EnuSeries& s) {
+  std::string out = "composite (smooth gauss-markov-2 sigma m, tau s; jitter m; jumps /s, m, decay s):";
+  for (std::size_t a = 0; a < 3; ++a) {
+    const auto& g = k.composite.smooth_gm[a];
+    const auto& x = k.composite.axes[a];
+    out += fmt::format("  {} {:.4f}, {:.1f}; {:.4f}; {:.4f}, {:.3f}, {:.0f}", kAxes[a], g.sigma_m, g.tau_s,
+                       x.jitter_sigma_m, x.jump_rate_hz, x.jump_sigma_m, x.jump_decay_s);
+  }
+  out += "\ncomposite shares (smooth / jitter / jumps) of the variance | of the first-difference variance:";
+  const double dt = 1.0 / s.rate_hz;
+  for (std::size_t a = 0; a < 3; ++a) {
+    const auto& g = k.composite.smooth_gm[a];
+    const auto& x = k.composite.axes[a];
+    const double jump2 = x.jump_rate_hz * x.jump_sigma_m * x.jump_sigma_m;
+    const double var[3] = {g.sigma_m * g.sigma_m, x.jitter_sigma_m * x.jitter_sigma_m,
+                           jump2 * (x.jump_decay_s > 0.0 ? x.jump_decay_s : s.duration_s()) / 2.0};
+    const double d1[3] = {2.0 * var[0] * (1.0 - noise::gauss_markov_autocorrelation(2, dt, g.tau_s)), 2.0 * var[1],
+                          jump2 * dt};
+    const double tv = var[0] + var[1] + var[2], td = d1[0] + d1[1] + d1[2];
+    const auto pc = [](double v, double t) { return t > 0.0 ? 100.0 * v / t : 0.0; };
+    out += fmt::format("  {} {:.0f}/{:.0f}/{:.0f}% | {:.0f}/{:.0f}/{:.0f}%", kAxes[a], pc(var[0], tv), pc(var[1], tv),
+                       pc(var[2], tv), pc(d1[0], td), pc(d1[1], td), pc(d1[2], td));
+  }
+  return out + "\n";
+}
+
 }  // namespace
 
 std::string log_summary(const Calibration& c, const std::string& path) {
@@ -46,6 +76,7 @@ std::string log_summary(const Calibration& c, const std::string& path) {
                      n.gga_no_fix, n.gga_malformed, n.repeated_time, n.stream.sentences_ok,
                      n.stream.bad_checksum, n.stream.malformed, n.stream.garbage_bytes,
                      n.stream.comment_lines);
+  for (const std::string& note : c.notes) out += fmt::format("  note: {}\n", note);
   return out;
 }
 
@@ -83,6 +114,8 @@ std::string calibration_summary(const Calibration& c) {
       out += fmt::format("chrono (mean, sigma m/s^2, rate Hz, v_max m/s, a_max m/s^2): {:g}, {:.5g}, {}, {:.5g}, "
                          "{:.5g}\n", k.chrono.mean, k.chrono.sigma, k.chrono.update_rate_hz,
                          k.chrono.v_max_mps, k.chrono.a_max_mps2);
+    } else if (k.model == noise::Model::composite) {
+      out += composite_lines(k, c.series);
     }
   }
   return out + scores_line(c);
@@ -117,6 +150,8 @@ std::string comparison_table(const Calibration& c) {
                        misses.empty() ? " nothing" : misses);
   }
   out += "  (acf rows: the ratio is of 1 - autocorrelation)\n";
+  for (const ModelResult& m : c.models)
+    if (m.config.model == noise::Model::composite) out += composite_lines(m.config, c.series);
   return out;
 }
 

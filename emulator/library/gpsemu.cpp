@@ -1,5 +1,6 @@
-// The library facade (emulator/library/gpsemu.hpp): wires config, receiver, source and formatter exactly
-// as emulator/pipeline/runner.cpp does for --fast, without outputs, PPS or a wall clock.
+// The library facade (emulator/library/gpsemu.hpp): one receiver channel (pipeline/channel.hpp) on
+// the timeline the emulator would choose (pipeline/timeline.hpp), stepped by the caller: no
+// outputs, PPS or pacing.
 #include "emulator/library/gpsemu.hpp"
 
 #include <chrono>
@@ -7,13 +8,12 @@
 #include <limits>
 
 #include "emulator/config/config.hpp"
-#include "emulator/pipeline/epoch_text.hpp"
 #include "emulator/model/geo.hpp"
-#include "emulator/model/receiver.hpp"
 #include "emulator/model/time.hpp"
-#include "emulator/config/receiver_config.hpp"
-#include "emulator/config/validate.hpp"
-#include "transport/posix/wall_clock.hpp"
+#include "emulator/pipeline/channel.hpp"
+#include "emulator/pipeline/clock.hpp"
+#include "emulator/pipeline/run_settings.hpp"
+#include "emulator/pipeline/timeline.hpp"
 
 namespace gpsemu::api {
 namespace {
@@ -28,8 +28,6 @@ Config make_config(const Options& options, const std::optional<std::string>& con
 
 gpsemu::Enu to_internal(const Enu& v) { return {v[0], v[1], v[2]}; }
 Enu to_api(const gpsemu::Enu& v) { return {v.east_m, v.north_m, v.up_m}; }
-
-UtcNs wall_now() { return posix::wall_clock_now(); }
 
 }  // namespace
 
@@ -74,25 +72,28 @@ void NoiseGenerator::generate(std::size_t n, double rate_hz, double* out_enu_m) 
 
 // ---------------------------------------------------------------------------------------------
 struct Receiver::Impl {
-  explicit Impl(const Config& c) : config(c), grid(c.timeline.rate_hz), frame(c.receiver().origin) {}
-  Config config;
-  EpochGrid grid;
-  LocalFrame frame;  ///< referenced by receiver: Impl never moves (held by unique_ptr)
-  std::int64_t first_index = 0;
+  Impl(ReceiverSetup r, const LoopSettings& loop)
+      : setup(std::move(r)),
+        rate_hz(loop.rate_hz),
+        // The first epoch as the emulator chooses it: the first grid epoch at or after
+        // --start-time, else the next one after now.
+        timeline(choose_timeline(loop.rate_hz, loop.start_time, system_utc_now())),
+        channel(setup.channel, timeline.first_epoch()) {}
+  ReceiverSetup setup;
+  double rate_hz;
+  Timeline timeline;
+  Channel channel;  ///< never moves (held by unique_ptr): its receiver refers to its frame
   std::int64_t k = 0;  ///< epochs reported so far
-  std::unique_ptr<gpsemu::Receiver> receiver;
-  std::unique_ptr<sources::PoseSource> source;  ///< sim sources only; made on the first step()
-  std::string text;
 
-  Epoch report(const std::optional<sources::Truth>& truth) {
-    const UtcNs t = grid.time_of(first_index + k);
+  [[nodiscard]] UtcNs next_time() const { return timeline.grid.time_of(timeline.first_index + k); }
+
+  Epoch report(UtcNs t, const nmea::Fix& fix) {
     ++k;
-    const nmea::Fix fix = receiver->fix_at(t, truth);
-    format_epoch(fix, config.receiver().format, text);
+    const LocalFrame& frame = channel.frame();
     Epoch e;
     e.time_ns = t.time_since_epoch().count();
     e.has_fix = fix.has_fix();
-    e.nmea = text;
+    e.nmea = channel.bytes();
     if (e.has_fix) {
       e.position = {fix.lat_deg, fix.lon_deg, fix.alt_msl_m};
       e.position_enu_m = to_api(frame.to_enu({fix.lat_deg, fix.lon_deg, fix.alt_msl_m}));
@@ -106,19 +107,16 @@ struct Receiver::Impl {
     }
     return e;
   }
+  Epoch report(const std::optional<sources::Truth>& truth) {
+    const UtcNs t = next_time();
+    return report(t, channel.step(t, truth));
+  }
 };
 
 Receiver::Receiver(const Options& options, const std::optional<std::string>& config_file) {
   const Config config = make_config(options, config_file);
   try {
-    impl_ = std::make_unique<Impl>(config);
-    // The first epoch as the runner chooses it: the first grid epoch at or after --start-time,
-    // else the next one after now.
-    impl_->first_index = config.timeline.start_time ? impl_->grid.index_at_or_after(*config.timeline.start_time)
-                                           : impl_->grid.index_at_or_after(wall_now() + std::chrono::milliseconds(1));
-    impl_->receiver = std::make_unique<gpsemu::Receiver>(
-        impl_->frame, receiver_options(config.receiver()), noise::make_noise_model(config.receiver().noise, config.receiver().seed),
-        impl_->grid.time_of(impl_->first_index));
+    impl_ = std::make_unique<Impl>(receiver_setup(config.receiver(), config.timeline), loop_settings(config.timeline));
   } catch (const Error&) {
     throw;
   } catch (const std::exception& e) {
@@ -131,20 +129,20 @@ Receiver& Receiver::operator=(Receiver&&) noexcept = default;
 
 Epoch Receiver::step() {
   Impl& s = *impl_;
-  if (!s.source) {
-    if (s.config.receiver().source.kind != sources::SourceKind::sim) {
-      throw Error("step(): source '" + s.config.receiver().source.text +
+  if (!s.channel.source()) {
+    if (!s.setup.sim_source) {
+      throw Error("step(): source '" + s.setup.source_text +
                   "' is not a simulator scenario (sim:...); give the truth with step_enu or step_geodetic");
     }
     try {
-      check_source_clock(s.config.receiver(), s.config.timeline);
-      s.source = make_receiver_source(s.config.receiver(), s.config.timeline, s.frame, s.grid.time_of(s.first_index));
+      s.setup.check_source();
+      s.channel.set_source(s.setup.make_source(s.channel.frame(), s.timeline.first_epoch()));
     } catch (const std::exception& e) {
       throw Error(e.what());
     }
   }
-  const UtcNs t = s.grid.time_of(s.first_index + s.k);
-  return s.report(s.source->truth_at(t));
+  const UtcNs t = s.next_time();
+  return s.report(t, s.channel.step(t));
 }
 
 Epoch Receiver::step_enu(const Enu& position_m, const Enu& velocity_mps) {
@@ -157,17 +155,15 @@ Epoch Receiver::step_geodetic(const LatLonAlt& position, const Enu& velocity_mps
 
 Epoch Receiver::step_no_fix() { return impl_->report(std::nullopt); }
 
-std::int64_t Receiver::next_epoch_ns() const {
-  return impl_->grid.time_of(impl_->first_index + impl_->k).time_since_epoch().count();
-}
-double Receiver::rate_hz() const { return impl_->config.timeline.rate_hz; }
+std::int64_t Receiver::next_epoch_ns() const { return impl_->next_time().time_since_epoch().count(); }
+double Receiver::rate_hz() const { return impl_->rate_hz; }
 LatLonAlt Receiver::origin() const {
-  const Geodetic& o = impl_->frame.origin();
+  const Geodetic& o = impl_->channel.frame().origin();
   return {o.lat_deg, o.lon_deg, o.alt_m};
 }
-Enu Receiver::to_enu(const LatLonAlt& p) const { return to_api(impl_->frame.to_enu({p[0], p[1], p[2]})); }
+Enu Receiver::to_enu(const LatLonAlt& p) const { return to_api(impl_->channel.frame().to_enu({p[0], p[1], p[2]})); }
 LatLonAlt Receiver::to_geodetic(const Enu& p) const {
-  const Geodetic g = impl_->frame.to_geodetic(to_internal(p));
+  const Geodetic g = impl_->channel.frame().to_geodetic(to_internal(p));
   return {g.lat_deg, g.lon_deg, g.alt_m};
 }
 

@@ -56,7 +56,7 @@ struct ReceiverOptions {
   std::optional<int> satellites_used;  ///< satellites used in a 3-D fix; empty: derived from HDOP
   std::optional<double> hdop;          ///< HDOP of a 3-D fix; empty: derived from noise_sigma_m
   /// 1-sigma (RMS) error per axis of the noise model's output before the quality scale (metres);
-  /// the runner sets it with estimate_noise_sigma_m.
+  /// the pipeline sets it with estimate_noise_sigma_m (receiver_config.hpp).
   Enu noise_sigma_m{};
   nmea::FixQuality quality = nmea::FixQuality::gps;  ///< quality reported with a fix
   double cold_start_s = 0.0;     ///< no fix for this long after the first epoch (seconds)

@@ -1,14 +1,9 @@
 #include "emulator/pipeline/clock.hpp"
 
-#include <poll.h>
-#include <sys/timerfd.h>
 #include <time.h>
-#include <unistd.h>
 
-#include <cerrno>
 #include <charconv>
 #include <cmath>
-#include <cstring>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -55,126 +50,53 @@ std::string to_string(const ClockSpec& spec) {
 
 UtcNs system_utc_now() { return posix::wall_clock_now(); }
 
-// ---- SystemClockIo ----------------------------------------------------------------------------
+// ---- EpochClock, RealtimeClock -------------------------------------------------------------
 
-SystemClockIo::SystemClockIo(FdLister fds, ReadyServicer service)
-    : SystemClockIo(std::move(fds), std::function<void()>{}) {
-  service_ready_ = std::move(service);
+EpochWait EpochClock::wait_for(UtcNs t, const std::atomic<bool>& stop) {
+  const auto deadline = deadline_of(t);
+  if (!deadline || !io()) return stop.load() ? EpochWait::stopped : EpochWait::due;
+  if (late(t)) return EpochWait::skip;
+  io()->sleep_until(*deadline, stop);
+  return stop.load() ? EpochWait::stopped : EpochWait::due;
 }
 
-SystemClockIo::SystemClockIo(FdLister fds, std::function<void()> service)
-    : fds_(std::move(fds)), service_(std::move(service)) {
-  timer_fd_ = ::timerfd_create(CLOCK_REALTIME, TFD_CLOEXEC | TFD_NONBLOCK);
-  if (timer_fd_ < 0) {
-    throw std::runtime_error(fmt::format("cannot create a CLOCK_REALTIME timerfd: {}", std::strerror(errno)));
-  }
-}
-
-SystemClockIo::~SystemClockIo() {
-  if (timer_fd_ >= 0) ::close(timer_fd_);
-}
-
-void SystemClockIo::build_poll_list(bool with_timer) {
-  fd_list_.clear();
-  fds_(fd_list_);
-  poll_list_.clear();
-  if (with_timer) poll_list_.push_back({timer_fd_, POLLIN, 0});
-  for (const int fd : fd_list_) poll_list_.push_back({fd, POLLIN, 0});
-}
-
-void SystemClockIo::service_polled() {
-  if (!service_ready_) {
-    if (service_) service_();
-    return;
-  }
-  const std::size_t first = poll_list_.size() - fd_list_.size();  // after the timer, if listed
-  for (std::size_t k = first; k < poll_list_.size(); ++k) {
-    if (poll_list_[k].revents != 0) service_ready_(k - first);
-  }
-}
-
-void SystemClockIo::sleep_until(UtcNs deadline, const std::atomic<bool>& stop) {
-  if (stop.load() || system_utc_now() >= deadline) return;
-  const std::int64_t ns = deadline.time_since_epoch().count();
-  itimerspec when{};
-  when.it_value = {static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};
-  if (::timerfd_settime(timer_fd_, TFD_TIMER_ABSTIME, &when, nullptr) != 0) {
-    // Cannot happen with a valid descriptor and time; sleep without servicing rather than spin.
-    while (!stop.load() && clock_nanosleep(CLOCK_REALTIME, TIMER_ABSTIME, &when.it_value, nullptr) == EINTR) {
-    }
-    return;
-  }
-  while (!stop.load()) {
-    // Rebuilt each time: servicing may close a descriptor (a client went away) or open one.
-    build_poll_list(true);
-    const int ready = ::poll(poll_list_.data(), poll_list_.size(), -1);
-    if (ready < 0) continue;  // EINTR: a signal; the stop flag says whether to go on
-    ++wakeups_;
-    if (poll_list_.front().revents & POLLIN) {
-      std::uint64_t expirations = 0;
-      (void)!::read(timer_fd_, &expirations, sizeof expirations);
-      return;
-    }
-    // Input at or after the deadline waits for the next wait: the deadline's work goes first
-    // (and another thread may be writing to the outputs from the deadline on).
-    if (system_utc_now() >= deadline) break;
-    service_polled();
-    bool input = false;
-    for (std::size_t k = 1; k < poll_list_.size(); ++k) input = input || (poll_list_[k].revents & POLLIN);
-    if (!input) {
-      // Only hang-up/error conditions, which poll() keeps reporting until the owner closes the
-      // descriptor: wait for the timer alone for 1 ms instead of spinning on them.
-      pollfd timer{timer_fd_, POLLIN, 0};
-      if (::poll(&timer, 1, 1) > 0) {
-        std::uint64_t expirations = 0;
-        (void)!::read(timer_fd_, &expirations, sizeof expirations);
-        return;
-      }
-    }
-  }
-  // Stopped or past the deadline without the timer's wake-up: disarm, so a later wait does not
-  // see this deadline's expiry.
-  const itimerspec off{};
-  ::timerfd_settime(timer_fd_, 0, &off, nullptr);
-}
-
-void SystemClockIo::wait_for_input(std::chrono::nanoseconds timeout, const std::atomic<bool>& stop) {
-  if (stop.load()) return;
-  build_poll_list(false);
-  const auto ms = std::chrono::ceil<std::chrono::milliseconds>(timeout).count();
-  const int ready = ::poll(poll_list_.data(), poll_list_.size(), static_cast<int>(std::max<std::int64_t>(ms, 0)));
-  if (ready > 0) {
-    ++wakeups_;
-    service_polled();
-  }
+bool RealtimeClock::late(UtcNs t) {
+  const UtcNs deadline = t - shift_ + latency_;
+  const auto behind = io_.now() - deadline;
+  if (behind <= period_) return false;
+  spdlog::warn("epoch {} skipped: {} ms late", format_iso8601_utc(t),
+               std::chrono::duration_cast<std::chrono::milliseconds>(behind).count());
+  return true;
 }
 
 // ---- ScaledClock ------------------------------------------------------------------------------
 
 ScaledClock::ScaledClock(ClockIo& io, double scale, UtcNs first_epoch, UtcNs first_wall,
-                         std::chrono::nanoseconds epoch_period)
-    : io_(io), scale_(scale), first_epoch_(first_epoch), first_wall_(first_wall), period_(epoch_period) {
+                         std::chrono::nanoseconds epoch_period, bool skip_late)
+    : io_(io),
+      scale_(scale),
+      first_epoch_(first_epoch),
+      first_wall_(first_wall),
+      period_(epoch_period),
+      skip_late_(skip_late) {
   if (!(scale > 0.0) || scale > 1000.0) {
     throw std::invalid_argument(fmt::format("scaled clock: K must be > 0 and <= 1000, got {}", scale));
   }
 }
 
-UtcNs ScaledClock::deadline_of(UtcNs t) const {
+std::optional<UtcNs> ScaledClock::deadline_of(UtcNs t) const {
   const auto since = static_cast<double>((t - first_epoch_).count());
   return first_wall_ + std::chrono::nanoseconds{std::llround(since / scale_)};
 }
 
-EpochWait ScaledClock::wait_for(UtcNs t, const std::atomic<bool>& stop) {
-  const UtcNs deadline = deadline_of(t);
-  // Like the real-time loop: an epoch whose (scaled) time has long passed is not sent in a burst.
-  const auto late = io_.now() - deadline;
+bool ScaledClock::late(UtcNs t) {
+  if (!skip_late_) return false;
+  // Like the real-time clock: an epoch whose (scaled) time has long passed is not sent in a burst.
+  const auto behind = io_.now() - *deadline_of(t);
   const auto wall_period = std::chrono::nanoseconds{std::llround(static_cast<double>(period_.count()) / scale_)};
-  if (late > std::max<std::chrono::nanoseconds>(wall_period, std::chrono::milliseconds(20))) {
-    spdlog::warn("epoch {} skipped: {:.0f} ms late on the scaled clock", format_iso8601_utc(t), seconds(late) * 1e3);
-    return EpochWait::skip;
-  }
-  io_.sleep_until(deadline, stop);
-  return stop.load() ? EpochWait::stopped : EpochWait::due;
+  if (behind <= std::max<std::chrono::nanoseconds>(wall_period, std::chrono::milliseconds(20))) return false;
+  spdlog::warn("epoch {} skipped: {:.0f} ms late on the scaled clock", format_iso8601_utc(t), seconds(behind) * 1e3);
+  return true;
 }
 
 std::string ScaledClock::describe() const {
@@ -209,13 +131,14 @@ std::string LockstepClock::describe() const {
 }
 
 std::unique_ptr<EpochClock> make_epoch_clock(const ClockSpec& spec, ClockIo& io, const sources::PoseSource& source,
-                                             UtcNs first_epoch, UtcNs first_wall,
-                                             std::chrono::nanoseconds epoch_period) {
+                                             UtcNs first_epoch, UtcNs first_wall, std::chrono::nanoseconds epoch_period,
+                                             std::chrono::nanoseconds epoch_minus_wall,
+                                             std::chrono::nanoseconds latency) {
   switch (spec.kind) {
     case ClockKind::scaled: return std::make_unique<ScaledClock>(io, spec.scale, first_epoch, first_wall, epoch_period);
     case ClockKind::lockstep: return std::make_unique<LockstepClock>(io, source, epoch_period);
-    case ClockKind::realtime:
-    case ClockKind::fast: return nullptr;
+    case ClockKind::realtime: return std::make_unique<RealtimeClock>(io, epoch_minus_wall, latency, epoch_period);
+    case ClockKind::fast: return std::make_unique<FastClock>();
   }
   return nullptr;
 }

@@ -1,7 +1,9 @@
-// The epoch clocks besides the runner's own real-time pacing (docs/design.md "Timing semantics"):
+// The epoch clocks (docs/design.md "Timing semantics"), all paced by the one epoch loop (epoch_loop.hpp):
 //
-// - realtime (default): epoch t leaves at t + latency on the system clock (the runner's own loop).
+// - realtime (default): epoch t leaves at t + latency on the system clock (shifted by whole epochs,
+//   or whole seconds with PPS, with --start-time); an epoch more than one period late is skipped.
 // - fast: no pacing at all (batch generation; --fast or --clock fast).
+// - replay: a scaled clock (K = --speed) on the log's own times that never skips (replayer.hpp).
 // - scaled:K: epochs on the same UTC grid, but paced at K times real time from the start: the
 //   first epoch t_0 leaves when it would in real time (t_0 + latency, or now with --start-time),
 //   epoch t_k (t_k - t_0) / K later. The NMEA times still advance by one epoch period per epoch,
@@ -13,11 +15,9 @@
 //   than real time gets every epoch once, in order. Epochs before the simulator's present at the
 //   first pose are skipped (a simulator already running); after that, none are skipped.
 //
-// The clocks wait through a ClockIo (the runner's outputs and source, or a fake in tests) and hold
+// The clocks wait through a ClockIo (the loop's outputs and sources, or a fake in tests) and hold
 // no other state than where they are on their timeline.
 #pragma once
-
-#include <poll.h>
 
 #include <atomic>
 #include <cstdint>
@@ -31,6 +31,7 @@
 
 #include "emulator/sources/pose_source.hpp"
 #include "emulator/model/time.hpp"
+#include "transport/posix/wait.hpp"
 
 namespace gpsemu {
 
@@ -66,45 +67,30 @@ class ClockIo {
   virtual void wait_for_input(std::chrono::nanoseconds timeout, const std::atomic<bool>& stop) = 0;
 };
 
-/// The real ClockIo. A wait is one poll() over an absolute CLOCK_REALTIME timerfd (armed at the
-/// deadline) and the descriptors the lister appends: servicing inputs as they arrive, and exactly
-/// one wake-up at the deadline when nothing else happens (no early wake-up and final sleep, no
-/// timer slack: the timerfd's hrtimer fires at the deadline). The wall clock being stepped moves the
-/// wake-up with it (absolute timer). Lists are reused: no allocation per wait.
+/// The real ClockIo: every wait is a posix::Waiter's (an absolute CLOCK_REALTIME
+/// timerfd, polled with the descriptors the lister appends, serviced as input arrives; the timer
+/// alone when there is nothing to poll).
 class SystemClockIo final : public ClockIo {
  public:
-  /// Appends the descriptors to watch for input (readable) to the vector it is given.
-  using FdLister = std::function<void(std::vector<int>&)>;
-  /// Services the input of the k-th descriptor the lister appended (readable or hung up).
-  using ReadyServicer = std::function<void(std::size_t k)>;
+  using FdLister = posix::Waiter::FdLister;
+  using ReadyServicer = posix::Waiter::ReadyServicer;
   /// `service` runs once a wake-up on input and services every input. Throws std::runtime_error
   /// when the timerfd cannot be created.
-  SystemClockIo(FdLister fds, std::function<void()> service);
+  SystemClockIo(FdLister fds, std::function<void()> service) : waiter_(std::move(fds), std::move(service)) {}
   /// `service` runs for each descriptor that has input (many inputs: only those are serviced).
-  SystemClockIo(FdLister fds, ReadyServicer service);
-  ~SystemClockIo() override;
-  SystemClockIo(const SystemClockIo&) = delete;
-  SystemClockIo& operator=(const SystemClockIo&) = delete;
+  SystemClockIo(FdLister fds, ReadyServicer service) : waiter_(std::move(fds), std::move(service)) {}
 
   UtcNs now() override { return system_utc_now(); }
-  void sleep_until(UtcNs deadline, const std::atomic<bool>& stop) override;
-  void wait_for_input(std::chrono::nanoseconds timeout, const std::atomic<bool>& stop) override;
-  /// poll() calls that returned because the deadline's timer fired or input arrived (a measure of
-  /// wake-ups: one an epoch when no input arrives).
-  [[nodiscard]] std::uint64_t wakeups() const { return wakeups_; }
+  void sleep_until(UtcNs deadline, const std::atomic<bool>& stop) override { waiter_.sleep_until(deadline, stop); }
+  void wait_for_input(std::chrono::nanoseconds timeout, const std::atomic<bool>& stop) override {
+    waiter_.wait_for_input(timeout, stop);
+  }
+  /// Waits that returned because the deadline came or input arrived (a measure of wake-ups: one an
+  /// epoch when no input arrives).
+  [[nodiscard]] std::uint64_t wakeups() const { return waiter_.wakeups(); }
 
  private:
-  /// Rebuilds the poll list: [timer] + the lister's descriptors (servicing may close or open one).
-  void build_poll_list(bool with_timer);
-  std::function<void(std::vector<int>&)> fds_;
-  std::function<void()> service_;       ///< or:
-  ReadyServicer service_ready_;
-  /// Runs the servicer for what poll_list_ reported.
-  void service_polled();
-  int timer_fd_ = -1;
-  std::vector<int> fd_list_;       ///< reused
-  std::vector<pollfd> poll_list_;  ///< reused
-  std::uint64_t wakeups_ = 0;
+  posix::Waiter waiter_;
 };
 
 /// What became of an epoch the clock was asked to wait for.
@@ -114,26 +100,65 @@ enum class EpochWait {
   stopped,  ///< `stop` became true while waiting
 };
 
+/// Paces the epochs of one timeline. A clock on the wall clock (realtime, scaled) has a deadline
+/// for each epoch, which the epoch loop waits for itself (PPS edges and a fleet's computing go
+/// before it); the others (fast, lockstep) only have wait_for().
 class EpochClock {
  public:
   virtual ~EpochClock() = default;
-  /// Waits until epoch `t` is due. Epochs are asked for in order, each once.
-  [[nodiscard]] virtual EpochWait wait_for(UtcNs t, const std::atomic<bool>& stop) = 0;
-  /// One line for the start-up banner.
+  /// Waits until epoch `t` is due. Epochs are asked for in order, each once. For a clock with
+  /// deadlines: skip when late(t), else a wait until deadline_of(t).
+  [[nodiscard]] virtual EpochWait wait_for(UtcNs t, const std::atomic<bool>& stop);
+  /// The wall time epoch `t` leaves at; nullopt for a clock not on the wall clock.
+  [[nodiscard]] virtual std::optional<UtcNs> deadline_of(UtcNs /*t*/) const { return std::nullopt; }
+  /// True (and says so once in the log) when epoch `t` is so late it is skipped, not sent in a
+  /// burst: a receiver never reports the past.
+  [[nodiscard]] virtual bool late(UtcNs /*t*/) { return false; }
+  /// One line for the start-up banner (empty: none).
   [[nodiscard]] virtual std::string describe() const = 0;
+  /// What the clock waits through; nullptr for a clock that never waits (fast).
+  [[nodiscard]] virtual ClockIo* io() const { return nullptr; }
+};
+
+/// fast: every epoch is due at once.
+class FastClock final : public EpochClock {
+ public:
+  [[nodiscard]] EpochWait wait_for(UtcNs, const std::atomic<bool>& stop) override {
+    return stop.load() ? EpochWait::stopped : EpochWait::due;
+  }
+  [[nodiscard]] std::string describe() const override { return {}; }
+};
+
+/// realtime: epoch t leaves at t - epoch_minus_wall + latency on the system clock; an epoch more
+/// than one epoch period late is skipped.
+class RealtimeClock final : public EpochClock {
+ public:
+  RealtimeClock(ClockIo& io, std::chrono::nanoseconds epoch_minus_wall, std::chrono::nanoseconds latency,
+                std::chrono::nanoseconds epoch_period)
+      : io_(io), shift_(epoch_minus_wall), latency_(latency), period_(epoch_period) {}
+  [[nodiscard]] std::optional<UtcNs> deadline_of(UtcNs t) const override { return t - shift_ + latency_; }
+  [[nodiscard]] bool late(UtcNs t) override;
+  [[nodiscard]] std::string describe() const override { return {}; }
+  [[nodiscard]] ClockIo* io() const override { return &io_; }
+
+ private:
+  ClockIo& io_;
+  std::chrono::nanoseconds shift_, latency_, period_;
 };
 
 /// scaled:K. `first_epoch` leaves at wall time `first_wall` (its real-time deadline: latency
 /// included); epoch t at first_wall + (t - first_epoch) / K. An epoch more than one epoch
-/// period (wall) late is skipped, like the real-time loop does.
+/// period (wall) late is skipped, like the real-time loop does, unless `skip_late` is false
+/// (replay: every recorded epoch is sent, the delay is measured).
 class ScaledClock final : public EpochClock {
  public:
   /// Throws std::invalid_argument for a scale outside (0, 1000].
-  ScaledClock(ClockIo& io, double scale, UtcNs first_epoch, UtcNs first_wall, std::chrono::nanoseconds epoch_period);
-  [[nodiscard]] EpochWait wait_for(UtcNs t, const std::atomic<bool>& stop) override;
+  ScaledClock(ClockIo& io, double scale, UtcNs first_epoch, UtcNs first_wall, std::chrono::nanoseconds epoch_period,
+              bool skip_late = true);
+  [[nodiscard]] std::optional<UtcNs> deadline_of(UtcNs t) const override;
+  [[nodiscard]] bool late(UtcNs t) override;
   [[nodiscard]] std::string describe() const override;
-  /// When epoch `t` leaves (wall clock, UTC).
-  [[nodiscard]] UtcNs deadline_of(UtcNs t) const;
+  [[nodiscard]] ClockIo* io() const override { return &io_; }
 
  private:
   ClockIo& io_;
@@ -141,6 +166,7 @@ class ScaledClock final : public EpochClock {
   UtcNs first_epoch_;
   UtcNs first_wall_;
   std::chrono::nanoseconds period_;
+  bool skip_late_;
 };
 
 /// lockstep: epoch t is due once `source.sim_time()` is at or after t.
@@ -151,6 +177,7 @@ class LockstepClock final : public EpochClock {
                 std::chrono::nanoseconds poll_interval = std::chrono::milliseconds(100));
   [[nodiscard]] EpochWait wait_for(UtcNs t, const std::atomic<bool>& stop) override;
   [[nodiscard]] std::string describe() const override;
+  [[nodiscard]] ClockIo* io() const override { return &io_; }
 
  private:
   ClockIo& io_;
@@ -160,10 +187,12 @@ class LockstepClock final : public EpochClock {
   bool started_ = false;  ///< an epoch has been due: from now on none is skipped
 };
 
-/// The clock `spec` names for the runner, or nullptr for realtime and fast (the runner's own
-/// loop). `first_wall` is the first epoch's real-time deadline.
+/// The clock `spec` names. `first_wall` is the first epoch's real-time deadline; `epoch_minus_wall`
+/// and `latency` place the real-time deadlines.
 [[nodiscard]] std::unique_ptr<EpochClock> make_epoch_clock(const ClockSpec& spec, ClockIo& io,
                                                            const sources::PoseSource& source, UtcNs first_epoch,
-                                                           UtcNs first_wall, std::chrono::nanoseconds epoch_period);
+                                                           UtcNs first_wall, std::chrono::nanoseconds epoch_period,
+                                                           std::chrono::nanoseconds epoch_minus_wall,
+                                                           std::chrono::nanoseconds latency);
 
 }  // namespace gpsemu

@@ -1,8 +1,6 @@
 #include "emulator/pipeline/helper_writer.hpp"
 
-#include <time.h>
-
-#include <cerrno>
+#include "transport/posix/wait.hpp"
 
 namespace gpsemu {
 
@@ -33,6 +31,8 @@ void HelperWriter::wait_done() {
 }
 
 void HelperWriter::loop() {
+  posix::Waiter waiter;  // this thread's own timer: nothing to poll
+  const std::atomic<bool> never{false};
   std::unique_lock lock(mutex_);
   for (;;) {
     wake_.wait(lock, [this] { return quit_ || job_.has_value(); });
@@ -40,10 +40,7 @@ void HelperWriter::loop() {
     const Job job = *job_;
     job_.reset();
     lock.unlock();
-    const std::int64_t ns = job.write_at.time_since_epoch().count();
-    const timespec ts{static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};
-    while (clock_nanosleep(CLOCK_REALTIME, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-    }
+    waiter.sleep_until(job.write_at, never);
     write_(job.first, job.from, job.to);
     lock.lock();
     busy_ = false;

@@ -1,12 +1,13 @@
-// A second writer thread for many receivers in one process (runner.hpp): it writes one part of
-// the outputs while the runner's thread writes the other, both from the same instant, so the
+// A second writer thread for many receivers in one process (epoch_loop.hpp): it writes one part of
+// the outputs while the loop's thread writes the other, both from the same instant, so the
 // burst of writes after an epoch's deadline is half as long (a loopback UDP datagram costs the
 // sender ~9 us: 256 of them take 2-2.5 ms in one thread). It is handed an epoch once every text
-// is formatted, sleeps until the write time on its own (absolute CLOCK_REALTIME sleep), writes,
+// is formatted, sleeps until the write time on its own (its own posix::Waiter), writes,
 // and says when it is done. It inherits the scheduling of the thread that makes it (SCHED_FIFO
-// when the runner was given a real-time priority).
+// when the loop was given a real-time priority).
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <cstddef>
 #include <functional>

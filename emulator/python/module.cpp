@@ -118,7 +118,7 @@ PYBIND11_MODULE(gpsemu, m) {
       });
 
   py::class_<gpsemu::api::NoiseGenerator>(m, "Noise",
-      "A noise model alone (keys noise, width, cgrw-*, chrono, gaussian-*, gm-*, seed): ENU metres.")
+      "A noise model alone (keys noise, width, cgrw-*, chrono, gaussian-*, gm-*, composite-*, seed): ENU metres.")
       .def(py::init([](const py::object& options, const py::object& config_file, const py::kwargs& kw) {
              return gpsemu::api::NoiseGenerator(to_options(options, kw), to_file(config_file));
            }),

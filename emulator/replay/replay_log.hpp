@@ -1,4 +1,4 @@
-// A recorded NMEA log cut into the receiver's epochs, for `gpsemu replay` (replay_command.hpp).
+// A recorded NMEA log cut into the receiver's epochs, for `gpsemu replay` (replayer.hpp).
 // Pure: bytes in, epochs and counts out; no I/O except read_replay_log(), no clocks.
 //
 // - The byte stream goes through nmea::StreamReader: binary protocols (UBX, CASIC...), garbage,

@@ -1,4 +1,4 @@
-// The options of `gpsemu replay` (replay_command.hpp), kept in Config so they come from the one
+// The options of `gpsemu replay` (replayer.hpp), kept in Config so they come from the one
 // option table (command line and TOML file): speed, loop, range and retiming.
 #pragma once
 

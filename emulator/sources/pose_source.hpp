@@ -33,7 +33,7 @@ class PoseSource {
   /// reached (its newest pose's `t` as UTC), nothing before the first pose. Others: nothing.
   [[nodiscard]] virtual std::optional<UtcNs> sim_time() const { return std::nullopt; }
   /// True when the source has no truth from `t` on and never will (a recorded trajectory past its
-  /// end): the runner stops there.
+  /// end): the epoch loop stops there.
   [[nodiscard]] virtual bool ended_at(UtcNs /*t*/) const { return false; }
 };
 

@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 
+#include "emulator/pipeline/channel.hpp"
 #include "emulator/pipeline/epoch_text.hpp"
 #include "emulator/model/geo.hpp"
 #include "emulator/model/noise/noise_model.hpp"
@@ -96,32 +97,29 @@ void format_epoch_gga_rmc(benchmark::State& state) {
 }
 BENCHMARK(format_epoch_gga_rmc);
 
-/// One whole epoch as the main loop does it: truth from the simulator, receiver model with cgrw
-/// noise and geodetic conversion, the sentences formatted into one buffer; with `to_file`, written
-/// to a buffered file output (/dev/null) as --fast --output file: does. Receiver options as the
-/// runner makes them (noise sigma estimated, satellite details only when GSA/GSV are written).
+/// One whole epoch as the main loop does it, through the receiver channel (pipeline/channel.hpp):
+/// truth from the simulator, receiver model with cgrw noise and geodetic conversion, the sentences
+/// published into one buffer; with `to_file`, written to a buffered file output (/dev/null) as
+/// --fast --output file: does. Receiver options as the pipeline makes them (noise sigma estimated,
+/// satellite details only when GSA/GSV are written).
 void whole_epoch(benchmark::State& state, const std::string& scenario, gpsemu::nmea::FormatOptions options,
                  bool to_file) {
-  const gpsemu::LocalFrame frame(kOrigin);
   const gpsemu::UtcNs start{seconds(1714564800)};
-  auto source = gpsemu::sources::make_sim_source(scenario, {}, frame, start);
-  gpsemu::noise::NoiseConfig config;
-  config.cgrw = gpsemu::noise::cgrw_preset(1.0);
-  gpsemu::ReceiverOptions receiver_options;
-  receiver_options.noise_sigma_m = gpsemu::estimate_noise_sigma_m(config, 1);
-  receiver_options.satellite_details = options.sentences.contains(gpsemu::nmea::SentenceType::gsa) ||
-                                       options.sentences.contains(gpsemu::nmea::SentenceType::gsv);
-  gpsemu::Receiver receiver(frame, receiver_options, gpsemu::noise::make_noise_model(config, 1), start);
+  gpsemu::ChannelSettings settings;
+  settings.origin = kOrigin;
+  settings.noise.cgrw = gpsemu::noise::cgrw_preset(1.0);
+  settings.receiver.noise_sigma_m = gpsemu::estimate_noise_sigma_m(settings.noise, 1);
+  settings.receiver.satellite_details = options.sentences.contains(gpsemu::nmea::SentenceType::gsa) ||
+                                        options.sentences.contains(gpsemu::nmea::SentenceType::gsv);
+  settings.format = options;
+  gpsemu::Channel channel(settings, start);
+  channel.set_source(gpsemu::sources::make_sim_source(scenario, {}, channel.frame(), start));
   const auto file = to_file ? std::make_unique<gpsemu::transport::FileOutput>("/dev/null", false) : nullptr;
-  std::string text;
-  text.reserve(1024);
   gpsemu::UtcNs t = start;
   for (auto _ : state) {
-    source->service();
-    const auto fix = receiver.fix_at(t, source->truth_at(t));
-    gpsemu::format_epoch(fix, options, text);
-    if (file) (void)file->write_epoch(text);
-    benchmark::DoNotOptimize(text.data());
+    (void)channel.step(t);
+    if (file) (void)file->write_epoch(channel.bytes());
+    benchmark::DoNotOptimize(channel.bytes().data());
     t += milliseconds(100);
   }
   state.SetItemsProcessed(state.iterations());

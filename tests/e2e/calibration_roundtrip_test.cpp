@@ -8,6 +8,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -176,6 +177,43 @@ TEST(CalibrateCommand, UnusableLogsExitWithStatus2) {
   const auto missing = test::run({GPSEMU_BINARY, "compare", "/nonexistent/receiver.log"});
   EXPECT_EQ(missing.status, 2);
   EXPECT_NE(missing.err.find("/nonexistent/receiver.log"), std::string::npos) << missing.err;
+  std::remove(log.c_str());
+}
+
+TEST(JudgeCommand, PrintsTheTableAndWritesJsonAndPlotFiles) {
+  const std::string log = temp_path("judge.nmea"), json = temp_path("judge.json"), dir = temp_path("judge_plots");
+  write_file(log, test::make_log(1.0, 300, 5, false).text);
+  const auto r = test::run({GPSEMU_BINARY, "judge", log, "--runs", "2", "--json", json, "--plots", dir});
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* text : {"NIS mean", "NIS p95", "innov rho1", "pos err m", "real", "composite", "gauss-markov-2"})
+    EXPECT_NE(r.out.find(text), std::string::npos) << text << "\n" << r.out;
+  std::ifstream f(json);
+  const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  for (const char* key : {"\"real\"", "\"models\"", "\"best\"", "\"nis_mean\"", "\"nis_p95\"", "\"innov_rho1\""})
+    EXPECT_NE(text.find(key), std::string::npos) << key << "\n" << text;
+  for (const char* name : {"/judge_nis.csv", "/judge_summary.csv"}) {
+    std::ifstream csv(dir + name);
+    std::string header;
+    EXPECT_TRUE(std::getline(csv, header)) << name;
+    EXPECT_EQ(header.rfind("source,", 0), 0u) << header;
+  }
+  std::remove(log.c_str());
+  std::remove(json.c_str());
+}
+
+TEST(CalibrateCommand, ADrivingLogIsRefusedUnlessDetrended) {
+  // Issue 16: a sim:circle run (20 m radius, 2 m/s) was calibrated as noise.
+  const std::string log = temp_path("circle.nmea");
+  write_file(log, emulate({"--source", "sim:circle", "--duration", "300", "--sentences", "GGA"}));
+  for (const char* sub : {"calibrate", "compare"}) {
+    const auto r = test::run({GPSEMU_BINARY, sub, log, "--runs", "1"});
+    EXPECT_EQ(r.status, 2) << sub << r.out;
+    EXPECT_NE(r.err.find("net displacement"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("m/s"), std::string::npos) << r.err;
+  }
+  const auto d = test::run({GPSEMU_BINARY, "calibrate", log, "--runs", "1", "--detrend"});
+  EXPECT_EQ(d.status, 0) << d.err;
+  EXPECT_NE(d.out.find("# detrended"), std::string::npos) << d.out;
   std::remove(log.c_str());
 }
 

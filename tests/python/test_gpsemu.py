@@ -93,6 +93,20 @@ def test_noise_is_seeded_and_deterministic():
     assert np.ptp(a[:, 0]) > 0.0
 
 
+def test_composite_model_with_the_cli_keys():
+    smooth = {"noise": "gauss-markov", "gm-order": "2", "gm-sigma": "0.5", "gm-tau": "20", "seed": 3}
+    keys = {"noise": "composite", "composite-sigma": "0.5", "composite-tau": "20", "seed": 3}
+    # No jitter, no jumps: exactly its smooth part alone (same streams under the seed).
+    assert np.array_equal(gpsemu.generate(300, 5, keys), gpsemu.generate(300, 5, smooth))
+    jumpy = {**keys, "composite-jitter": "0.05", "composite-jump-rate": "0.05", "composite-jump-size": "0.5",
+             "composite-jump-decay": "30"}
+    a = gpsemu.generate(300, 5, jumpy)
+    assert np.array_equal(a, gpsemu.generate(300, 5, jumpy))
+    assert not np.array_equal(a, gpsemu.generate(300, 5, keys))
+    with pytest.raises(gpsemu.Error, match="composite-jitter"):
+        gpsemu.Noise({**keys, "composite-jitter": "-1"})
+
+
 def test_receiver_position_is_truth_plus_noise():
     noise = gpsemu.generate(50, 10, KEYS)
     rx = gpsemu.Receiver(KEYS)

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "emulator/model/geo.hpp"
+#include "emulator/model/noise/noise_model.hpp"
 #include "nmea/sentences.hpp"
 
 namespace gpsemu::test {
@@ -80,6 +81,43 @@ inline MessyLog make_log(double rate_hz, int epochs, int minute_decimals, bool m
     }
   }
   return log;
+}
+
+/// A clean log of a receiver whose error is the noise model `config` (seed `seed`): GGA at
+/// `rate_hz` for `duration_s` from 2024-05-01 12:00:00 UTC at `minute_decimals`, about `origin`
+/// plus `track(t)` (ENU metres, e.g. a circle; none = stationary). `constant_alt`: the altitude
+/// field is the origin's, whatever the noise.
+inline std::string model_log(const noise::NoiseConfig& config, std::uint64_t seed, double rate_hz, double duration_s,
+                             int minute_decimals, bool constant_alt = false, Enu (*track)(double t_s) = nullptr,
+                             Geodetic origin = {47.5, 8.25, 400.0}) {
+  const LocalFrame frame(origin);
+  const auto model = noise::make_noise_model(config, seed);
+  nmea::FormatOptions f;
+  f.minute_decimals = minute_decimals;
+  f.time_decimals = 2;
+  const nmea::UtcTime start = std::chrono::sys_days{std::chrono::year{2024} / 5 / 1} + std::chrono::hours(12);
+  std::string text;
+  const auto epochs = static_cast<long>(std::llround(duration_s * rate_hz));
+  for (long k = 0; k < epochs; ++k) {
+    const double t = static_cast<double>(k) / rate_hz;
+    Enu e = model->offset_at(std::chrono::nanoseconds(std::llround(t * 1e9)));
+    if (track) {
+      const Enu p = track(t);
+      e = {e.east_m + p.east_m, e.north_m + p.north_m, e.up_m + p.up_m};
+    }
+    const Geodetic g = frame.to_geodetic(e);
+    nmea::Fix fix;
+    fix.time_utc = start + std::chrono::milliseconds(std::llround(1000.0 * t));
+    fix.quality = nmea::FixQuality::gps;
+    fix.dimension = nmea::FixDimension::three_d;
+    fix.lat_deg = g.lat_deg;
+    fix.lon_deg = g.lon_deg;
+    fix.alt_msl_m = constant_alt ? origin.alt_m : g.alt_m;
+    fix.satellites_used = 9;
+    fix.hdop = 0.9;
+    text += nmea::format_gga(fix, f);
+  }
+  return text;
 }
 
 }  // namespace gpsemu::test

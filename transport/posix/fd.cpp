@@ -12,13 +12,14 @@ void UniqueFd::reset(int fd) {
   fd_ = fd;
 }
 
-Drained drain_input(int fd, std::size_t limit_bytes) {
+Drained drain_input(int fd, std::size_t limit_bytes, const std::function<void(std::string_view)>& consume) {
   std::array<char, 4096> buf{};
   Drained d;
   while (d.bytes < limit_bytes) {
     const ssize_t n = ::read(fd, buf.data(), buf.size());
     if (n > 0) {
       d.bytes += static_cast<std::uint64_t>(n);
+      if (consume) consume({buf.data(), static_cast<std::size_t>(n)});
       continue;
     }
     if (n < 0 && errno == EINTR) continue;

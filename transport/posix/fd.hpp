@@ -4,6 +4,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <string_view>
 #include <utility>
 
 namespace gpsemu::posix {
@@ -45,8 +47,10 @@ struct Drained {
   int error = 0;
 };
 
-/// Reads and discards what the non-blocking `fd` has, at most about `limit_bytes` (bounds one call);
-/// never blocks.
-[[nodiscard]] Drained drain_input(int fd, std::size_t limit_bytes);
+/// Reads what the non-blocking `fd` has, at most about `limit_bytes` (bounds one call), handing
+/// each chunk to `consume` (an output's client input: transport/output.hpp) or, without one,
+/// discarding it; never blocks.
+[[nodiscard]] Drained drain_input(int fd, std::size_t limit_bytes,
+                                  const std::function<void(std::string_view)>& consume = {});
 
 }  // namespace gpsemu::posix

@@ -191,6 +191,12 @@ CgrwFit fit_unit(const Vec4& target, std::size_t window) {
 CgrwFit fit_cgrw_axis(const CgrwAxis& target, double window_samples, std::string_view name,
                       double max_ratio) {
   validate_cgrw_axis(target, name);
+  if (cgrw_axis_off(target)) {
+    CgrwFit off;
+    off.internal = {1.0, 0.0, 0.0, 0.0};
+    off.achieved = target;
+    return off;
+  }
   if (!(window_samples >= kCgrwMinWindowSamples && window_samples <= kCgrwMaxWindowSamples)) {
     std::ostringstream os;
     os << name << ": window_samples (window_s x rate_hz) must be " << kCgrwMinWindowSamples
@@ -234,7 +240,29 @@ CgrwFit fit_cgrw_axis(const CgrwAxis& target, double window_samples, std::string
   return fit;
 }
 
+CgrwAxis nudge_cgrw_axis(const CgrwAxis& s, bool* changed) {
+  constexpr double kMargin = 0.99;
+  CgrwAxis n = s;
+  const auto ok = [](double x) { return x > 0.0 && std::isfinite(x); };
+  if (!ok(n.width_m)) {
+    n = {0.0, 0.0, 0.0, 0.0};
+  } else {
+    // A missing derivative statistic gets a tiny share of the width (the axis moves rarely).
+    if (!ok(n.width_d1_m)) n.width_d1_m = 1e-3 * n.width_m;
+    if (!ok(n.width_d2_m)) n.width_d2_m = n.width_d1_m;
+    if (!ok(n.sigma_d2_m)) n.sigma_d2_m = 0.25 * n.width_d2_m;
+    n.width_d1_m = std::min(n.width_d1_m, 2.0 * kMargin * n.width_m);
+    n.width_d2_m = std::min(n.width_d2_m, 2.0 * kMargin * n.width_d1_m);
+    n.sigma_d2_m = std::min(n.sigma_d2_m, 0.5 * kMargin * n.width_d2_m);
+  }
+  if (changed)
+    *changed = n.width_m != s.width_m || n.width_d1_m != s.width_d1_m || n.width_d2_m != s.width_d2_m ||
+               n.sigma_d2_m != s.sigma_d2_m;
+  return n;
+}
+
 std::size_t cgrw_burn_in_steps(const CgrwInternal& k, double window_samples) {
+  if (!(k.sigma_m > 0.0)) return 16;  // an axis that is off
   const double v_per_sigma = k.v_max_m / k.sigma_m;
   const double period = 2.0 * std::numbers::pi * std::sqrt(k.p_max_m / k.sigma_m);
   double steps = std::max(window_samples, 4.0 * v_per_sigma * v_per_sigma + 4.0 * period);

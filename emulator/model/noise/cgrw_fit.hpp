@@ -57,9 +57,14 @@ inline void cgrw_step(const CgrwInternal& k, double standard_normal, double& p_m
 [[nodiscard]] CgrwAxis mean_cgrw_statistics(std::span<const double> samples,
                                             std::size_t window_samples);
 
-/// Throws std::invalid_argument naming `<name>.<field>` unless the four statistics are positive,
-/// finite and possible for some series (width_d1 <= 2 width, width_d2 <= 2 width_d1,
-/// width_d2 >= 2 sigma_d2).
+/// True when the four statistics are all 0: the axis has no noise (a constant axis of a log).
+[[nodiscard]] inline bool cgrw_axis_off(const CgrwAxis& s) {
+  return s.width_m == 0.0 && s.width_d1_m == 0.0 && s.width_d2_m == 0.0 && s.sigma_d2_m == 0.0;
+}
+
+/// Throws std::invalid_argument naming `<name>.<field>` unless the four statistics are all 0 (the
+/// axis is off) or positive, finite and possible for some series (width_d1 <= 2 width,
+/// width_d2 <= 2 width_d1, width_d2 >= 2 sigma_d2).
 void validate_cgrw_axis(const CgrwAxis& stats, std::string_view name);
 
 /// Result of fit_cgrw_axis.
@@ -76,13 +81,20 @@ inline constexpr double kCgrwMaxFitRatio = 2.0;
 inline constexpr double kCgrwMinWindowSamples = 16.0;
 inline constexpr double kCgrwMaxWindowSamples = 100000.0;
 
+/// The nearest statistics to `s` that validate_cgrw_axis accepts with a margin of 1% on each
+/// inequality (so they still hold after printing with 6 significant digits): width_d1 and
+/// width_d2 lowered to their bounds, sigma_d2 lowered to width_d2 / 2. Non-positive or
+/// non-finite widths, or width 0, give the axis off (all 0). `changed` says whether anything moved.
+[[nodiscard]] CgrwAxis nudge_cgrw_axis(const CgrwAxis& s, bool* changed = nullptr);
+
 /// Internal parameters whose walk has, on average over windows of `window_samples`, the four
 /// statistics `target`. Deterministic: simulates with a fixed internal seed (common random
 /// numbers) over 32 windows (fewer, down to 8, beyond 10 000 samples a window) after a burn-in,
 /// and minimises the weighted squared log-ratios of measured to target statistics (width
 /// weighted 4x) by Levenberg-Marquardt over the logs of the four internal parameters with a
 /// finite-difference Jacobian. Fits are done at unit width and
-/// scaled (the model is scale-invariant), and cached per shape and window length. Throws
+/// scaled (the model is scale-invariant), and cached per shape and window length. An axis that
+/// is off (cgrw_axis_off) gives a walk that stays at 0 (sigma, v_max, a_max 0). Throws
 /// std::invalid_argument naming `<name>.<field>` for invalid statistics or window, or when the
 /// best fit is still off by more than `max_ratio` (calibration may pass infinity to get the
 /// best compromise and report it).

@@ -10,8 +10,9 @@ Model parse_model(const std::string& name) {
   if (name == "chrono") return Model::chrono;
   if (name == "gaussian") return Model::gaussian;
   if (name == "gauss-markov") return Model::gauss_markov;
+  if (name == "composite") return Model::composite;
   throw std::invalid_argument("unknown noise model '" + name +
-                              "' (accepted: cgrw, chrono, gaussian, gauss-markov, none)");
+                              "' (accepted: cgrw, chrono, gaussian, gauss-markov, composite, none)");
 }
 
 std::string to_string(Model model) {
@@ -21,6 +22,7 @@ std::string to_string(Model model) {
     case Model::chrono: return "chrono";
     case Model::gaussian: return "gaussian";
     case Model::gauss_markov: return "gauss-markov";
+    case Model::composite: return "composite";
   }
   return "?";
 }

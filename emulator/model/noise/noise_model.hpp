@@ -53,7 +53,26 @@ struct GaussMarkovAxis {
   double tau_s = 60.0;   ///< correlation time (seconds)
 };
 
-enum class Model { none, cgrw, chrono, gaussian, gauss_markov };
+/// The composite model's white jitter and jump process on one axis (composite_model.hpp).
+struct CompositeAxis {
+  double jitter_sigma_m = 0.0;  ///< white noise standard deviation, one draw per epoch (metres)
+  double jump_rate_hz = 0.0;    ///< jumps per second (a Poisson process; 0 = none)
+  double jump_sigma_m = 0.0;    ///< jump size: normal, this standard deviation (metres)
+  double jump_decay_s = 0.0;    ///< time constant a jump decays back with (seconds); 0 = jumps stay
+};
+
+/// The composite model's smooth component.
+enum class CompositeSmooth { gauss_markov_2, cgrw };
+
+/// `composite`: a smooth component + white jitter + a jump process, per axis.
+struct CompositeParams {
+  CompositeSmooth smooth = CompositeSmooth::gauss_markov_2;
+  /// The smooth component when gauss_markov_2 (second-order Gauss-Markov); cgrw uses NoiseConfig::cgrw.
+  std::array<GaussMarkovAxis, 3> smooth_gm{{{0.5, 20.0}, {0.5, 20.0}, {1.0, 20.0}}};
+  std::array<CompositeAxis, 3> axes{};  ///< east, north, up
+};
+
+enum class Model { none, cgrw, chrono, gaussian, gauss_markov, composite };
 
 struct NoiseConfig {
   Model model = Model::cgrw;
@@ -62,6 +81,7 @@ struct NoiseConfig {
   std::array<GaussianAxis, 3> gaussian{};   ///< east, north, up; used when model == gaussian
   std::array<GaussMarkovAxis, 3> gauss_markov{};  ///< east, north, up; model == gauss_markov
   int gauss_markov_order = 1;  ///< 1: first order; 2: second order, critically damped (smooth)
+  CompositeParams composite;   ///< used when model == composite (its cgrw smooth part: `cgrw`)
 };
 
 /// The report's "one knob": cgrw parameters for a receiver whose horizontal position wanders over
@@ -81,7 +101,7 @@ class NoiseModel {
 [[nodiscard]] std::unique_ptr<NoiseModel> make_noise_model(const NoiseConfig& config,
                                                            std::uint64_t seed);
 
-/// Parses "none", "cgrw", "chrono", "gaussian", "gauss-markov"; throws std::invalid_argument listing the accepted names.
+/// Parses "none", "cgrw", "chrono", "gaussian", "gauss-markov", "composite"; throws std::invalid_argument listing the accepted names.
 [[nodiscard]] Model parse_model(const std::string& name);
 [[nodiscard]] std::string to_string(Model model);
 

@@ -7,6 +7,7 @@
 
 #include "emulator/model/noise/cgrw_model.hpp"
 #include "emulator/model/noise/chrono_model.hpp"
+#include "emulator/model/noise/composite_model.hpp"
 #include "emulator/model/noise/gauss_markov_model.hpp"
 
 namespace gpsemu::noise {
@@ -44,6 +45,7 @@ std::unique_ptr<NoiseModel> make_noise_model(const NoiseConfig& config, std::uin
     case Model::chrono: return std::make_unique<ChronoNoise>(config.chrono, seed);
     case Model::gauss_markov: return std::make_unique<GaussMarkovNoise>(config.gauss_markov, seed,
                                                                            config.gauss_markov_order);
+    case Model::composite: return std::make_unique<CompositeNoise>(config, seed);
   }
   throw std::invalid_argument("noise model: unknown value " +
                               std::to_string(static_cast<int>(config.model)));

@@ -1,7 +1,7 @@
-// One wake-up per epoch: the runner waits for each epoch in one poll() over an absolute
-// CLOCK_REALTIME timerfd and its inputs, so with no input arriving it wakes exactly once an epoch
-// (no early wake-up followed by a final sleep, no spinning on a sub-millisecond poll timeout).
-// Counts, not times: the runner counts every poll() that returned.
+// One wake-up per epoch: the epoch loop waits for each epoch on an absolute CLOCK_REALTIME timerfd
+// (transport/posix/wait.hpp), polled with its inputs or read alone when there are none, so with no
+// input arriving it wakes exactly once an epoch (no early wake-up followed by a final sleep, no
+// spinning on a sub-millisecond poll timeout). Counts, not times: every wait that returned counts.
 #include <gtest/gtest.h>
 #include <poll.h>
 #include <sys/socket.h>

@@ -1,4 +1,4 @@
-// The replay loop (emulator/replay/replay_command.hpp) on a fake clock and a recording output:
+// The replay loop (emulator/replay/replayer.hpp) on a fake clock and a recording output:
 // deadlines from the log's own times divided by the speed, steps back and gaps, --loop,
 // --duration, --fast, --retime (stamps, phase, checksums) and the options it refuses.
 #include <gtest/gtest.h>
@@ -6,7 +6,7 @@
 #include <fmt/format.h>
 
 #include "emulator/config/config.hpp"
-#include "emulator/replay/replay_command.hpp"
+#include "emulator/replay/replayer.hpp"
 #include "nmea/sentences.hpp"
 #include "transport/recording_output.hpp"
 

@@ -1,11 +1,11 @@
-// `gpsemu replay LOG`: sends a recorded NMEA log epoch by epoch (replay_log.hpp) to every
-// configured output (--output, plus --tee), paced by the sentences' own time fields, not by a
-// fixed delay per line:
+// Replay as a producer of epochs: a recorded NMEA log (replay_log.hpp) sent epoch by epoch through
+// the one epoch loop and sink (pipeline/epoch_loop.hpp, pipeline/sink.hpp), paced by the
+// sentences' own time fields, not by a fixed delay per line:
 //
 // - Epoch i leaves at wall_0 + (log_time_i - log_time_first) / speed, on absolute deadlines
-//   (CLOCK_REALTIME), so nothing drifts; each epoch's bytes go out in one write, unchanged. An
-//   epoch whose time went back is sent right after the previous one; a gap in the log is a wait.
-//   Nothing is skipped when late: the worst delay is reported.
+//   (a scaled clock that never skips), so nothing drifts; each epoch's bytes go out in one write,
+//   unchanged. An epoch whose time went back is sent right after the previous one; a gap in the
+//   log is a wait. Nothing is skipped when late: the worst delay is reported.
 // - --from/--to pick a range, --loop starts over (one nominal period after the last epoch),
 //   --duration stops after that much log time, --fast sends without pacing.
 // - --retime rewrites time and date fields (checksums recomputed): epoch i is stamped T_0 +
@@ -22,8 +22,10 @@
 #include <string>
 #include <vector>
 
-#include "emulator/pipeline/clock.hpp"
 #include "emulator/config/settings.hpp"
+#include "emulator/pipeline/clock.hpp"
+#include "emulator/pipeline/run_settings.hpp"
+#include "emulator/pipeline/sink.hpp"
 #include "emulator/replay/replay_log.hpp"
 #include "transport/output.hpp"
 
@@ -46,6 +48,10 @@ class Replayer {
   /// option. `io` paces and services; `outputs` receive the epochs.
   Replayer(const TimelineSettings& timeline, const ReplaySettings& replay, ReplayLog log, std::string log_name,
            std::vector<std::unique_ptr<transport::Output>> outputs, ClockIo& io);
+  /// The same, waiting on the system clock and polling the outputs' clients.
+  Replayer(const TimelineSettings& timeline, const ReplaySettings& replay, ReplayLog log, std::string log_name,
+           std::vector<std::unique_ptr<transport::Output>> outputs);
+  ~Replayer();
 
   /// Sends the range (again and again with --loop) until done or `stop`. Returns 0.
   int run(const std::atomic<bool>& stop);
@@ -58,12 +64,11 @@ class Replayer {
  private:
   void log_summary() const;
 
-  TimelineSettings timeline_;
-  ReplaySettings options_;
+  ReplayPacing settings_;
   ReplayLog log_;
   std::string name_;
-  std::vector<std::unique_ptr<transport::Output>> outputs_;
-  ClockIo& io_;
+  Sink sink_;
+  ClockIo* io_ = nullptr;  ///< none: the system clock, polling the outputs
   EpochRange range_;
   UtcNs first_stamp_{};
   ReplayStats stats_;
@@ -74,8 +79,8 @@ class Replayer {
 [[nodiscard]] EpochRange check_replay_options(const TimelineSettings& timeline, const ReplaySettings& replay,
                                               const ReplayLog& log, const std::string& log_name);
 
-/// Opens the receiver's outputs (--output, then --tee) for a replay of `log`; refuses a serial
-/// line that cannot carry the log's epochs at the replay speed.
+/// Opens the receiver's outputs (--output, then --tee) for a replay of `log`, at the replay's
+/// epoch rate; refuses a serial line that cannot carry the log's widest epoch (paced replays).
 [[nodiscard]] std::vector<std::unique_ptr<transport::Output>> open_replay_outputs(const ReceiverSettings& receiver,
                                                                                   const TimelineSettings& timeline,
                                                                                   const ReplaySettings& replay,

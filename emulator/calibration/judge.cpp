@@ -1,0 +1,203 @@
+#include "emulator/calibration/judge.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "emulator/model/receiver.hpp"
+
+namespace gpsemu::calibration {
+namespace {
+
+// One axis of the constant-velocity filter.
+struct Axis {
+  double p = 0.0, v = 0.0;
+  double P00 = 0.0, P01 = 0.0, P11 = 0.0;
+  void predict(double dt, double q) {
+    p += v * dt;
+    const double n00 = P00 + 2.0 * dt * P01 + dt * dt * P11 + q * dt * dt * dt / 3.0;
+    const double n01 = P01 + dt * P11 + q * dt * dt / 2.0;
+    P11 += q * dt;
+    P00 = n00, P01 = n01;
+  }
+  // Returns (innovation, its variance) and updates.
+  std::pair<double, double> update(double z, double r) {
+    const double nu = z - p, s = P00 + r;
+    const double k0 = P00 / s, k1 = P01 / s;
+    p += k0 * nu, v += k1 * nu;
+    const double n00 = (1.0 - k0) * P00, n01 = (1.0 - k0) * P01, n11 = P11 - k1 * P01;
+    P00 = n00, P01 = n01, P11 = n11;
+    return {nu, s};
+  }
+};
+
+double lag1(const std::vector<double>& x) {
+  double m = 0.0;
+  for (double v : x) m += v / static_cast<double>(x.size());
+  double num = 0.0, den = 0.0;
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    den += (x[k] - m) * (x[k] - m);
+    if (k > 0) num += (x[k] - m) * (x[k - 1] - m);
+  }
+  return den > 0.0 ? num / den : 0.0;
+}
+
+double percentile95(std::vector<double> x) {
+  if (x.empty()) return 0.0;
+  const auto i = static_cast<std::size_t>(std::floor(0.95 * static_cast<double>(x.size() - 1)));
+  std::nth_element(x.begin(), x.begin() + static_cast<std::ptrdiff_t>(i), x.end());
+  return x[i];
+}
+
+double log_ratio(double a, double b) { return a > 0.0 && b > 0.0 ? std::abs(std::log(a / b)) : 1.0; }
+
+nlohmann::json to_json(const FilterScore& s) {
+  return {{"nis_mean", s.nis_mean}, {"nis_p95", s.nis_p95}, {"innov_rho1", s.innov_rho1}, {"pos_err_m", s.pos_err_m}};
+}
+
+}  // namespace
+
+FilterScore run_cv_filter(const std::vector<double>& east_m, const std::vector<double>& north_m, double rate_hz,
+                          double sigma_m, double q) {
+  const double r = sigma_m * sigma_m, dt = 1.0 / rate_hz;
+  const std::size_t n = east_m.size();
+  double me = 0.0, mn = 0.0, count = 0.0;
+  for (std::size_t k = 0; k < n; ++k)
+    if (!std::isnan(east_m[k]) && !std::isnan(north_m[k])) me += east_m[k], mn += north_m[k], count += 1.0;
+  me /= count, mn /= count;
+  std::array<Axis, 2> axes;
+  std::array<std::vector<double>, 2> innov;
+  FilterScore s;
+  double err2 = 0.0, err_n = 0.0;
+  bool started = false;
+  double since_s = 0.0, gap_s = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (std::isnan(east_m[k]) || std::isnan(north_m[k])) {
+      gap_s += dt;
+      continue;
+    }
+    const double z[2] = {east_m[k], north_m[k]};
+    if (!started) {
+      for (int a = 0; a < 2; ++a) axes[a] = {z[a], 0.0, r, 0.0, 1.0};
+      started = true, gap_s = 0.0;
+      continue;
+    }
+    const double step = dt + gap_s;
+    gap_s = 0.0;
+    since_s += step;
+    double nis = 0.0;
+    std::array<double, 2> normalised{};
+    for (int a = 0; a < 2; ++a) {
+      axes[a].predict(step, q);
+      const auto [nu, var] = axes[a].update(z[a], r);
+      nis += nu * nu / var;
+      normalised[a] = nu / std::sqrt(var);
+    }
+    if (since_s < kJudgeBurnIn_s) continue;
+    s.nis.push_back(nis);
+    for (int a = 0; a < 2; ++a) innov[a].push_back(normalised[a]);
+    err2 += (axes[0].p - me) * (axes[0].p - me) + (axes[1].p - mn) * (axes[1].p - mn), err_n += 1.0;
+  }
+  if (s.nis.empty()) throw std::invalid_argument("judge: the log is shorter than the filter's burn-in");
+  for (double v : s.nis) s.nis_mean += v / static_cast<double>(s.nis.size());
+  s.nis_p95 = percentile95(s.nis);
+  s.innov_rho1 = 0.5 * (lag1(innov[0]) + lag1(innov[1]));
+  s.pos_err_m = std::sqrt(err2 / err_n);
+  return s;
+}
+
+double stated_sigma_m(const ReceiverLog& log, const Calibration& c) {
+  std::vector<double> hdop;
+  for (const LogFix& f : log.fixes)
+    if (f.hdop && *f.hdop > 0.0) hdop.push_back(*f.hdop);
+  if (hdop.empty()) return std::hypot(c.real[0].sd_m, c.real[1].sd_m) / std::sqrt(2.0);
+  std::nth_element(hdop.begin(), hdop.begin() + static_cast<std::ptrdiff_t>(hdop.size() / 2), hdop.end());
+  return hdop[hdop.size() / 2] * kUereM / std::sqrt(2.0);
+}
+
+Judgement judge(const Calibration& c, double sigma_m, int runs, std::uint64_t seed) {
+  Judgement j;
+  j.sigma_m = sigma_m;
+  const EnuSeries& s = c.series;
+  j.real = run_cv_filter(s.axis_m[0], s.axis_m[1], s.rate_hz, sigma_m);
+  double best = std::numeric_limits<double>::infinity();
+  for (const ModelResult& m : c.models) {
+    const std::string name = model_label(m.config);
+    FilterScore mean;
+    for (int r = 0; r < runs; ++r) {
+      const auto x = simulate(m.config, s, seed + static_cast<std::uint64_t>(r));
+      FilterScore f = run_cv_filter(x[0], x[1], s.rate_hz, sigma_m);
+      const double w = 1.0 / runs;
+      mean.nis_mean += w * f.nis_mean, mean.nis_p95 += w * f.nis_p95, mean.innov_rho1 += w * f.innov_rho1,
+          mean.pos_err_m += w * f.pos_err_m;
+      j.model_nis[name].push_back(std::move(f.nis));
+    }
+    const double d = log_ratio(mean.nis_mean, j.real.nis_mean) + log_ratio(mean.nis_p95, j.real.nis_p95) +
+                     std::abs(mean.innov_rho1 - j.real.innov_rho1) + log_ratio(mean.pos_err_m, j.real.pos_err_m);
+    j.distance[name] = d;
+    j.models[name] = mean;
+    if (d < best) best = d, j.best = name;
+  }
+  return j;
+}
+
+std::string judgement_table(const Judgement& j) {
+  std::string out = fmt::format(
+      "constant-velocity Kalman filter, measurement sigma {:.3f} m per axis, process noise {:g} m^2/s^3; "
+      "a filter whose model is right has NIS mean 2, p95 5.99, rho1 0\n",
+      j.sigma_m, kJudgeProcessNoise_m2ps3);
+  out += fmt::format("  {:<16} {:>9} {:>9} {:>11} {:>11} {:>9}\n", "", "NIS mean", "NIS p95", "innov rho1",
+                     "pos err m", "distance");
+  const auto row = [&out](const std::string& name, const FilterScore& s, std::string d) {
+    out += fmt::format("  {:<16} {:9.3f} {:9.3f} {:11.3f} {:11.4f} {:>9}\n", name, s.nis_mean, s.nis_p95, s.innov_rho1,
+                       s.pos_err_m, d);
+  };
+  row("real", j.real, "");
+  for (const auto& [name, s] : j.models)
+    row((name == j.best ? "*" : "") + name, s, fmt::format("{:.3f}", j.distance.at(name)));
+  out += "  distance = |ln NIS mean ratio| + |ln NIS p95 ratio| + |rho1 difference| + |ln pos err ratio|; * = best\n";
+  return out;
+}
+
+std::string judgement_json(const Judgement& j) {
+  nlohmann::json models = nlohmann::json::object();
+  for (const auto& [name, s] : j.models) {
+    models[name] = to_json(s);
+    models[name]["distance"] = j.distance.at(name);
+  }
+  const nlohmann::json out{{"real", to_json(j.real)}, {"models", models}, {"best", j.best}, {"sigma_m", j.sigma_m},
+                           {"process_noise_m2ps3", kJudgeProcessNoise_m2ps3}};
+  return out.dump(2) + "\n";
+}
+
+void write_judgement_csv(const Judgement& j, const std::string& dir) {
+  std::filesystem::create_directories(dir);
+  const auto open = [&dir](const char* name) {
+    const std::string path = (std::filesystem::path(dir) / name).string();
+    std::ofstream f(path);
+    if (!f) throw std::runtime_error(fmt::format("--plots: cannot write '{}'", path));
+    return f;
+  };
+  std::ofstream nis = open("judge_nis.csv");
+  nis << "source,run,nis\n";
+  for (double v : j.real.nis) nis << "real,0," << v << "\n";
+  for (const auto& [name, all] : j.model_nis)
+    for (std::size_t r = 0; r < all.size(); ++r)
+      for (double v : all[r]) nis << name << "," << r << "," << v << "\n";
+  std::ofstream sum = open("judge_summary.csv");
+  sum << "source,nis_mean,nis_p95,innov_rho1,pos_err_m,distance\n";
+  const auto row = [&sum](const std::string& name, const FilterScore& s, double d) {
+    sum << fmt::format("{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n", name, s.nis_mean, s.nis_p95, s.innov_rho1, s.pos_err_m, d);
+  };
+  row("real", j.real, 0.0);
+  for (const auto& [name, s] : j.models) row(name, s, j.distance.at(name));
+  if (!nis.flush() || !sum.flush()) throw std::runtime_error(fmt::format("--plots: cannot write to '{}'", dir));
+}
+
+}  // namespace gpsemu::calibration

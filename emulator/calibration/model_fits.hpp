@@ -1,0 +1,62 @@
+// The fits behind `gpsemu calibrate`, one per model family, from a stationary receiver's log on
+// its grid (calibrate.hpp puts them together): gauss-markov (closed-form expectations over the
+// log's length), chrono (a simplex search on simulated runs), cgrw fitted to the de-quantised
+// statistics and nudged into the walk's valid region, and the composite model (a smooth
+// gauss-markov-2 component, white jitter and a jump process).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "emulator/calibration/receiver_log.hpp"
+#include "emulator/calibration/series_stats.hpp"
+#include "emulator/model/noise/cgrw_fit.hpp"
+#include "emulator/model/noise/noise_model.hpp"
+
+namespace gpsemu::calibration {
+
+/// Chrono's parameters whose walk, at the log's rate, best matches the log (Nelder-Mead on the
+/// score of 2 runs over log sigma, log v_max, log a_max; deterministic).
+[[nodiscard]] noise::ChronoParams fit_chrono(const EnuSeries& series,
+                                             const std::array<AxisStats, 3>& real);
+
+/// Gauss-Markov parameters of one axis for the process of `order` (1 or 2): tau such that the
+/// expected lag-1 behaviour of a log of this length matches it (expected first-difference
+/// variance over expected sample variance about the mean equal to the log's), sigma such that
+/// the expected sample standard deviation over the log's length equals the log's (the variance
+/// lost to the mean removed is put back, at most a factor 5 in sigma). When no tau reaches the
+/// log's ratio (order 1 on smooth receivers), the nearest end of [0.05 samples, 10 x the log's
+/// length] is taken.
+[[nodiscard]] noise::GaussMarkovAxis fit_gauss_markov(std::span<const double> x, double rate_hz,
+                                                      int order);
+/// The same from the two statistics of a series of `n` samples.
+[[nodiscard]] noise::GaussMarkovAxis fit_gauss_markov(double sd_m, double d1_sd_m, std::size_t n,
+                                                      double rate_hz, int order);
+
+/// Gauss-markov parameters of `order` refitted until their simulation at the log's rate, length,
+/// gaps and resolution has the log's standard deviation and first-difference standard deviation
+/// (the log's rounding coarsens its differences; the emulator rounds the same way).
+[[nodiscard]] std::array<noise::GaussMarkovAxis, 3> fit_gauss_markov_dequantised(
+    const EnuSeries& series, const std::array<AxisStats, 3>& real, std::size_t window, int order);
+
+/// The cgrw statistics to write for each axis: the log's, corrected until the rounded simulation
+/// has the log's statistics, nudged into the region the walk accepts (noise::nudge_cgrw_axis);
+/// an axis with no spread is off (all 0). `fits` gets each axis's fit, `notes` what was changed.
+[[nodiscard]] noise::CgrwParams fit_cgrw_dequantised(const EnuSeries& series,
+                                                     const std::array<AxisStats, 3>& real,
+                                                     std::size_t window,
+                                                     std::array<noise::CgrwFit, 3>& fits,
+                                                     std::vector<std::string>& notes);
+
+/// The composite model (noise::CompositeParams) of the log: jumps found in the first differences
+/// (beyond 5 robust standard deviations and 2 quanta of the resolution: rate, rms size, decay of
+/// the smooth component's tau), then the smooth component's sigma and tau and the white jitter
+/// refitted together until the rounded simulation has the log's standard deviation, first- and
+/// second-difference standard deviations. Deterministic.
+[[nodiscard]] noise::NoiseConfig fit_composite(const EnuSeries& series, const std::array<AxisStats, 3>& real,
+                                               std::size_t window);
+
+}  // namespace gpsemu::calibration

@@ -1,0 +1,107 @@
+#include "emulator/calibration/motion.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include <fmt/format.h>
+
+namespace gpsemu::calibration {
+namespace {
+
+bool present(const EnuSeries& s, std::size_t k) { return !std::isnan(s.axis_m[0][k]) && !std::isnan(s.axis_m[1][k]); }
+
+// Mean east, north over indices [from, to) that have a fix; false when none.
+bool mean_over(const EnuSeries& s, std::size_t from, std::size_t to, double& e, double& n) {
+  double se = 0.0, sn = 0.0, count = 0.0;
+  for (std::size_t k = from; k < to; ++k)
+    if (present(s, k)) se += s.axis_m[0][k], sn += s.axis_m[1][k], count += 1.0;
+  if (count == 0.0) return false;
+  e = se / count, n = sn / count;
+  return true;
+}
+
+// The local quadratic least-squares fit of x over [lo, hi) evaluated at `at` (NaN skipped).
+double local_quadratic(const std::vector<double>& x, std::size_t lo, std::size_t hi, std::size_t at) {
+  // Centred abscissa for conditioning; normal equations of 1, u, u^2.
+  const double c = 0.5 * static_cast<double>(lo + hi - 1);
+  std::array<double, 5> su{};  // sum u^0..u^4
+  std::array<double, 3> sy{};  // sum y u^0..u^2
+  for (std::size_t k = lo; k < hi; ++k) {
+    if (std::isnan(x[k])) continue;
+    const double u = static_cast<double>(k) - c;
+    double p = 1.0;
+    for (int j = 0; j < 5; ++j) {
+      su[j] += p;
+      if (j < 3) sy[j] += p * x[k];
+      p *= u;
+    }
+  }
+  const double a00 = su[0], a01 = su[1], a02 = su[2], a11 = su[2], a12 = su[3], a22 = su[4];
+  const double det = a00 * (a11 * a22 - a12 * a12) - a01 * (a01 * a22 - a12 * a02) + a02 * (a01 * a12 - a11 * a02);
+  if (std::abs(det) < 1e-12 * std::max(1.0, a22 * a22 * a00)) return su[0] > 0.0 ? sy[0] / su[0] : 0.0;
+  // Cramer's rule.
+  const double b0 = sy[0], b1 = sy[1], b2 = sy[2];
+  const double c0 = (b0 * (a11 * a22 - a12 * a12) - a01 * (b1 * a22 - a12 * b2) + a02 * (b1 * a12 - a11 * b2)) / det;
+  const double c1 = (a00 * (b1 * a22 - a12 * b2) - b0 * (a01 * a22 - a12 * a02) + a02 * (a01 * b2 - b1 * a02)) / det;
+  const double c2 = (a00 * (a11 * b2 - b1 * a12) - a01 * (a01 * b2 - b1 * a02) + b0 * (a01 * a12 - a11 * a02)) / det;
+  const double u = static_cast<double>(at) - c;
+  return c0 + c1 * u + c2 * u * u;
+}
+
+}  // namespace
+
+std::string MotionCheck::describe() const {
+  return fmt::format("net displacement {:.1f} m, sustained speed {:.2f} m/s (median over {:.0f} s windows)",
+                     displacement_m, speed_mps, window_s);
+}
+
+MotionCheck check_motion(const EnuSeries& s) {
+  MotionCheck m;
+  const std::size_t n = s.size();
+  const std::size_t tenth = std::max<std::size_t>(1, n / 10);
+  double e0 = 0, n0 = 0, e1 = 0, n1 = 0;
+  if (mean_over(s, 0, tenth, e0, n0) && mean_over(s, n - tenth, n, e1, n1)) m.displacement_m = std::hypot(e1 - e0, n1 - n0);
+  m.window_s = std::min(kSpeedWindow_s, s.duration_s() / 3.0);
+  const auto lag = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(m.window_s * s.rate_hz)));
+  m.window_s = static_cast<double>(lag) / s.rate_hz;
+  std::vector<double> speeds;
+  for (std::size_t k = lag; k < n; ++k)
+    if (present(s, k) && present(s, k - lag))
+      speeds.push_back(std::hypot(s.axis_m[0][k] - s.axis_m[0][k - lag], s.axis_m[1][k] - s.axis_m[1][k - lag]) /
+                       m.window_s);
+  if (!speeds.empty()) {
+    std::nth_element(speeds.begin(), speeds.begin() + static_cast<std::ptrdiff_t>(speeds.size() / 2), speeds.end());
+    m.speed_mps = speeds[speeds.size() / 2];
+  }
+  m.moving = m.displacement_m > kMaxStationaryDisplacement_m || m.speed_mps > kMaxStationarySpeed_mps;
+  return m;
+}
+
+Detrended detrend(EnuSeries& s) {
+  const std::size_t n = s.size();
+  const std::size_t half = std::max<std::size_t>(2, static_cast<std::size_t>(std::llround(0.5 * kDetrendWindow_s * s.rate_hz)));
+  const std::size_t width = std::min(n, 2 * half + 1);
+  std::array<std::vector<double>, 3> trend;
+  for (std::size_t a = 0; a < 3; ++a) {
+    trend[a].assign(n, 0.0);
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t lo = std::min(k >= half ? k - half : 0, n - width);
+      trend[a][k] = local_quadratic(s.axis_m[a], lo, lo + width, k);
+    }
+  }
+  Detrended d;
+  double sum2 = 0.0, count = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (k > 0) d.path_m += std::hypot(trend[0][k] - trend[0][k - 1], trend[1][k] - trend[1][k - 1]);
+    if (!present(s, k)) continue;
+    sum2 += trend[0][k] * trend[0][k] + trend[1][k] * trend[1][k], count += 1.0;
+    for (std::size_t a = 0; a < 3; ++a)
+      if (!std::isnan(s.axis_m[a][k])) s.axis_m[a][k] -= trend[a][k];
+  }
+  d.rms_m = count > 0.0 ? std::sqrt(sum2 / count) : 0.0;
+  return d;
+}
+
+}  // namespace gpsemu::calibration

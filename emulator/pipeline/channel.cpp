@@ -1,0 +1,29 @@
+#include "emulator/pipeline/channel.hpp"
+
+namespace gpsemu {
+
+Channel::Channel(const ChannelSettings& settings, UtcNs first_epoch) : settings_(settings), frame_(settings.origin) {
+  receiver_ = std::make_unique<Receiver>(frame_, settings_.receiver,
+                                         noise::make_noise_model(settings_.noise, settings_.seed), first_epoch);
+  encoders_.push_back(std::make_unique<NmeaEncoder>(settings_.format));
+  bytes_.reserve(1024);
+}
+
+nmea::Fix Channel::step(UtcNs t) {
+  source_->service();
+  return step(t, source_->truth_at(t));
+}
+
+nmea::Fix Channel::step(UtcNs t, const std::optional<sources::Truth>& truth) {
+  nmea::Fix fix = receiver_->fix_at(t, truth);  // one fix a step, never copied
+  if (!fix.has_fix()) ++stats_.epochs_without_fix;
+  bytes_.clear();
+  for (const auto& encoder : encoders_) encoder->encode(fix, bytes_);
+  return fix;
+}
+
+void Channel::client_wrote(std::string_view bytes) {
+  for (const auto& encoder : encoders_) encoder->client_wrote(bytes);
+}
+
+}  // namespace gpsemu

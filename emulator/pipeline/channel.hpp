@@ -1,0 +1,83 @@
+// One receiver channel: pose source -> receiver model -> one fix (nmea::Fix) -> each protocol
+// encoder publishes it into the epoch's bytes. The same channel serves the emulator loop (one
+// receiver or a fleet), the library facade and the Python module. What clients write to the
+// receiver's outputs comes back through client_wrote() to the encoders (NMEA ignores it).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "emulator/model/geo.hpp"
+#include "emulator/model/noise/noise_model.hpp"
+#include "emulator/model/receiver.hpp"
+#include "emulator/model/time.hpp"
+#include "emulator/pipeline/encoder.hpp"
+#include "emulator/sources/pose_source.hpp"
+#include "nmea/fix.hpp"
+#include "transport/output.hpp"
+
+namespace gpsemu {
+
+/// What a channel is made from (pipeline/settings.hpp builds it from a Config).
+struct ChannelSettings {
+  Geodetic origin;
+  ReceiverOptions receiver;  ///< derived: measured noise sigma, sky seed (receiver_config.hpp)
+  noise::NoiseConfig noise;
+  std::uint64_t seed = 1;
+  nmea::FormatOptions format;
+};
+
+/// One receiver's counts (a fleet's summary has one line per receiver).
+struct ReceiverStats {
+  std::uint64_t epochs_emitted = 0;
+  std::uint64_t epochs_without_fix = 0;
+};
+
+class Channel final : public transport::ClientInput {
+ public:
+  /// The receiver model starts at `first_epoch`, with the NMEA encoder of settings.format.
+  Channel(const ChannelSettings& settings, UtcNs first_epoch);
+  Channel(const Channel&) = delete;
+  Channel& operator=(const Channel&) = delete;
+
+  /// The pose source step(t) samples; made after the channel, as it refers to frame().
+  void set_source(std::unique_ptr<sources::PoseSource> source) { source_ = std::move(source); }
+  [[nodiscard]] sources::PoseSource* source() const { return source_.get(); }
+  /// A further protocol, published after the ones before it.
+  void add_encoder(std::unique_ptr<Encoder> encoder) { encoders_.push_back(std::move(encoder)); }
+
+  /// Epoch `t` from the channel's own source (serviced first): its fix; bytes() holds its bytes.
+  nmea::Fix step(UtcNs t);
+  /// Epoch `t` from `truth` (none: no fix).
+  nmea::Fix step(UtcNs t, const std::optional<sources::Truth>& truth);
+  /// The last epoch's bytes (every encoder's, in order).
+  [[nodiscard]] const std::string& bytes() const { return bytes_; }
+
+  /// True from the first epoch its source has no truth for (sticky): nothing more is written.
+  bool ended_at(UtcNs t) { return ended_ = ended_ || source_->ended_at(t); }
+  [[nodiscard]] bool ended() const { return ended_; }
+
+  void client_wrote(std::string_view bytes) override;
+
+  [[nodiscard]] const LocalFrame& frame() const { return frame_; }
+  [[nodiscard]] const Receiver& receiver() const { return *receiver_; }
+  [[nodiscard]] const ChannelSettings& settings() const { return settings_; }
+  [[nodiscard]] ReceiverStats& stats() { return stats_; }
+  [[nodiscard]] const ReceiverStats& stats() const { return stats_; }
+
+ private:
+  ChannelSettings settings_;
+  LocalFrame frame_;  ///< referenced by the receiver and the source: a Channel never moves
+  std::unique_ptr<Receiver> receiver_;
+  std::unique_ptr<sources::PoseSource> source_;
+  std::vector<std::unique_ptr<Encoder>> encoders_;
+  std::string bytes_;
+  bool ended_ = false;
+  ReceiverStats stats_;
+};
+
+}  // namespace gpsemu

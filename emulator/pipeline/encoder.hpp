@@ -1,0 +1,34 @@
+// Protocol encoders (ArduPilot SITL's shape: one fix, many encoders). The receiver model fills one
+// plain fix structure an epoch (nmea::Fix: protocol-neutral fields, pure); each encoder of a
+// channel publishes it into the epoch's bytes, in the order they were added. A protocol that also
+// reads what the client writes (UBX polls and configuration) takes those bytes through
+// client_wrote() and answers in its next encode(): nothing in the loop or the sink changes.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include "nmea/fix.hpp"
+
+namespace gpsemu {
+
+class Encoder {
+ public:
+  virtual ~Encoder() = default;
+  /// Appends this protocol's bytes for `fix` to `out` (which holds the earlier encoders' bytes).
+  virtual void encode(const nmea::Fix& fix, std::string& out) = 0;
+  /// Bytes a client wrote to one of the receiver's outputs, in arrival order. Default: ignored.
+  virtual void client_wrote(std::string_view /*bytes*/) {}
+};
+
+/// The configured NMEA sentences (nmea/sentences.hpp), in receiver order. Ignores client input.
+class NmeaEncoder final : public Encoder {
+ public:
+  explicit NmeaEncoder(nmea::FormatOptions options) : options_(std::move(options)) {}
+  void encode(const nmea::Fix& fix, std::string& out) override;
+
+ private:
+  nmea::FormatOptions options_;
+};
+
+}  // namespace gpsemu

@@ -1,0 +1,150 @@
+#include "emulator/pipeline/epoch_loop.hpp"
+
+#include <algorithm>
+
+namespace gpsemu {
+namespace {
+
+/// From this many receivers on, a second thread writes half of them at the deadline.
+constexpr std::size_t kHelperWriterFrom = 8;
+/// Shortest lead for computing many receivers' epochs ahead of the deadline.
+constexpr std::chrono::microseconds kMinComputeLead{300};
+
+}  // namespace
+
+std::unique_ptr<SystemClockIo> make_loop_io(Sink& sink, EpochProducer& producer) {
+  // What the k-th polled descriptor belongs to: an output, or an input of the producer.
+  struct Pollables {
+    std::vector<transport::Output*> outputs;
+    std::vector<std::size_t> inputs;
+  };
+  auto polled = std::make_shared<Pollables>();
+  return std::make_unique<SystemClockIo>(
+      [&sink, &producer, polled](std::vector<int>& fds) {
+        polled->outputs.clear();
+        polled->inputs.clear();
+        sink.list_inputs(fds, polled->outputs);
+        producer.list_inputs(fds, polled->inputs);
+      },
+      SystemClockIo::ReadyServicer([&producer, polled](std::size_t k) {
+        if (k < polled->outputs.size()) {
+          polled->outputs[k]->service();
+        } else {
+          producer.service_input(polled->inputs[k - polled->outputs.size()]);
+        }
+      }));
+}
+
+EpochLoop::EpochLoop(EpochProducer& producer, Sink& sink, EpochClock& clock, LoopOptions options, PpsTimeline* pps)
+    : producer_(producer), sink_(sink), clock_(clock), options_(options), pps_(pps) {}
+
+EpochLoop::~EpochLoop() = default;
+
+void EpochLoop::run(const std::atomic<bool>& stop) {
+  const std::size_t n = sink_.receivers();
+  const bool ahead = options_.compute_ahead_within.has_value() && n > 1;
+  if (ahead && n >= kHelperWriterFrom && !helper_) {
+    // Made here, by the thread that runs the loop, after main() applied --realtime-priority and
+    // --timer-slack to it: the helper inherits them.
+    helper_ = std::make_unique<HelperWriter>(
+        [this](std::size_t first, std::size_t from, std::size_t to) { write_range(first, from, to); });
+  }
+  ahead_.assign(n, {});
+  ClockIo* io = clock_.io();
+  for (std::int64_t k = 0; !stop.load(); ++k) {
+    UtcNs t{};
+    if (!producer_.next_epoch(t)) break;
+    if (!io) {
+      // Fast: nothing waits and nothing is polled; service client input and new clients now and then.
+      if ((stats_.epochs_emitted & 0x3ff) == 0) {
+        sink_.service_all();
+        producer_.service_inputs();
+      }
+    } else if (const std::optional<UtcNs> deadline = clock_.deadline_of(t)) {
+      // Every PPS edge due before the epoch's bytes goes first (a leading edge at the same
+      // instant too: the NMEA of second S follows pulse S). A fleet drives them in run_ahead().
+      if (pps_ && !ahead) pps_->run_until(*deadline, *io, stop);
+      if (stop.load()) break;
+      if (clock_.late(t)) {
+        ++stats_.epochs_late_skipped;
+        continue;
+      }
+      if (ahead) {
+        if (!run_ahead(k, t, *deadline, stop)) break;
+        ++stats_.epochs_emitted;
+        continue;
+      }
+      io->sleep_until(*deadline, stop);
+      if (stop.load()) break;
+      if (options_.measure_send_delay) {
+        // Against the deadline it could be met at: an epoch whose time went back is due with the
+        // previous one, not at its own (past) deadline.
+        latest_deadline_ = std::max(latest_deadline_, *deadline);
+        const auto delay = std::max(io->now() - latest_deadline_, std::chrono::nanoseconds::zero());
+        stats_.worst_delay = std::max(stats_.worst_delay, delay);
+        stats_.total_delay += delay;
+      }
+    } else {
+      // Not on the wall clock (lockstep): the clock waits, servicing input meanwhile.
+      const EpochWait wait = clock_.wait_for(t, stop);
+      if (wait == EpochWait::stopped) break;
+      if (wait == EpochWait::skip) {
+        ++stats_.epochs_late_skipped;
+        continue;
+      }
+    }
+    send(t);
+    ++stats_.epochs_emitted;
+  }
+  if (helper_) helper_->wait_done();
+  if (pps_ && io) pps_->finish(*io, stop);
+  sink_.flush();
+}
+
+void EpochLoop::send(UtcNs t) {
+  for (std::size_t i = 0; i < ahead_.size(); ++i) {
+    if (producer_.active(i)) sink_.write(i, producer_.produce(i, t));
+  }
+}
+
+void EpochLoop::write_range(std::size_t first, std::size_t from, std::size_t to) {
+  const std::size_t n = ahead_.size();
+  for (std::size_t pos = from; pos < to; ++pos) {
+    const std::size_t i = (first + pos) % n;
+    if (producer_.active(i)) sink_.write(i, ahead_[i]);
+  }
+}
+
+bool EpochLoop::run_ahead(std::int64_t k, UtcNs t, UtcNs deadline, const std::atomic<bool>& stop) {
+  ClockIo& io = *clock_.io();
+  // Compute ahead by twice the recent cost, within the latency: never before the epoch's own time
+  // (a receiver's fix for t is computed after t), so with no latency it is done at the deadline.
+  const auto lead = std::clamp(2 * compute_cost_ + kMinComputeLead, std::chrono::nanoseconds{0},
+                               *options_.compute_ahead_within);
+  const UtcNs compute_at = deadline - lead;
+  if (pps_) pps_->run_until(compute_at, io, stop);
+  io.sleep_until(compute_at, stop);
+  if (stop.load()) return false;
+  const auto begin = std::chrono::steady_clock::now();
+  const std::size_t n = ahead_.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!producer_.active(i)) continue;
+    ahead_[i] = producer_.produce(i, t);
+    sink_.prepare(i);
+  }
+  const auto cost = std::chrono::steady_clock::now() - begin;
+  // A decaying maximum: one slow epoch raises the lead at once, which then shrinks by 1% an epoch.
+  compute_cost_ = std::max(std::chrono::nanoseconds{cost}, compute_cost_ * 99 / 100);
+  const std::size_t first = static_cast<std::size_t>(k % static_cast<std::int64_t>(n));
+  const std::size_t mine = helper_ ? n / 2 : n;
+  if (helper_) helper_->post(deadline, first, mine, n);
+  if (pps_) pps_->run_until(deadline, io, stop);
+  io.sleep_until(deadline, stop);
+  // Stopped while waiting: the helper still writes its part at the deadline; write ours too, so
+  // an epoch is never half sent.
+  write_range(first, 0, mine);
+  if (helper_) helper_->wait_done();
+  return !stop.load();
+}
+
+}  // namespace gpsemu

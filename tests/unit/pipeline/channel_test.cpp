@@ -1,0 +1,85 @@
+// The receiver channel (emulator/pipeline/channel.hpp): one fix an epoch published by each encoder
+// in turn (a second protocol plugs in beside NMEA), what a client writes to an output reaching
+// every encoder through the sink, and the channel's bytes being what format_epoch() writes.
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "emulator/pipeline/channel.hpp"
+#include "emulator/pipeline/epoch_text.hpp"
+#include "emulator/pipeline/sink.hpp"
+
+namespace gpsemu {
+namespace {
+
+const UtcNs kT0 = parse_iso8601_utc("2024-05-01T12:00:00Z");
+
+/// A second protocol: one line an epoch, and it records what clients wrote.
+class TagEncoder final : public Encoder {
+ public:
+  void encode(const nmea::Fix& fix, std::string& out) override {
+    out += fix.has_fix() ? "TAG fix\r\n" : "TAG none\r\n";
+  }
+  void client_wrote(std::string_view bytes) override { heard += bytes; }
+  std::string heard;
+};
+
+/// An output whose client writes `input` at the next service().
+class TalkingOutput final : public transport::Output {
+ public:
+  void service() override {
+    client_wrote(input);
+    input.clear();
+  }
+  [[nodiscard]] std::string describe() const override { return "talking"; }
+  std::string input;
+
+ protected:
+  transport::WriteStatus write_bytes(std::string_view, std::string&) override { return transport::WriteStatus::ok; }
+};
+
+ChannelSettings settings() {
+  ChannelSettings s;
+  s.origin = {43.0725, -89.4125, 260.0};
+  return s;
+}
+
+TEST(Channel, EachEncoderPublishesTheSameFixInTheOrderAdded) {
+  Channel channel(settings(), kT0);
+  auto tag = std::make_unique<TagEncoder>();
+  channel.add_encoder(std::move(tag));
+  const nmea::Fix fix = channel.step(kT0, sources::Truth{});
+  ASSERT_TRUE(fix.has_fix());
+  std::string nmea_only;
+  format_epoch(fix, channel.settings().format, nmea_only);
+  EXPECT_EQ(channel.bytes(), nmea_only + "TAG fix\r\n");
+  (void)channel.step(kT0 + std::chrono::seconds(1), std::nullopt);
+  EXPECT_EQ(channel.stats().epochs_without_fix, 1u);
+  EXPECT_NE(channel.bytes().find("TAG none\r\n"), std::string::npos);
+}
+
+TEST(Channel, WhatAClientWritesReachesEveryEncoderThroughTheSink) {
+  Channel channel(settings(), kT0);
+  auto tag = std::make_unique<TagEncoder>();
+  TagEncoder* heard = tag.get();
+  channel.add_encoder(std::move(tag));
+  Sink sink;
+  std::vector<std::unique_ptr<transport::Output>> outputs;
+  auto talking = std::make_unique<TalkingOutput>();
+  TalkingOutput* client = talking.get();
+  outputs.push_back(std::move(talking));
+  const std::size_t i = sink.add(std::move(outputs));
+  sink.service_all();  // no channel attached yet: dropped
+  client->input = "dropped";
+  sink.service_all();
+  EXPECT_TRUE(heard->heard.empty());
+  sink.attach_client_input(i, &channel);
+  client->input = "\xb5\x62\x06\x01";
+  sink.service_all();
+  EXPECT_EQ(heard->heard, "\xb5\x62\x06\x01");
+}
+
+}  // namespace
+}  // namespace gpsemu
