@@ -19,6 +19,9 @@ class Encoder {
   virtual void encode(const nmea::Fix& fix, std::string& out) = 0;
   /// Bytes a client wrote to one of the receiver's outputs, in arrival order. Default: ignored.
   virtual void client_wrote(std::string_view /*bytes*/) {}
+  /// The answer to what the client wrote, due at once (written back by the output before the next
+  /// epoch: PX4 waits 250 ms for an ACK). Default: none.
+  [[nodiscard]] virtual std::string take_reply() { return {}; }
 };
 
 /// The configured NMEA sentences (nmea/sentences.hpp), in receiver order. Ignores client input.
