@@ -2,7 +2,8 @@
 // plain fix structure an epoch (nmea::Fix: protocol-neutral fields, pure); each encoder of a
 // channel publishes it into the epoch's bytes, in the order they were added. A protocol that also
 // reads what the client writes (UBX polls and configuration) takes those bytes through
-// client_wrote() and answers in its next encode(): nothing in the loop or the sink changes.
+// client_wrote(); its answers (ACKs) leave at once through take_reply(), which the output that
+// read the bytes writes back right after servicing them (Output::answer_clients()).
 #pragma once
 
 #include <string>

@@ -79,5 +79,17 @@ TEST(UbxEncoder, PollIsAnsweredOnTheOutputBeforeAnyEpoch) {
   EXPECT_EQ(channel.bytes().rfind("$GPRMC", 0), 0u);  // NMEA first, then UBX
 }
 
+TEST(UbxEncoder, BadFramesFromTheClientAreCountedAndNotAnswered) {
+  ubx::SessionSettings settings;
+  settings.start.model = ubx::ReceiverModel::ublox_f9p;
+  UbxEncoder encoder(settings);
+  std::string bad = ubx::frame_bytes(ubx::msg::mon_ver, "");
+  bad.back() = static_cast<char>(bad.back() ^ 0x55);
+  encoder.client_wrote(bad + "\xb5\x62\x06\x01\xff\xff");
+  EXPECT_TRUE(encoder.take_reply().empty());
+  EXPECT_EQ(encoder.session().machine().reader_stats().bad_checksum, 1u);
+  EXPECT_EQ(encoder.session().machine().reader_stats().too_long, 1u);
+}
+
 }  // namespace
 }  // namespace gpsemu
