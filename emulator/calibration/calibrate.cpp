@@ -109,9 +109,9 @@ Calibration calibrate(ReceiverLog log, const CalibrateOptions& options) {
                                   "{:.2f} m rms from the mean, {:.1f} m of path (the log: {})",
                                   kDetrendWindow_s, d.rms_m, d.path_m, c.motion.describe()));
   } else if (c.motion.moving) {
-    throw MotionError(fmt::format("the log moves: {}; a stationary receiver stays within {:.0f} m and {:.1f} m/s. "
-                                  "Calibration needs a stationary receiver (--detrend removes a smooth trajectory first)",
-                                  c.motion.describe(), kMaxStationaryDisplacement_m, kMaxStationarySpeed_mps));
+    throw MotionError(fmt::format("the log moves: {}; {}. Calibration needs a stationary receiver (--detrend "
+                                  "removes a smooth trajectory first)",
+                                  c.motion.describe(), c.motion.describe_limits()));
   }
   for (std::size_t a = 0; a < 3; ++a) {
     const double range_m = measure_axis(s.axis_m[a], s.rate_hz, c.window_samples).range_m;
