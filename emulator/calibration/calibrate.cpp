@@ -29,7 +29,22 @@ std::array<AxisStats, 3> measure_all(const std::array<std::vector<double>, 3>& x
           measure_axis(x[2], rate_hz, window)};
 }
 
+// The cgrw-* keys of `p`, each line prefixed (a comment when `prefix` starts with '#').
+std::string cgrw_keys(const noise::CgrwParams& p, const std::string& prefix) {
+  std::string out;
+  const std::array<const noise::CgrwAxis*, 3> axes{&p.east, &p.north, &p.up};
+  for (std::size_t a = 0; a < 3; ++a)
+    out += fmt::format("{}cgrw-{} = \"{:.6g},{:.6g},{:.6g},{:.6g}\"\n", prefix, kAxisNames[a], axes[a]->width_m,
+                       axes[a]->width_d1_m, axes[a]->width_d2_m, axes[a]->sigma_d2_m);
+  return out + fmt::format("{}cgrw-rate = {}\n{}cgrw-window = {:.6g}\n", prefix, p.rate_hz, prefix, p.window_s);
+}
+
 }  // namespace
+
+std::string Calibration::CompositeChoice::describe() const {
+  const std::string cgrw = std::isfinite(cgrw_score) ? fmt::format("{:.3f}", cgrw_score) : "not fitted";
+  return fmt::format("smooth part {} (score with gauss-markov-2 {:.3f}, with cgrw {})", smooth, gm2_score, cgrw);
+}
 
 std::array<AxisStats, 3> simulated_stats(const noise::NoiseConfig& config, const EnuSeries& series,
                                          std::size_t window, std::uint64_t seed, int runs,
@@ -94,9 +109,9 @@ Calibration calibrate(ReceiverLog log, const CalibrateOptions& options) {
                                   "{:.2f} m rms from the mean, {:.1f} m of path (the log: {})",
                                   kDetrendWindow_s, d.rms_m, d.path_m, c.motion.describe()));
   } else if (c.motion.moving) {
-    throw MotionError(fmt::format("the log moves: {}; a stationary receiver stays within {:.0f} m and {:.1f} m/s. "
-                                  "Calibration needs a stationary receiver (--detrend removes a smooth trajectory first)",
-                                  c.motion.describe(), kMaxStationaryDisplacement_m, kMaxStationarySpeed_mps));
+    throw MotionError(fmt::format("the log moves: {}; {}. Calibration needs a stationary receiver (--detrend "
+                                  "removes a smooth trajectory first)",
+                                  c.motion.describe(), c.motion.describe_limits()));
   }
   for (std::size_t a = 0; a < 3; ++a) {
     const double range_m = measure_axis(s.axis_m[a], s.rate_hz, c.window_samples).range_m;
@@ -146,12 +161,32 @@ Calibration calibrate(ReceiverLog log, const CalibrateOptions& options) {
   configs.push_back(gm1);
   configs.push_back(gm2);
   configs.push_back(fit_composite(s, c.real, c.window_samples));
+  c.composite.gm2 = configs.back();
+  c.composite.cgrw_score = std::numeric_limits<double>::infinity();
+  try {
+    configs.push_back(fit_composite_cgrw(s, c.real, c.window_samples));
+    (void)noise::make_noise_model(configs.back(), 1);
+  } catch (const std::exception& e) {
+    if (configs.back().model == noise::Model::composite && configs.back().composite.smooth == noise::CompositeSmooth::cgrw)
+      configs.pop_back();
+    c.notes.push_back(fmt::format("composite with a cgrw smooth part not fitted: {}", e.what()));
+  }
   for (const noise::NoiseConfig& config : configs) {
     ModelResult r;
     r.config = config;
     r.stats = simulated_stats(config, s, c.window_samples, options.seed, options.runs, &r.first_run_m);
     r.score = score(c.real, r.stats);
     c.models.push_back(std::move(r));
+  }
+  // Keep the better composite (the same score as every model), say which and both scores.
+  if (configs.back().composite.smooth == noise::CompositeSmooth::cgrw) {
+    const std::size_t gm2 = c.models.size() - 2, cgrw_smooth = c.models.size() - 1;
+    c.composite.gm2_score = c.models[gm2].score, c.composite.cgrw_score = c.models[cgrw_smooth].score;
+    const bool cgrw_wins = c.composite.cgrw_score < c.composite.gm2_score;
+    c.composite.smooth = cgrw_wins ? "cgrw" : "gauss-markov-2";
+    c.models.erase(c.models.begin() + static_cast<std::ptrdiff_t>(cgrw_wins ? gm2 : cgrw_smooth));
+  } else {
+    c.composite.gm2_score = c.models.back().score;
   }
   for (std::size_t i = 1; i < c.models.size(); ++i)
     if (c.models[i].score < c.models[c.best].score) c.best = i;
@@ -183,11 +218,13 @@ std::string config_toml(const Calibration& c, const std::string& log_name) {
   const ModelResult* best_gm = nullptr;  // the gauss-markov order whose keys are written
   for (const ModelResult& m : c.models)
     if (m.config.model == noise::Model::gauss_markov && (!best_gm || m.score < best_gm->score)) best_gm = &m;
+  const noise::NoiseConfig& best = c.models[c.best].config;
+  const bool composite_owns_cgrw =
+      best.model == noise::Model::composite && best.composite.smooth == noise::CompositeSmooth::cgrw;
   for (const ModelResult& m : c.models) {
     const noise::NoiseConfig& k = m.config;
     switch (k.model) {
       case noise::Model::cgrw: {
-        const std::array<const noise::CgrwAxis*, 3> axes{&k.cgrw.east, &k.cgrw.north, &k.cgrw.up};
         for (std::size_t a = 0; a < 3; ++a) {
           if (c.cgrw_fit[a].worst_ratio > noise::kCgrwMaxFitRatio) {
             const auto& w = c.cgrw_measured[a];
@@ -195,12 +232,10 @@ std::string config_toml(const Calibration& c, const std::string& log_name) {
                              "(best fit off by x{:.2f}); its best compromise is written", kAxisNames[a],
                              w.width_m, w.width_d1_m, w.width_d2_m, w.sigma_d2_m, c.cgrw_fit[a].worst_ratio));
           }
-          const auto* x = axes[a];
-          line(fmt::format("cgrw-{} = \"{:.6g},{:.6g},{:.6g},{:.6g}\"", kAxisNames[a], x->width_m,
-                           x->width_d1_m, x->width_d2_m, x->sigma_d2_m));
         }
-        line(fmt::format("cgrw-rate = {}", k.cgrw.rate_hz));
-        line(fmt::format("cgrw-window = {:.6g}", k.cgrw.window_s));
+        // The cgrw-* keys are also the composite's smooth part when that is cgrw: they go to the
+        // model `noise =` names; the other's are a comment.
+        out += cgrw_keys(k.cgrw, composite_owns_cgrw ? fmt::format("# cgrw alone (score {:.3f}): ", m.score) : "");
         break;
       }
       case noise::Model::chrono:
@@ -227,12 +262,22 @@ std::string config_toml(const Calibration& c, const std::string& log_name) {
         break;
       }
       case noise::Model::composite: {
-        const auto& g = k.composite.smooth_gm;
-        const auto& x = k.composite.axes;
+        line(fmt::format("# composite: {}", c.composite.describe()));
+        const bool cgrw_smooth = k.composite.smooth == noise::CompositeSmooth::cgrw;
+        if (cgrw_smooth && !composite_owns_cgrw)
+          line("# the cgrw-* keys belong to noise = \"cgrw\" here: the gauss-markov-2 composite is written");
+        const noise::NoiseConfig& w = cgrw_smooth && !composite_owns_cgrw ? c.composite.gm2 : k;
+        const auto& g = w.composite.smooth_gm;
+        const auto& x = w.composite.axes;
         const auto three = [](double a, double b, double c) { return fmt::format("\"{:.6g},{:.6g},{:.6g}\"", a, b, c); };
-        line("composite-smooth = \"gauss-markov-2\"");
-        line("composite-sigma = " + three(g[0].sigma_m, g[1].sigma_m, g[2].sigma_m));
-        line("composite-tau = " + three(g[0].tau_s, g[1].tau_s, g[2].tau_s));
+        if (composite_owns_cgrw) {
+          line("composite-smooth = \"cgrw\"");
+          out += cgrw_keys(w.cgrw, "");
+        } else {
+          line("composite-smooth = \"gauss-markov-2\"");
+          line("composite-sigma = " + three(g[0].sigma_m, g[1].sigma_m, g[2].sigma_m));
+          line("composite-tau = " + three(g[0].tau_s, g[1].tau_s, g[2].tau_s));
+        }
         line("composite-jitter = " + three(x[0].jitter_sigma_m, x[1].jitter_sigma_m, x[2].jitter_sigma_m));
         line("composite-jump-rate = " + three(x[0].jump_rate_hz, x[1].jump_rate_hz, x[2].jump_rate_hz));
         line("composite-jump-size = " + three(x[0].jump_sigma_m, x[1].jump_sigma_m, x[2].jump_sigma_m));

@@ -51,7 +51,17 @@ struct Calibration {
   /// What calibration changed to make every model load: constant axes set to no noise,
   /// statistics nudged into a model's valid region, de-quantisation (written as comments).
   std::vector<std::string> notes;
-  std::vector<ModelResult> models;        ///< cgrw (if usable), chrono, gaussian, gauss-markov 1, 2
+  std::vector<ModelResult> models;        ///< cgrw (if usable), chrono, gaussian, gauss-markov 1, 2, composite
+  /// The composite's smooth part: both are fitted (gauss-markov-2 and cgrw, each with jitter and
+  /// jumps) and scored like every model; models holds the better, these say which and both scores
+  /// (cgrw_score infinite when the walk could not be fitted).
+  struct CompositeChoice {
+    std::string smooth = "gauss-markov-2";
+    double gm2_score = 0.0, cgrw_score = 0.0;
+    noise::NoiseConfig gm2;               ///< the gauss-markov-2 candidate (written when the cgrw
+                                          ///< one won but the cgrw-* keys belong to noise = cgrw)
+    [[nodiscard]] std::string describe() const;
+  } composite;
   std::size_t best = 0;                   ///< index of the lowest score in models
 };
 

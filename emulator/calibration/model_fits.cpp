@@ -297,52 +297,111 @@ double log_error(double model, double real) {
 
 }  // namespace
 
-noise::NoiseConfig fit_composite(const EnuSeries& s, const std::array<AxisStats, 3>& real, std::size_t window) {
+namespace {
+
+// The composite's start shared by both smooth parts: jumps found in the first differences,
+// jitter a quarter of the white share of the second differences; an axis with no spread is off.
+noise::NoiseConfig composite_start(const EnuSeries& s, const std::array<AxisStats, 3>& real) {
   noise::NoiseConfig c;
   c.model = noise::Model::composite;
   auto& p = c.composite;
   // One quantum of the log's resolution (metres): 10^-decimals minutes of arc.
   const double q_north_m = 1852.0 * std::pow(10.0, -s.minute_decimals);
   const std::array<double, 3> quantum{q_north_m * std::cos(s.centre.lat_deg * std::numbers::pi / 180.0), q_north_m, 0.1};
-  std::array<double, 3> sd_target{}, d1_target{};
   for (std::size_t a = 0; a < 3; ++a) {
-    if (!(real[a].sd_m > 0.0)) {  // a constant axis: no noise
-      p.smooth_gm[a] = {0.0, 1.0};
-      p.axes[a] = {};
-      continue;
-    }
+    p.smooth_gm[a] = {0.0, 1.0};
+    if (!(real[a].sd_m > 0.0)) continue;  // a constant axis: no noise
     p.axes[a] = find_jumps(s.axis_m[a], s.rate_hz, quantum[a]);
     p.axes[a].jitter_sigma_m = 0.25 * real[a].d2_sd_m / std::sqrt(6.0);
-    sd_target[a] = real[a].sd_m, d1_target[a] = real[a].d1_sd_m;
-    p.smooth_gm[a] = fit_gauss_markov(sd_target[a], d1_target[a], s.size(), s.rate_hz, 2);
-    if (p.axes[a].jump_rate_hz > 0.0) p.axes[a].jump_decay_s = p.smooth_gm[a].tau_s;
   }
-  // Refit the smooth part's sigma and tau and the jitter together against the rounded simulation
-  // (enough runs that a short log's sample spread, which varies much from run to run when tau is
-  // near the log's length, is not fitted to the luck of a few seeds).
+  return c;
+}
+
+double ratio_clamped(double want, double got) { return got > 0.0 ? std::clamp(want / got, 0.5, 2.0) : 2.0; }
+
+// Refits the smooth part and the jitter together against the rounded simulation (enough runs
+// that a short log's sample spread, which varies much from run to run when tau is near the
+// log's length, is not fitted to the luck of a few seeds): `adjust(axis, simulated)` moves the
+// smooth part of one axis, the jitter follows the second differences. Returns the iteration
+// nearest the log's standard deviation, first- and second-difference standard deviations (or,
+// `whole_score`, with the lowest calibration::score: the walk's other statistics, its time scale,
+// do not follow from those three as a gauss-markov's do).
+template <class Adjust>
+noise::NoiseConfig refit_composite(noise::NoiseConfig c, const EnuSeries& s, const std::array<AxisStats, 3>& real,
+                                   std::size_t window, int iterations, bool whole_score, Adjust adjust) {
   const int runs = static_cast<int>(std::clamp<std::size_t>(400000 / std::max<std::size_t>(s.size(), 1), 8, 32));
   noise::NoiseConfig best = c;
   double best_error = std::numeric_limits<double>::infinity();
-  for (int iteration = 0; iteration < 8; ++iteration) {
+  for (int iteration = 0; iteration < iterations; ++iteration) {
     const auto sim = simulated_stats(c, s, window, 0x636f6d70ULL, runs, nullptr);
     double error = 0.0;
     for (std::size_t a = 0; a < 3; ++a)
       error += log_error(sim[a].sd_m, real[a].sd_m) + log_error(sim[a].d1_sd_m, real[a].d1_sd_m) +
                log_error(sim[a].d2_sd_m, real[a].d2_sd_m);
+    if (whole_score) error = score(real, sim);
     if (error < best_error) best_error = error, best = c;
     for (std::size_t a = 0; a < 3; ++a) {
       if (!(real[a].sd_m > 0.0)) continue;
-      const auto ratio = [](double want, double got) { return got > 0.0 ? std::clamp(want / got, 0.5, 2.0) : 2.0; };
-      sd_target[a] = std::clamp(sd_target[a] * ratio(real[a].sd_m, sim[a].sd_m), 0.2 * real[a].sd_m, 3.0 * real[a].sd_m);
-      d1_target[a] = std::clamp(d1_target[a] * ratio(real[a].d1_sd_m, sim[a].d1_sd_m), 0.02 * real[a].d1_sd_m,
-                                3.0 * real[a].d1_sd_m);
-      auto& jitter = p.axes[a].jitter_sigma_m;
-      jitter = std::clamp(jitter * ratio(real[a].d2_sd_m, sim[a].d2_sd_m), 1e-4 * real[a].d2_sd_m, real[a].d2_sd_m);
-      p.smooth_gm[a] = fit_gauss_markov(sd_target[a], d1_target[a], s.size(), s.rate_hz, 2);
-      if (p.axes[a].jump_rate_hz > 0.0) p.axes[a].jump_decay_s = p.smooth_gm[a].tau_s;
+      auto& jitter = c.composite.axes[a].jitter_sigma_m;
+      jitter = std::clamp(jitter * ratio_clamped(real[a].d2_sd_m, sim[a].d2_sd_m), 1e-4 * real[a].d2_sd_m,
+                          real[a].d2_sd_m);
+      adjust(a, sim[a], c);
     }
   }
   return best;
+}
+
+}  // namespace
+
+noise::NoiseConfig fit_composite(const EnuSeries& s, const std::array<AxisStats, 3>& real, std::size_t window) {
+  noise::NoiseConfig c = composite_start(s, real);
+  std::array<double, 3> sd_target{}, d1_target{};
+  const auto smooth = [&](std::size_t a, noise::NoiseConfig& k) {
+    k.composite.smooth_gm[a] = fit_gauss_markov(sd_target[a], d1_target[a], s.size(), s.rate_hz, 2);
+    if (k.composite.axes[a].jump_rate_hz > 0.0) k.composite.axes[a].jump_decay_s = k.composite.smooth_gm[a].tau_s;
+  };
+  for (std::size_t a = 0; a < 3; ++a)
+    if (real[a].sd_m > 0.0) sd_target[a] = real[a].sd_m, d1_target[a] = real[a].d1_sd_m, smooth(a, c);
+  return refit_composite(c, s, real, window, 8, false, [&](std::size_t a, const AxisStats& sim, noise::NoiseConfig& k) {
+    sd_target[a] = std::clamp(sd_target[a] * ratio_clamped(real[a].sd_m, sim.sd_m), 0.2 * real[a].sd_m, 3.0 * real[a].sd_m);
+    d1_target[a] = std::clamp(d1_target[a] * ratio_clamped(real[a].d1_sd_m, sim.d1_sd_m), 0.02 * real[a].d1_sd_m,
+                              3.0 * real[a].d1_sd_m);
+    smooth(a, k);
+  });
+}
+
+noise::NoiseConfig fit_composite_cgrw(const EnuSeries& s, const std::array<AxisStats, 3>& real, std::size_t window) {
+  noise::NoiseConfig c = composite_start(s, real);
+  c.composite.smooth = noise::CompositeSmooth::cgrw;
+  c.cgrw.rate_hz = s.rate_hz;
+  c.cgrw.window_s = static_cast<double>(window) / s.rate_hz;
+  const double w = static_cast<double>(window);
+  const std::array<noise::CgrwAxis noise::CgrwParams::*, 3> axes{&noise::CgrwParams::east, &noise::CgrwParams::north,
+                                                                 &noise::CgrwParams::up};
+  std::array<noise::CgrwAxis, 3> target{};
+  const auto smooth = [&](std::size_t a, noise::NoiseConfig& k) {
+    target[a] = noise::nudge_cgrw_axis(target[a]);
+    noise::CgrwFit fit;
+    k.cgrw.*axes[a] = written_cgrw(target[a], w, a, fit);
+  };
+  for (std::size_t a = 0; a < 3; ++a) {
+    if (!(real[a].sd_m > 0.0)) continue;
+    // Jumps decay with the smooth wander's time scale (the gauss-markov-2 tau of the log).
+    if (c.composite.axes[a].jump_rate_hz > 0.0)
+      c.composite.axes[a].jump_decay_s = fit_gauss_markov(real[a].sd_m, real[a].d1_sd_m, s.size(), s.rate_hz, 2).tau_s;
+    target[a] = real[a].cgrw;
+    smooth(a, c);
+  }
+  // The walk is scale-invariant: all four statistics scale the spread, the three of the
+  // differences the first differences, the two of the second differences the second differences.
+  return refit_composite(c, s, real, window, 8, true, [&](std::size_t a, const AxisStats& sim, noise::NoiseConfig& k) {
+    const double k_sd = ratio_clamped(real[a].sd_m, sim.sd_m);
+    const double k_d1 = ratio_clamped(real[a].d1_sd_m, sim.d1_sd_m) / k_sd;
+    const double k_d2 = ratio_clamped(real[a].d2_sd_m, sim.d2_sd_m) / (k_sd * k_d1);
+    target[a] = {target[a].width_m * k_sd, target[a].width_d1_m * k_sd * k_d1,
+                 target[a].width_d2_m * k_sd * k_d1 * k_d2, target[a].sigma_d2_m * k_sd * k_d1 * k_d2};
+    smooth(a, k);
+  });
 }
 
 }  // namespace gpsemu::calibration

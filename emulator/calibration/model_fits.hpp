@@ -2,7 +2,7 @@
 // its grid (calibrate.hpp puts them together): gauss-markov (closed-form expectations over the
 // log's length), chrono (a simplex search on simulated runs), cgrw fitted to the de-quantised
 // statistics and nudged into the walk's valid region, and the composite model (a smooth
-// gauss-markov-2 component, white jitter and a jump process).
+// gauss-markov-2 or cgrw component, white jitter and a jump process).
 #pragma once
 
 #include <array>
@@ -58,5 +58,11 @@ namespace gpsemu::calibration {
 /// second-difference standard deviations. Deterministic.
 [[nodiscard]] noise::NoiseConfig fit_composite(const EnuSeries& series, const std::array<AxisStats, 3>& real,
                                                std::size_t window);
+/// The same with the cgrw walk as the smooth component (composite.smooth = cgrw, the walk's
+/// statistics in config.cgrw): the walk's four statistics start at the log's and are scaled
+/// (the walk is scale-invariant) until the rounded simulation, jitter and jumps included, has the
+/// log's standard deviation, first- and second-difference standard deviations. Deterministic.
+[[nodiscard]] noise::NoiseConfig fit_composite_cgrw(const EnuSeries& series, const std::array<AxisStats, 3>& real,
+                                                    std::size_t window);
 
 }  // namespace gpsemu::calibration

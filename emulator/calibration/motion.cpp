@@ -50,11 +50,47 @@ double local_quadratic(const std::vector<double>& x, std::size_t lo, std::size_t
   return c0 + c1 * u + c2 * u * u;
 }
 
+// Standard deviation of x about its least-squares line in the sample index (NaN skipped).
+double sd_about_line(const std::vector<double>& x) {
+  double n = 0, su = 0, sx = 0, suu = 0, sux = 0;
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    if (std::isnan(x[k])) continue;
+    const double u = static_cast<double>(k);
+    n += 1, su += u, sx += x[k], suu += u * u, sux += u * x[k];
+  }
+  if (n < 3) return 0.0;
+  const double var_u = suu / n - (su / n) * (su / n);
+  const double slope = var_u > 0.0 ? (sux / n - (su / n) * (sx / n)) / var_u : 0.0;
+  double sum2 = 0;
+  for (std::size_t k = 0; k < x.size(); ++k)
+    if (!std::isnan(x[k])) {
+      const double r = x[k] - sx / n - slope * (static_cast<double>(k) - su / n);
+      sum2 += r * r;
+    }
+  return std::sqrt(sum2 / n);
+}
+
+// Standard deviation of x's first differences (pairs with a NaN skipped).
+double first_difference_sd(const std::vector<double>& x) {
+  double n = 0, s = 0, s2 = 0;
+  for (std::size_t k = 1; k < x.size(); ++k)
+    if (!std::isnan(x[k]) && !std::isnan(x[k - 1])) {
+      const double d = x[k] - x[k - 1];
+      n += 1, s += d, s2 += d * d;
+    }
+  return n > 1 ? std::sqrt(std::max(0.0, s2 / n - (s / n) * (s / n))) : 0.0;
+}
+
 }  // namespace
 
 std::string MotionCheck::describe() const {
   return fmt::format("net displacement {:.1f} m, sustained speed {:.2f} m/s (median over {:.0f} s windows)",
                      displacement_m, speed_mps, window_s);
+}
+
+std::string MotionCheck::describe_limits() const {
+  return fmt::format("limits for this log's noise ({:.2f} m about a straight line, {:.3f} m first differences): "
+                     "{:.1f} m and {:.2f} m/s", noise_sd_m, noise_d1_sd_m, displacement_limit_m, speed_limit_mps);
 }
 
 MotionCheck check_motion(const EnuSeries& s) {
@@ -75,7 +111,14 @@ MotionCheck check_motion(const EnuSeries& s) {
     std::nth_element(speeds.begin(), speeds.begin() + static_cast<std::ptrdiff_t>(speeds.size() / 2), speeds.end());
     m.speed_mps = speeds[speeds.size() / 2];
   }
-  m.moving = m.displacement_m > kMaxStationaryDisplacement_m || m.speed_mps > kMaxStationarySpeed_mps;
+  EnuSeries smooth_removed = s;
+  (void)detrend(smooth_removed);
+  m.noise_sd_m = std::hypot(sd_about_line(s.axis_m[0]), sd_about_line(s.axis_m[1]));
+  m.noise_d1_sd_m = std::hypot(first_difference_sd(smooth_removed.axis_m[0]), first_difference_sd(smooth_removed.axis_m[1]));
+  m.displacement_limit_m = std::max(kMinDisplacementLimit_m, kDisplacementInSd * m.noise_sd_m);
+  m.speed_limit_mps = std::max(kMinSpeedLimit_mps, kSpeedInWalks * m.noise_d1_sd_m *
+                                                       std::sqrt(static_cast<double>(lag)) / m.window_s);
+  m.moving = m.displacement_m > m.displacement_limit_m || m.speed_mps > m.speed_limit_mps;
   return m;
 }
 

@@ -1,8 +1,8 @@
 // Is a receiver's log stationary? Calibration fits noise to a receiver that does not move: a
 // driving log would be calibrated as noise as wide as the route. A track moves when its net
-// displacement or its sustained speed is well beyond what a stationary receiver's wander gives
-// (real receivers: metres of wander, a few centimetres a second). With --detrend a smooth
-// trajectory (local quadratic least squares over a 10 s window) is removed first instead.
+// displacement or its sustained speed is well beyond what the log's own noise explains (limits
+// scaled by the noise, see check_motion and docs/noise-and-calibration.md). With --detrend a
+// smooth trajectory (local quadratic least squares over a 10 s window) is removed first instead.
 #pragma once
 
 #include <stdexcept>
@@ -12,11 +12,16 @@
 
 namespace gpsemu::calibration {
 
-/// Net displacement above this is motion (metres): ~4x the widest wander of the real logs.
-inline constexpr double kMaxStationaryDisplacement_m = 20.0;
-/// Median speed over windows of kSpeedWindow_s above this is motion (metres per second): 10x the
-/// real logs' (0.01-0.03 m/s), below a walk.
-inline constexpr double kMaxStationarySpeed_mps = 0.3;
+/// The limits never go below these floors (a receiver quiet to centimetres still wanders metres
+/// over hours, and speeds under 5 cm/s over half a minute are within every real log's).
+inline constexpr double kMinDisplacementLimit_m = 2.0;
+inline constexpr double kMinSpeedLimit_mps = 0.05;
+/// The displacement limit in horizontal standard deviations about a straight line: wander slower
+/// than the log is locally straight (the real logs of 2-3 minutes reach 13 of them).
+inline constexpr double kDisplacementInSd = 25.0;
+/// The speed limit in what a random walk with the noise's first-difference spread travels over a
+/// window (the real logs reach 2.7 of them).
+inline constexpr double kSpeedInWalks = 6.0;
 inline constexpr double kSpeedWindow_s = 30.0;
 /// The detrending window (seconds): the trajectory is smooth over it, the noise's faster part is not.
 inline constexpr double kDetrendWindow_s = 10.0;
@@ -25,9 +30,19 @@ struct MotionCheck {
   double displacement_m = 0.0;  ///< horizontal distance between the means of the first and last tenth
   double speed_mps = 0.0;       ///< median of |horizontal displacement| / window over windows of window_s
   double window_s = 0.0;        ///< kSpeedWindow_s, or a third of a shorter log
-  bool moving = false;          ///< beyond kMaxStationaryDisplacement_m or kMaxStationarySpeed_mps
+  /// The log's noise: horizontal standard deviation about each axis's least-squares line in time
+  /// (a steady drift removed), and the horizontal first-difference standard deviation (metres per
+  /// sample) of the series with its smooth trajectory removed (detrend: motion removed).
+  double noise_sd_m = 0.0, noise_d1_sd_m = 0.0;
+  /// max(kMinDisplacementLimit_m, kDisplacementInSd x noise_sd_m).
+  double displacement_limit_m = 0.0;
+  /// max(kMinSpeedLimit_mps, kSpeedInWalks x noise_d1_sd_m x sqrt(samples in window_s) / window_s).
+  double speed_limit_mps = 0.0;
+  bool moving = false;          ///< beyond either limit
   /// "net displacement 123 m, sustained speed 2.0 m/s (median over 30 s windows)".
   [[nodiscard]] std::string describe() const;
+  /// "limits for this log's noise (0.12 m about a line, 0.034 m first differences): 3.0 m and 0.05 m/s".
+  [[nodiscard]] std::string describe_limits() const;
 };
 
 /// The motion statistics of the series' horizontal axes (gaps are skipped).

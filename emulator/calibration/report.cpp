@@ -1,5 +1,7 @@
 #include "emulator/calibration/report.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -31,16 +33,26 @@ std::string cell(std::optional<double> v) {
   return fmt::format("{:.4g}", *v);
 }
 
-// The composite model's parameters and each component's share of the position variance and of
-// the first-difference variance (expected values at the log's rate; jumps that never decay are
-// counted over the log's duration).
-std::string composite_lines(const noise::NoiseConfig& k, const EnuSeries& s) {
-  std::string out = "composite (smooth gauss-markov-2 sigma m, tau s; jitter m; jumps /s, m, decay s):";
+// The composite model's parameters, which smooth part won (both scores), and each component's
+// share of the position variance and of the first-difference variance (expected values at the
+// log's rate; jumps that never decay are counted over the log's duration; a cgrw smooth part's
+// is the simulated total less the jitter's and jumps').
+std::string composite_lines(const Calibration& c, const ModelResult& m) {
+  const noise::NoiseConfig& k = m.config;
+  const EnuSeries& s = c.series;
+  const bool cgrw = k.composite.smooth == noise::CompositeSmooth::cgrw;
+  std::string out = fmt::format("composite: {}\n", c.composite.describe());
+  out += cgrw ? "composite (smooth cgrw W m, W1 m, W2 m, S2 m; jitter m; jumps /s, m, decay s):"
+              : "composite (smooth gauss-markov-2 sigma m, tau s; jitter m; jumps /s, m, decay s):";
+  const std::array<const noise::CgrwAxis*, 3> walk{&k.cgrw.east, &k.cgrw.north, &k.cgrw.up};
   for (std::size_t a = 0; a < 3; ++a) {
     const auto& g = k.composite.smooth_gm[a];
     const auto& x = k.composite.axes[a];
-    out += fmt::format("  {} {:.4f}, {:.1f}; {:.4f}; {:.4f}, {:.3f}, {:.0f}", kAxes[a], g.sigma_m, g.tau_s,
-                       x.jitter_sigma_m, x.jump_rate_hz, x.jump_sigma_m, x.jump_decay_s);
+    out += cgrw ? fmt::format("  {} {:.4f}, {:.4f}, {:.4f}, {:.4f}", kAxes[a], walk[a]->width_m, walk[a]->width_d1_m,
+                              walk[a]->width_d2_m, walk[a]->sigma_d2_m)
+                : fmt::format("  {} {:.4f}, {:.1f}", kAxes[a], g.sigma_m, g.tau_s);
+    out += fmt::format("; {:.4f}; {:.4f}, {:.3f}, {:.0f}", x.jitter_sigma_m, x.jump_rate_hz, x.jump_sigma_m,
+                       x.jump_decay_s);
   }
   out += "\ncomposite shares (smooth / jitter / jumps) of the variance | of the first-difference variance:";
   const double dt = 1.0 / s.rate_hz;
@@ -48,10 +60,15 @@ std::string composite_lines(const noise::NoiseConfig& k, const EnuSeries& s) {
     const auto& g = k.composite.smooth_gm[a];
     const auto& x = k.composite.axes[a];
     const double jump2 = x.jump_rate_hz * x.jump_sigma_m * x.jump_sigma_m;
-    const double var[3] = {g.sigma_m * g.sigma_m, x.jitter_sigma_m * x.jitter_sigma_m,
-                           jump2 * (x.jump_decay_s > 0.0 ? x.jump_decay_s : s.duration_s()) / 2.0};
-    const double d1[3] = {2.0 * var[0] * (1.0 - noise::gauss_markov_autocorrelation(2, dt, g.tau_s)), 2.0 * var[1],
-                          jump2 * dt};
+    double var[3] = {g.sigma_m * g.sigma_m, x.jitter_sigma_m * x.jitter_sigma_m,
+                     jump2 * (x.jump_decay_s > 0.0 ? x.jump_decay_s : s.duration_s()) / 2.0};
+    double d1[3] = {2.0 * var[0] * (1.0 - noise::gauss_markov_autocorrelation(2, dt, g.tau_s)), 2.0 * var[1],
+                    jump2 * dt};
+    if (cgrw) {
+      const double sd = m.stats[a].sd_m, d1_sd = m.stats[a].d1_sd_m;
+      var[0] = std::max(0.0, sd * sd - var[1] - var[2]);
+      d1[0] = std::max(0.0, d1_sd * d1_sd - d1[1] - d1[2]);
+    }
     const double tv = var[0] + var[1] + var[2], td = d1[0] + d1[1] + d1[2];
     const auto pc = [](double v, double t) { return t > 0.0 ? 100.0 * v / t : 0.0; };
     out += fmt::format("  {} {:.0f}/{:.0f}/{:.0f}% | {:.0f}/{:.0f}/{:.0f}%", kAxes[a], pc(var[0], tv), pc(var[1], tv),
@@ -115,7 +132,7 @@ std::string calibration_summary(const Calibration& c) {
                          "{:.5g}\n", k.chrono.mean, k.chrono.sigma, k.chrono.update_rate_hz,
                          k.chrono.v_max_mps, k.chrono.a_max_mps2);
     } else if (k.model == noise::Model::composite) {
-      out += composite_lines(k, c.series);
+      out += composite_lines(c, m);
     }
   }
   return out + scores_line(c);
@@ -151,7 +168,7 @@ std::string comparison_table(const Calibration& c) {
   }
   out += "  (acf rows: the ratio is of 1 - autocorrelation)\n";
   for (const ModelResult& m : c.models)
-    if (m.config.model == noise::Model::composite) out += composite_lines(m.config, c.series);
+    if (m.config.model == noise::Model::composite) out += composite_lines(c, m);
   return out;
 }
 

@@ -79,11 +79,13 @@ TEST(CalibrationLoads, GeneratedLogsOfEveryModelRateResolutionAndLength) {
 }
 
 TEST(CalibrationLoads, FiveHertzQuantisedLogWithSecondDifferenceTwiceTheFirst) {
-  // A slow drift of 2 mm a sample at 5 Hz, 5 decimals of minutes (1.85 cm): the first
-  // differences are 0 or one quantum, the second -1, 0 or +1 quantum: W2 = 2 W1.
+  // A slow drift of 1 mm a sample at 5 Hz, 5 decimals of minutes (1.85 cm): the first
+  // differences are 0 or one quantum, the second -1, 0 or +1 quantum: W2 = 2 W1. (1.7 m between
+  // the first and last tenth: under the motion check's 2 m floor, as a noiseless receiver's
+  // wander must be; the 3.5 m of a 2 mm a sample drift is motion for a receiver that quiet.)
   noise::NoiseConfig none;
   none.model = noise::Model::none;
-  const auto drift = [](double t_s) { return Enu{0.01 * t_s, 0.008 * t_s, 0.0}; };
+  const auto drift = [](double t_s) { return Enu{0.005 * t_s, 0.004 * t_s, 0.0}; };
   const std::string log = test::model_log(none, 3, 5.0, 300.0, 5, true, drift);
   const Calibration c = calibrate(read_receiver_log(log), CalibrateOptions{1, 2});
   EXPECT_NEAR(c.cgrw_measured[1].width_d2_m / c.cgrw_measured[1].width_d1_m, 2.0, 1e-6);

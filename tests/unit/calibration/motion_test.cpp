@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <string>
 
+#include <fmt/format.h>
+
 #include "emulator/calibration/calibrate.hpp"
 #include "emulator/calibration/motion.hpp"
 #include "tests/support/calibration_logs.hpp"
@@ -35,6 +37,7 @@ TEST(Motion, CircleIsRefusedNamingDistanceAndSpeed) {
     EXPECT_NE(what.find("net displacement"), std::string::npos) << what;
     EXPECT_NE(what.find("sustained speed 1."), std::string::npos) << what;  // a 40 m chord over 30 s
     EXPECT_NE(what.find("--detrend"), std::string::npos) << what;
+    EXPECT_NE(what.find("limits for this log's noise"), std::string::npos) << what;
   }
 }
 
@@ -67,10 +70,58 @@ TEST(Motion, RealStationaryLogsPass) {
     if (entry.path().extension() != ".log") continue;
     ReceiverLog r = read_receiver_log_file(entry.path().string());
     const MotionCheck m = check_motion(to_enu_series(r));
-    EXPECT_FALSE(m.moving) << entry.path() << ": " << m.describe();
+    EXPECT_FALSE(m.moving) << entry.path() << ": " << m.describe() << "; " << m.describe_limits();
     ++seen;
   }
   EXPECT_GE(seen, 3);
+}
+
+// A slow drift: 1 cm/s east, 6 m over the 10 minutes (5.4 m between the first and last tenth).
+Enu drift(double t_s) { return {0.01 * t_s, 0.0, 0.0}; }
+
+noise::NoiseConfig gm2(double sigma_m, double tau_s) {
+  noise::NoiseConfig c;
+  c.model = noise::Model::gauss_markov;
+  c.gauss_markov_order = 2;
+  c.gauss_markov = {{{sigma_m, tau_s}, {sigma_m, tau_s}, {2 * sigma_m, tau_s}}};
+  return c;
+}
+
+// On a receiver quiet to 5 cm the drift is motion (the old fixed 20 m limit let it through).
+TEST(Motion, SlowDriftOnAQuietReceiverIsRefused) {
+  const std::string log = test::model_log(gm2(0.05, 30), 5, 1.0, 600.0, 6, false, drift);
+  ReceiverLog r = read_receiver_log(log);
+  const MotionCheck m = check_motion(to_enu_series(r));
+  EXPECT_TRUE(m.moving) << m.describe() << "; " << m.describe_limits();
+  EXPECT_LT(m.displacement_m, 20.0);
+  EXPECT_GT(m.displacement_m, 5.0);
+  try {
+    (void)calibrate(read_receiver_log(log), CalibrateOptions{1, 1});
+    FAIL() << "a 1 cm/s drift on a 5 cm receiver was calibrated as noise";
+  } catch (const MotionError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("net displacement 5."), std::string::npos) << what;
+    EXPECT_NE(what.find(fmt::format("{:.1f} m and {:.2f} m/s", m.displacement_limit_m, m.speed_limit_mps)),
+              std::string::npos) << what;
+  }
+}
+
+// On a noisy receiver, 7-10 m wide (wander sigma 3 m with tau 100 s, 0.3 m of white jitter),
+// the same drift is within what the wander itself does between the first and last minute (about
+// 4 m rms per axis): not refused.
+TEST(Motion, TheSameDriftOnANoisyReceiverIsExplainedByTheNoise) {
+  noise::NoiseConfig noisy;
+  noisy.model = noise::Model::composite;
+  noisy.composite.smooth_gm = {{{3.0, 100}, {3.0, 100}, {6.0, 100}}};
+  noisy.composite.axes = {{{0.3, 0, 0, 0}, {0.3, 0, 0, 0}, {0.6, 0, 0, 0}}};
+  const std::string log = test::model_log(noisy, 5, 1.0, 600.0, 6, false, drift);
+  ReceiverLog r = read_receiver_log(log);
+  const EnuSeries s = to_enu_series(r);
+  const MotionCheck m = check_motion(s);
+  EXPECT_FALSE(m.moving) << m.describe() << "; " << m.describe_limits();
+  EXPECT_GT(m.displacement_m, kMinDisplacementLimit_m);  // beyond the floor: the noise's scale decides
+  const AxisStats north = measure_axis(s.axis_m[1], s.rate_hz, s.size());
+  EXPECT_GT(north.range_m, 6.0) << "the noise alone, without the drift";
 }
 
 }  // namespace
