@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "emulator/config/config_values.hpp"
+#include "emulator/sources/pose_message.hpp"
 #include "transport/pps.hpp"
 
 namespace gpsemu {
@@ -97,11 +98,16 @@ std::vector<OptionDef> make_option_table() {
   scope = OptionScope::receiver;
   add("source", "SPEC", "pose source: sim:stationary | sim:line | sim:circle | sim:waypoints:FILE | replay:FILE.csv (a recorded truth trajectory) | udp:[HOST:]PORT | tcp:[HOST:]PORT (JSON poses from a simulator; HOST default 127.0.0.1) (default sim:stationary)",
       [](ConfigDraft& d, V v) { d.receiver.source = v.back(); });
-  add("origin", "LAT,LON,ALT", "local frame origin: degrees, degrees, metres above MSL (default 43.0725,-89.4125,260)",
+  add("origin", "LAT,LON,ALT", "local frame origin: degrees, degrees, metres above MSL (-10000..1000000), e.g. "
+      "52.5163,13.3777,34 (default 43.0725,-89.4125,260)",
       [](ConfigDraft& d, V v) {
         const auto x = parse_list("origin", v.back(), 3, 3);
         if (x[0] < -90.0 || x[0] > 90.0) throw std::invalid_argument(fmt::format("origin latitude {} is outside [-90, 90]", x[0]));
         if (x[1] < -180.0 || x[1] > 180.0) throw std::invalid_argument(fmt::format("origin longitude {} is outside [-180, 180]", x[1]));
+        if (x[2] < sources::kMinAltM || x[2] > sources::kMaxAltM) {
+          throw std::invalid_argument(fmt::format("origin altitude {} m is outside [{}, {}] m (the range a pose may have)",
+                                                  x[2], sources::kMinAltM, sources::kMaxAltM));
+        }
         d.receiver.settings.origin = {x[0], x[1], x[2]};
       });
   add("sim-speed", "MPS", "simulated speed for line, circle and waypoints, m/s (default 2)",
