@@ -2,6 +2,11 @@
 // then resolving it into a Config (validate.hpp, fleet_config.hpp).
 #include "emulator/config/config.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <set>
 #include <sstream>
 
@@ -11,6 +16,8 @@
 #include "emulator/config/config_options.hpp"
 #include "emulator/config/fleet_config.hpp"
 #include "emulator/config/validate.hpp"
+#include "transport/posix/errors.hpp"
+#include "transport/posix/fd.hpp"
 
 namespace gpsemu {
 namespace {
@@ -153,6 +160,39 @@ Config build(const toml::table* file, const std::string& file_name, const RawOpt
   return resolve(config);
 }
 
+/// What a config file is: a regular file (a device or FIFO would read as empty or block).
+const char* kind_of(mode_t mode) {
+  if (S_ISDIR(mode)) return "a directory";
+  if (S_ISFIFO(mode)) return "a FIFO";
+  if (S_ISCHR(mode) || S_ISBLK(mode)) return "a device";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "not a regular file";
+}
+
+/// The whole text of a config file. Opened without blocking (a FIFO's open would wait for a
+/// writer), then refused unless it is a regular file.
+std::string read_config_file(const std::string& path) {
+  posix::UniqueFd fd(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY));
+  if (!fd.valid()) throw ConfigError(fmt::format("config file {}: {}", path, posix::errno_text(errno)));
+  struct stat st{};
+  if (::fstat(fd.get(), &st) != 0) throw ConfigError(fmt::format("config file {}: {}", path, posix::errno_text(errno)));
+  if (!S_ISREG(st.st_mode)) {
+    throw ConfigError(fmt::format("config file {}: {}; give a regular TOML file", path, kind_of(st.st_mode)));
+  }
+  std::string text;
+  char buffer[65536];
+  while (true) {
+    const ssize_t n = ::read(fd.get(), buffer, sizeof buffer);
+    if (n == 0) break;
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      throw ConfigError(fmt::format("config file {}: {}", path, posix::errno_text(errno)));
+    }
+    text.append(buffer, static_cast<std::size_t>(n));
+  }
+  return text;
+}
+
 [[noreturn]] void throw_parse_error(const toml::parse_error& e, const std::string& file_name) {
   throw ConfigError(fmt::format("config file {}:{}: {}", file_name, e.source().begin.line, e.description()));
 }
@@ -161,9 +201,10 @@ Config build(const toml::table* file, const std::string& file_name, const RawOpt
 
 Config build_config(const std::optional<std::string>& config_file, const RawOptions& command_line) {
   if (!config_file) return build(nullptr, {}, command_line);
+  const std::string text = read_config_file(*config_file);
   toml::table file;
   try {
-    file = toml::parse_file(*config_file);
+    file = toml::parse(text, *config_file);
   } catch (const toml::parse_error& e) {
     throw_parse_error(e, *config_file);
   } catch (const std::exception& e) {
