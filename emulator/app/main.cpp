@@ -11,6 +11,7 @@
 #include <spdlog/spdlog.h>
 
 #include "emulator/config/config.hpp"
+#include "emulator/config/config_values.hpp"
 #include "emulator/config/validate.hpp"
 #include "emulator/pipeline/runner.hpp"
 #include "emulator/app/command_line.hpp"
@@ -40,7 +41,8 @@ void setup_logging(const std::string& level) {
 }
 
 /// A start-up error: one line "gpsemu: WHAT" on stderr (exit status 2 follows), whatever raised it.
-void fail(std::string what) {
+void fail(const std::string& message) {
+  std::string what = gpsemu::config_values::shorten_quoted(message);
   std::replace(what.begin(), what.end(), '\n', ' ');
   std::fprintf(stderr, "gpsemu: %s\n", what.c_str());
 }

@@ -14,6 +14,7 @@
 #include <toml++/toml.h>
 
 #include "emulator/config/config_options.hpp"
+#include "emulator/config/config_values.hpp"
 #include "emulator/config/fleet_config.hpp"
 #include "emulator/config/validate.hpp"
 #include "transport/posix/errors.hpp"
@@ -76,7 +77,8 @@ std::vector<ReceiverTable> parse_receiver_tables(const std::string& file, const 
         option->apply(scratch, values);
         table.keys.push_back({name, key_line, std::move(values)});
       } catch (const std::exception& e) {
-        throw ConfigError(fmt::format("config file {}:{}: [[receiver]] key '{}': {}", file, key_line, name, e.what()));
+        throw ConfigError(config_values::shorten_quoted(
+            fmt::format("config file {}:{}: [[receiver]] key '{}': {}", file, key_line, name, e.what())));
       }
     }
     tables.push_back(std::move(table));
@@ -111,7 +113,7 @@ Config resolve(ConfigDraft& draft) {
   } catch (const ConfigError&) {
     throw;
   } catch (const std::exception& e) {
-    throw ConfigError(e.what());
+    throw ConfigError(config_values::shorten_quoted(e.what()));
   }
   config.process = std::move(draft.process);
   config.timeline = std::move(draft.timeline);
@@ -143,7 +145,8 @@ Config build(const toml::table* file, const std::string& file_name, const RawOpt
       try {
         option->apply(config, toml_to_strings(node, name));
       } catch (const std::exception& e) {
-        throw ConfigError(fmt::format("config file {}:{}: key '{}': {}", file_name, line, name, e.what()));
+        throw ConfigError(config_values::shorten_quoted(
+            fmt::format("config file {}:{}: key '{}': {}", file_name, line, name, e.what())));
       }
     }
   }
@@ -153,7 +156,7 @@ Config build(const toml::table* file, const std::string& file_name, const RawOpt
     try {
       option->apply(config, values);
     } catch (const std::exception& e) {
-      throw ConfigError(fmt::format("--{}: {}", name, e.what()));
+      throw ConfigError(config_values::shorten_quoted(fmt::format("--{}: {}", name, e.what())));
     }
   }
   check_fleet_size(config, file_name);
@@ -179,9 +182,15 @@ std::string read_config_file(const std::string& path) {
   if (!S_ISREG(st.st_mode)) {
     throw ConfigError(fmt::format("config file {}: {}; give a regular TOML file", path, kind_of(st.st_mode)));
   }
+  const auto too_large = [&path](std::uint64_t bytes) {
+    return ConfigError(fmt::format("config file {}: larger than 1 MiB ({} bytes); a config file may have at most {} "
+                                   "bytes", path, bytes, kMaxConfigFileBytes));
+  };
+  if (static_cast<std::uint64_t>(st.st_size) > kMaxConfigFileBytes) throw too_large(static_cast<std::uint64_t>(st.st_size));
   std::string text;
   char buffer[65536];
   while (true) {
+    if (text.size() > kMaxConfigFileBytes) throw too_large(text.size());  // it grew while being read
     const ssize_t n = ::read(fd.get(), buffer, sizeof buffer);
     if (n == 0) break;
     if (n < 0) {
@@ -194,7 +203,8 @@ std::string read_config_file(const std::string& path) {
 }
 
 [[noreturn]] void throw_parse_error(const toml::parse_error& e, const std::string& file_name) {
-  throw ConfigError(fmt::format("config file {}:{}: {}", file_name, e.source().begin.line, e.description()));
+  throw ConfigError(config_values::shorten_quoted(
+      fmt::format("config file {}:{}: {}", file_name, e.source().begin.line, e.description())));
 }
 
 }  // namespace
@@ -215,6 +225,10 @@ Config build_config(const std::optional<std::string>& config_file, const RawOpti
 
 Config build_config_from_text(std::string_view toml_text, const std::string& source_name,
                               const RawOptions& command_line) {
+  if (toml_text.size() > kMaxConfigFileBytes) {
+    throw ConfigError(fmt::format("config file {}: larger than 1 MiB ({} bytes); a config file may have at most {} "
+                                  "bytes", source_name, toml_text.size(), kMaxConfigFileBytes));
+  }
   toml::table file;
   try {
     file = toml::parse(toml_text, source_name);
