@@ -32,4 +32,20 @@ WriteStatus Output::write_epoch(std::string_view bytes) {
   return status;
 }
 
+void Output::client_wrote(std::string_view bytes) {
+  if (client_input_ == nullptr) return;
+  client_input_->client_wrote(bytes);
+  reply_ += client_input_->take_reply();
+}
+
+void Output::answer_clients() {
+  if (reply_.empty()) return;
+  std::string error_text;
+  if (write_bytes(reply_, error_text) == WriteStatus::ok) {
+    ++stats_.replies_written;
+    stats_.bytes_written += reply_.size();
+  }
+  reply_.clear();
+}
+
 }  // namespace gpsemu::transport
