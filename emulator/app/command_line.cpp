@@ -7,8 +7,9 @@ std::unique_ptr<CommandLine> make_command_line() {
   CLI::App& app = cl->app;
   app.set_version_flag("--version", std::string("gpsemu ") + GPSEMU_VERSION);
   app.get_formatter()->column_width(34);
-  app.add_option("--config", cl->config_file, "TOML config file; keys are the long flag names, flags override it")
-      ->check(CLI::ExistingFile)
+  // Not CLI::ExistingFile: build_config() reads it, refusing FIFOs and devices with one message.
+  app.add_option("--config", cl->config_file, "TOML config file (a regular file); keys are the long flag names, flags "
+                 "override it, e.g. rate = 10 and output = [\"pty:/tmp/gps\", \"file:run.nmea\"]")
       ->option_text("FILE");
   for (const auto& def : option_table()) {
     auto& store = cl->values[def.name];

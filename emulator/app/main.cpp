@@ -1,14 +1,17 @@
 // gpsemu: a GPS receiver emulator. Parses the command line and config file, sets up logging and
 // signals, and runs the main loop. Exit status: 0 done, 2 bad configuration or start-up failure.
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
+#include <string>
 
 #include <CLI/CLI.hpp>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include "emulator/config/config.hpp"
+#include "emulator/config/config_values.hpp"
 #include "emulator/config/validate.hpp"
 #include "emulator/pipeline/runner.hpp"
 #include "emulator/app/command_line.hpp"
@@ -37,6 +40,13 @@ void setup_logging(const std::string& level) {
   spdlog::set_level(spdlog::level::from_str(level));
 }
 
+/// A start-up error: one line "gpsemu: WHAT" on stderr (exit status 2 follows), whatever raised it.
+void fail(const std::string& message) {
+  std::string what = gpsemu::config_values::shorten_quoted(message);
+  std::replace(what.begin(), what.end(), '\n', ' ');
+  std::fprintf(stderr, "gpsemu: %s\n", what.c_str());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -51,7 +61,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "gpsemu: %s\nRun 'gpsemu --help' for the options.\n", e.what());
+    fail(std::string(e.what()) + " (gpsemu --help lists the options)");
     return 2;
   }
   const gpsemu::RawOptions command_line = cl->given();
@@ -63,7 +73,7 @@ int main(int argc, char** argv) {
     // Templates, shared outputs and specs are checked here, before anything opens.
     config = gpsemu::build_config(config_file.empty() ? std::nullopt : std::optional{config_file}, command_line);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "gpsemu: %s\n", e.what());
+    fail(e.what());
     return 2;
   }
   setup_logging(config.process.log_level);
@@ -74,13 +84,13 @@ int main(int argc, char** argv) {
     try {
       gpsemu::check_subcommand(config, sc.app->get_name());
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "gpsemu: %s\n", e.what());
+      fail(e.what());
       return 2;
     }
     try {
       return sc.run(config, g_stop);
     } catch (const std::exception& e) {
-      spdlog::error("{}", e.what());
+      fail(e.what());
       return 2;
     }
   }
@@ -88,7 +98,7 @@ int main(int argc, char** argv) {
   // Replay's options mean nothing to the emulator loop: say so instead of ignoring them.
   for (const auto& [name, values] : command_line) {
     if (gpsemu::is_replay_only(name)) {
-      std::fprintf(stderr, "gpsemu: --%s applies to 'gpsemu replay LOG' only\n", name.c_str());
+      fail("--" + name + " applies to 'gpsemu replay LOG' only");
       return 2;
     }
   }
@@ -98,7 +108,7 @@ int main(int argc, char** argv) {
     gpsemu::check_emulator_run(config);
     runner = std::make_unique<gpsemu::Runner>(config);
   } catch (const std::exception& e) {
-    spdlog::error("{}", e.what());
+    fail(e.what());
     return 2;
   }
   for (const std::string& line : gpsemu::posix::apply_realtime_settings(config.process.realtime)) spdlog::info("{}", line);

@@ -4,13 +4,36 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include "emulator/config/config.hpp"
+#include "emulator/config/config_options.hpp"
 #include "emulator/replay/replayer.hpp"
 #include "transport/posix/realtime.hpp"
 
 namespace gpsemu {
+namespace {
+
+/// `gpsemu replay --help` lists the options a replay reads (they are the main options, parsed
+/// before or after LOG), from the one option table: replay's own, then the shared ones.
+std::string options_footer() {
+  std::string text = "Options (before or after LOG; also keys of --config FILE):\n";
+  auto line = [&text](const OptionDef& o) {
+    const std::string flag = o.value_name.empty() ? "--" + o.name : "--" + o.name + " " + o.value_name;
+    text += fmt::format("  {:<31} {}\n", flag, o.help);
+  };
+  for (const OptionDef& o : option_table()) {
+    if (o.scope == OptionScope::replay) line(o);
+  }
+  for (const char* name : {"output", "tee", "start-time", "duration", "fast", "log-level", "realtime-priority",
+                           "lock-memory", "timer-slack"}) {
+    if (const OptionDef* o = find_option(name)) line(*o);
+  }
+  return text + "Example: gpsemu replay drive.nmea --speed 10 --from 12:00:00 --output pty:/tmp/gps";
+}
+
+}  // namespace
 
 Subcommand add_replay_command(CLI::App& app) {
   auto path = std::make_shared<std::string>();
@@ -21,6 +44,7 @@ Subcommand add_replay_command(CLI::App& app) {
   sub->add_option("log", *path, "NMEA log (a receiver's raw stream, a gpsd log, a --tee file)")
       ->required()
       ->option_text("LOG");
+  sub->footer(options_footer());
   return {sub, [path](const Config& config, const std::atomic<bool>& stop) {
             using namespace replay;
             ReplayLog log = read_replay_log(*path);

@@ -2,6 +2,11 @@
 // then resolving it into a Config (validate.hpp, fleet_config.hpp).
 #include "emulator/config/config.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <set>
 #include <sstream>
 
@@ -9,8 +14,11 @@
 #include <toml++/toml.h>
 
 #include "emulator/config/config_options.hpp"
+#include "emulator/config/config_values.hpp"
 #include "emulator/config/fleet_config.hpp"
 #include "emulator/config/validate.hpp"
+#include "transport/posix/errors.hpp"
+#include "transport/posix/fd.hpp"
 
 namespace gpsemu {
 namespace {
@@ -69,7 +77,8 @@ std::vector<ReceiverTable> parse_receiver_tables(const std::string& file, const 
         option->apply(scratch, values);
         table.keys.push_back({name, key_line, std::move(values)});
       } catch (const std::exception& e) {
-        throw ConfigError(fmt::format("config file {}:{}: [[receiver]] key '{}': {}", file, key_line, name, e.what()));
+        throw ConfigError(config_values::shorten_quoted(
+            fmt::format("config file {}:{}: [[receiver]] key '{}': {}", file, key_line, name, e.what())));
       }
     }
     tables.push_back(std::move(table));
@@ -104,7 +113,7 @@ Config resolve(ConfigDraft& draft) {
   } catch (const ConfigError&) {
     throw;
   } catch (const std::exception& e) {
-    throw ConfigError(e.what());
+    throw ConfigError(config_values::shorten_quoted(e.what()));
   }
   config.process = std::move(draft.process);
   config.timeline = std::move(draft.timeline);
@@ -136,7 +145,8 @@ Config build(const toml::table* file, const std::string& file_name, const RawOpt
       try {
         option->apply(config, toml_to_strings(node, name));
       } catch (const std::exception& e) {
-        throw ConfigError(fmt::format("config file {}:{}: key '{}': {}", file_name, line, name, e.what()));
+        throw ConfigError(config_values::shorten_quoted(
+            fmt::format("config file {}:{}: key '{}': {}", file_name, line, name, e.what())));
       }
     }
   }
@@ -146,24 +156,65 @@ Config build(const toml::table* file, const std::string& file_name, const RawOpt
     try {
       option->apply(config, values);
     } catch (const std::exception& e) {
-      throw ConfigError(fmt::format("--{}: {}", name, e.what()));
+      throw ConfigError(config_values::shorten_quoted(fmt::format("--{}: {}", name, e.what())));
     }
   }
   check_fleet_size(config, file_name);
   return resolve(config);
 }
 
+/// What a config file is: a regular file (a device or FIFO would read as empty or block).
+const char* kind_of(mode_t mode) {
+  if (S_ISDIR(mode)) return "a directory";
+  if (S_ISFIFO(mode)) return "a FIFO";
+  if (S_ISCHR(mode) || S_ISBLK(mode)) return "a device";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "not a regular file";
+}
+
+/// The whole text of a config file. Opened without blocking (a FIFO's open would wait for a
+/// writer), then refused unless it is a regular file.
+std::string read_config_file(const std::string& path) {
+  posix::UniqueFd fd(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY));
+  if (!fd.valid()) throw ConfigError(fmt::format("config file {}: {}", path, posix::errno_text(errno)));
+  struct stat st{};
+  if (::fstat(fd.get(), &st) != 0) throw ConfigError(fmt::format("config file {}: {}", path, posix::errno_text(errno)));
+  if (!S_ISREG(st.st_mode)) {
+    throw ConfigError(fmt::format("config file {}: {}; give a regular TOML file", path, kind_of(st.st_mode)));
+  }
+  const auto too_large = [&path](std::uint64_t bytes) {
+    return ConfigError(fmt::format("config file {}: larger than 1 MiB ({} bytes); a config file may have at most {} "
+                                   "bytes", path, bytes, kMaxConfigFileBytes));
+  };
+  if (static_cast<std::uint64_t>(st.st_size) > kMaxConfigFileBytes) throw too_large(static_cast<std::uint64_t>(st.st_size));
+  std::string text;
+  char buffer[65536];
+  while (true) {
+    if (text.size() > kMaxConfigFileBytes) throw too_large(text.size());  // it grew while being read
+    const ssize_t n = ::read(fd.get(), buffer, sizeof buffer);
+    if (n == 0) break;
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      throw ConfigError(fmt::format("config file {}: {}", path, posix::errno_text(errno)));
+    }
+    text.append(buffer, static_cast<std::size_t>(n));
+  }
+  return text;
+}
+
 [[noreturn]] void throw_parse_error(const toml::parse_error& e, const std::string& file_name) {
-  throw ConfigError(fmt::format("config file {}:{}: {}", file_name, e.source().begin.line, e.description()));
+  throw ConfigError(config_values::shorten_quoted(
+      fmt::format("config file {}:{}: {}", file_name, e.source().begin.line, e.description())));
 }
 
 }  // namespace
 
 Config build_config(const std::optional<std::string>& config_file, const RawOptions& command_line) {
   if (!config_file) return build(nullptr, {}, command_line);
+  const std::string text = read_config_file(*config_file);
   toml::table file;
   try {
-    file = toml::parse_file(*config_file);
+    file = toml::parse(text, *config_file);
   } catch (const toml::parse_error& e) {
     throw_parse_error(e, *config_file);
   } catch (const std::exception& e) {
@@ -174,6 +225,10 @@ Config build_config(const std::optional<std::string>& config_file, const RawOpti
 
 Config build_config_from_text(std::string_view toml_text, const std::string& source_name,
                               const RawOptions& command_line) {
+  if (toml_text.size() > kMaxConfigFileBytes) {
+    throw ConfigError(fmt::format("config file {}: larger than 1 MiB ({} bytes); a config file may have at most {} "
+                                  "bytes", source_name, toml_text.size(), kMaxConfigFileBytes));
+  }
   toml::table file;
   try {
     file = toml::parse(toml_text, source_name);

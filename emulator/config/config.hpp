@@ -4,6 +4,7 @@
 // timeline, receiver, replay) is stated once, in its OptionDef.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <stdexcept>
@@ -64,6 +65,9 @@ struct ConfigError : std::runtime_error {
 
 /// Raw values gathered from the command line: option name -> values, in the order given.
 using RawOptions = std::vector<std::pair<std::string, std::vector<std::string>>>;
+
+/// Largest config file read (bytes): a real one is a few KiB.
+inline constexpr std::uint64_t kMaxConfigFileBytes = 1024 * 1024;
 
 /// Builds the configuration: defaults, then the config file's keys (if `config_file`), then the
 /// command line's, then each [[receiver]] table's; then resolves and checks it (validate.hpp):

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "emulator/config/config_values.hpp"
+#include "emulator/sources/pose_message.hpp"
 #include "transport/pps.hpp"
 
 namespace gpsemu {
@@ -95,13 +96,19 @@ std::vector<OptionDef> make_option_table() {
   };
   // Pose source
   scope = OptionScope::receiver;
-  add("source", "SPEC", "pose source: sim:stationary | sim:line | sim:circle | sim:waypoints:FILE | replay:FILE.csv (a recorded truth trajectory) | udp:[HOST:]PORT | tcp:[HOST:]PORT (JSON poses from a simulator; HOST default 127.0.0.1) (default sim:stationary)",
+  add("source", "SPEC", "pose source: sim:stationary | sim:line | sim:circle | sim:waypoints:FILE | replay:FILE.csv (a recorded truth trajectory) | udp:[HOST:]PORT | tcp:[HOST:]PORT (JSON poses from a simulator; HOST default 127.0.0.1), e.g. sim:circle or "
+      "udp:5005 (default sim:stationary)",
       [](ConfigDraft& d, V v) { d.receiver.source = v.back(); });
-  add("origin", "LAT,LON,ALT", "local frame origin: degrees, degrees, metres above MSL (default 43.0725,-89.4125,260)",
+  add("origin", "LAT,LON,ALT", "local frame origin: degrees, degrees, metres above MSL (-10000..1000000), e.g. "
+      "52.5163,13.3777,34 (default 43.0725,-89.4125,260)",
       [](ConfigDraft& d, V v) {
         const auto x = parse_list("origin", v.back(), 3, 3);
         if (x[0] < -90.0 || x[0] > 90.0) throw std::invalid_argument(fmt::format("origin latitude {} is outside [-90, 90]", x[0]));
         if (x[1] < -180.0 || x[1] > 180.0) throw std::invalid_argument(fmt::format("origin longitude {} is outside [-180, 180]", x[1]));
+        if (x[2] < sources::kMinAltM || x[2] > sources::kMaxAltM) {
+          throw std::invalid_argument(fmt::format("origin altitude {} m is outside [{}, {}] m (the range a pose may have)",
+                                                  x[2], sources::kMinAltM, sources::kMaxAltM));
+        }
         d.receiver.settings.origin = {x[0], x[1], x[2]};
       });
   add("sim-speed", "MPS", "simulated speed for line, circle and waypoints, m/s (default 2)",
@@ -129,15 +136,16 @@ std::vector<OptionDef> make_option_table() {
       });
   add("latency", "S", "delay from epoch time to first byte, seconds, 0..0.5 (default 0.05)",
       [](ConfigDraft& d, V v) { d.timeline.latency_s = parse_number("latency", v.back(), 0.0, 0.5); });
-  add("start-time", "ISO8601", "UTC time of the first epoch, e.g. 2024-05-01T12:00:00Z (default: now)",
-      [](ConfigDraft& d, V v) { d.timeline.start_time = parse_iso8601_utc(v.back()); });
+  add("start-time", "ISO8601", "UTC time of the first epoch, YYYY-MM-DDThh:mm:ss[.fff]Z (the Z is required; "
+      "no offsets), e.g. 2024-05-01T12:00:00Z (default: now)",
+      [](ConfigDraft& d, V v) { d.timeline.start_time = parse_iso8601_utc(v.back(), UtcSuffix::required); });
   add("duration", "S", "stop after this many seconds of epochs (default: run until stopped)",
       [](ConfigDraft& d, V v) { d.timeline.duration_s = parse_number("duration", v.back(), 0.0, 1e9); });
   add("fast", "", "no pacing: generate epochs as fast as possible (batch generation, tests)",
       [](ConfigDraft& d, V v) { d.fast = parse_bool("fast", v.back()); });
   add("clock", "CLOCK", "epoch clock: realtime | scaled:K (paced at K x real time, K 0.01..1000; NMEA times still "
       "one epoch period apart) | fast (as --fast) | lockstep (an epoch leaves when the 't' of udp:/tcp: poses "
-      "reaches it; t = 0 is --start-time or the first epoch) (default realtime)",
+      "reaches it; t = 0 is --start-time or the first epoch), e.g. scaled:10 (default realtime)",
       [](ConfigDraft& d, V v) { d.timeline.clock = parse_clock_spec(v.back()); });
   // Replay (gpsemu replay LOG)
   scope = OptionScope::replay;
@@ -146,7 +154,7 @@ std::vector<OptionDef> make_option_table() {
   add("loop", "", "replay: start over after the last epoch (default off)",
       [](ConfigDraft& d, V v) { d.replay.loop = parse_bool("loop", v.back()); });
   add("from", "WHEN", "replay: first epoch sent: time of day hh:mm:ss[.ss] (UTC, as in the log) or epoch index "
-      "from 0 (default: the first)",
+      "from 0, e.g. 12:30:00 or 100 (default: the first)",
       [](ConfigDraft& d, V v) { d.replay.from = replay::parse_log_position("from", v.back()); });
   add("to", "WHEN", "replay: last epoch sent (included): hh:mm:ss[.ss] or epoch index (default: the last)",
       [](ConfigDraft& d, V v) { d.replay.to = replay::parse_log_position("to", v.back()); });
@@ -299,17 +307,17 @@ std::vector<OptionDef> make_option_table() {
         d.receiver.settings.model.cold_start_2d_s = x.size() > 1 ? x[1] : (x[0] > 0.0 ? 2.0 : 0.0);
       });
   add("outage", "START+DURATION", "scheduled outage (tunnel): no satellites and no fix from START for "
-      "DURATION seconds, START in seconds after the first epoch; repeatable (default none)",
+      "DURATION seconds, START in seconds after the first epoch; repeatable, e.g. 30+5 (default none)",
       [](ConfigDraft& d, V v) {
         d.receiver.settings.model.outages.clear();
         for (const auto& text : v) d.receiver.settings.model.outages.push_back(parse_outage(text));
       }, true);
   add("sentences", "LIST", "NMEA sentences of each epoch, comma-separated, from RMC VTG GGA GSA GSV GLL GST "
-      "ZDA; written in that (u-blox) order whatever the order given (default RMC,VTG,GGA,GSA,GSV,GLL)",
+      "ZDA; written in that (u-blox) order whatever the order given, e.g. GGA,RMC (default RMC,VTG,GGA,GSA,GSV,GLL)",
       [](ConfigDraft& d, V v) { d.receiver.settings.format.sentences = parse_sentence_set(v); });
   add("geoid-separation", "M", "geoid separation in GGA, metres (default 0)",
       [](ConfigDraft& d, V v) { d.receiver.settings.model.geoid_sep_m = parse_number("geoid-separation", v.back(), -120.0, 120.0); });
-  add("talker", "ID", "NMEA talker ID: GP or GN (default GP)",
+  add("talker", "ID", "NMEA talker ID: GP (GPS) | GN (several systems) | GL (GLONASS) | GA (Galileo) | BD (BeiDou) (default GP)",
       [](ConfigDraft& d, V v) { d.receiver.settings.format.talker = parse_choice("talker", v.back(), {"GP", "GN", "GL", "GA", "BD"}); });
   add("nmea-version", "V", "NMEA version: 2.3 or 4.1 (default 4.1)",
       [](ConfigDraft& d, V v) {
@@ -324,7 +332,7 @@ std::vector<OptionDef> make_option_table() {
   scope = OptionScope::receiver;
   add("output", "SPEC", "where NMEA goes, repeatable: pty[:LINK] | file:PATH[?mode=append|new] (truncated unless append; new: must not exist) | stdout | serial:DEVICE[@BAUD] | "
       "serial:usb:VID:PID[:SERIAL][@BAUD] (8N1; BAUD 4800..921600, default 9600) | tcp:[HOST:]PORT (server; HOST "
-      "default 127.0.0.1) | udp:HOST:PORT (default pty:/tmp/gpsemu)",
+      "default 127.0.0.1) | udp:HOST:PORT, e.g. pty:/tmp/gps or serial:/dev/ttyUSB0@115200 (default pty:/tmp/gpsemu)",
       [](ConfigDraft& d, V v) { d.receiver.outputs = v; }, true);
   add("tee", "FILE", "also write everything sent to FILE, each epoch after a '# sent <UTC send time>' line "
       "(gpsemu replay reads it back; truncated) (default none)",
@@ -332,8 +340,8 @@ std::vector<OptionDef> make_option_table() {
   // PPS
   scope = OptionScope::pps;
   add("pps", "SPEC", "PPS pulse, leading edge at each whole UTC second: gpio:CHIP:LINE (libgpiod; CHIP "
-      "/dev/gpiochipN, name or label; LINE offset or name) | modem:RTS | modem:DTR (on the serial output) "
-      "(default: none)",
+      "/dev/gpiochipN, name or label; LINE offset or name) | modem:RTS | modem:DTR (on the serial output), "
+      "e.g. gpio:gpiochip0:17 (default: none)",
       [](ConfigDraft& d, V v) {
         d.timeline.pps = transport::parse_pps_spec(v.back());
       });

@@ -1,5 +1,6 @@
 #include "emulator/config/config_values.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <stdexcept>
@@ -82,6 +83,27 @@ std::string parse_choice(const std::string& key, const std::string& text,
     list += list.empty() ? a : fmt::format(", {}", a);
   }
   throw std::invalid_argument(fmt::format("{} must be one of {}, got '{}'", key, list, text));
+}
+
+std::string shorten_quoted(const std::string& message) {
+  std::string out;
+  std::size_t at = 0;
+  while (at < message.size()) {
+    const std::size_t open = message.find('\'', at);
+    const std::size_t close = open == std::string::npos ? std::string::npos : message.find('\'', open + 1);
+    if (close == std::string::npos) {
+      out.append(message, at);
+      break;
+    }
+    out.append(message, at, open + 1 - at);
+    const std::size_t length = close - open - 1;
+    out.append(message, open + 1, std::min(length, kMaxQuotedChars));
+    if (length > kMaxQuotedChars) out += "...";
+    out += '\'';
+    at = close + 1;
+  }
+  if (out.size() > kMaxMessageChars) out = out.substr(0, kMaxMessageChars) + "...";
+  return out;
 }
 
 }  // namespace gpsemu::config_values

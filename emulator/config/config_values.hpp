@@ -19,4 +19,12 @@ namespace gpsemu::config_values {
 [[nodiscard]] std::string parse_choice(const std::string& key, const std::string& text,
                                        std::initializer_list<const char*> accepted);
 
+/// Longest quoted value an error message shows (characters); longer ones end in "...".
+inline constexpr std::size_t kMaxQuotedChars = 80;
+/// Longest error message (characters): whatever a value holds, the message stays one short line.
+inline constexpr std::size_t kMaxMessageChars = 1000;
+/// `message` with every '...'-quoted part longer than kMaxQuotedChars cut to that many characters
+/// and "...", and the whole cut to kMaxMessageChars: a 100 MB value is not echoed back.
+[[nodiscard]] std::string shorten_quoted(const std::string& message);
+
 }  // namespace gpsemu::config_values

@@ -27,7 +27,7 @@ void expect(std::string_view text, std::size_t pos, std::string_view chars, std:
 
 }  // namespace
 
-UtcNs parse_iso8601_utc(std::string_view text) {
+UtcNs parse_iso8601_utc(std::string_view text, UtcSuffix suffix) {
   using namespace std::chrono;
   const std::string_view whole = text;
   const int y = read_int(text, 0, 4, whole);
@@ -57,6 +57,10 @@ UtcNs parse_iso8601_utc(std::string_view text) {
   const std::string_view rest = text.substr(pos);
   if (!(rest.empty() || rest == "Z" || rest == "z" || rest == "+00:00")) {
     throw std::invalid_argument(fmt::format("'{}': only UTC times are accepted (end with Z)", whole));
+  }
+  if (rest.empty() && suffix == UtcSuffix::required) {
+    throw std::invalid_argument(fmt::format("'{}': end the time with Z to say it is UTC, e.g. {}Z (local times and "
+                                            "offsets are not accepted)", whole, whole));
   }
   const year_month_day ymd{year{y}, month{static_cast<unsigned>(mo)}, day{static_cast<unsigned>(d)}};
   if (!ymd.ok() || hh > 23 || mm > 59 || ss > 59) {

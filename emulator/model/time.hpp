@@ -11,9 +11,13 @@ namespace gpsemu {
 
 using UtcNs = std::chrono::sys_time<std::chrono::nanoseconds>;
 
+/// Whether a UTC time must say so: `optional` also takes "2024-05-01 12:00:00" (no suffix, read as
+/// UTC); `required` (what --start-time takes) refuses it, so a local time is never mistaken for UTC.
+enum class UtcSuffix { optional, required };
+
 /// Parses "2024-05-01T12:00:00Z", "2024-05-01T12:00:00.5Z", "2024-05-01 12:00:00" (UTC; a trailing
 /// Z or +00:00 is accepted, other offsets are rejected). Throws std::invalid_argument.
-[[nodiscard]] UtcNs parse_iso8601_utc(std::string_view text);
+[[nodiscard]] UtcNs parse_iso8601_utc(std::string_view text, UtcSuffix suffix = UtcSuffix::optional);
 [[nodiscard]] std::string format_iso8601_utc(UtcNs time);
 
 class EpochGrid {

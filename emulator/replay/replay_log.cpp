@@ -30,18 +30,27 @@ nanoseconds mod(nanoseconds a, nanoseconds b) {
 /// Talker + type, e.g. "GPGGA" (an epoch holds each time-bearing address once).
 std::string address(const nmea::Sentence& s) { return s.talker + s.type; }
 
-/// The epoch being assembled.
+/// The epoch being assembled. Past kMaxEpochSentences or kMaxEpochBytes it is oversized: its
+/// sentences are let go and only counted, so memory stays bounded whatever the log holds.
 struct Builder {
   LogEpoch epoch;
-  std::vector<std::string> addresses;
+  std::vector<std::string> addresses;  ///< distinct addresses seen in the epoch
   bool empty_time_field = false;  ///< holds a time-bearing sentence whose time is empty
+  std::uint64_t sentences = 0;    ///< sentences given to the epoch, kept or not
 
-  [[nodiscard]] bool empty() const { return epoch.sentences.empty(); }
+  [[nodiscard]] bool empty() const { return sentences == 0; }
+  [[nodiscard]] bool oversized() const { return sentences > epoch.sentences.size(); }
   [[nodiscard]] bool has(const std::string& a) const {
     return std::find(addresses.begin(), addresses.end(), a) != addresses.end();
   }
   void add(LogSentence s) {
-    addresses.push_back(address(s.parsed));
+    if (std::string a = address(s.parsed); !has(a)) addresses.push_back(std::move(a));
+    ++sentences;
+    if (sentences > kMaxEpochSentences || epoch.bytes.size() + s.raw.size() > kMaxEpochBytes) {
+      epoch.sentences = {};  // oversized: kept no longer
+      epoch.bytes = {};
+      return;
+    }
     epoch.bytes += s.raw;
     epoch.sentences.push_back(std::move(s));
   }
@@ -50,7 +59,7 @@ struct Builder {
 /// Cuts sentences into epochs (rules in replay_log.hpp).
 class EpochCutter {
  public:
-  explicit EpochCutter(std::vector<LogEpoch>& out) : out_(out) {}
+  EpochCutter(std::vector<LogEpoch>& out, LogCounts& counts) : out_(out), counts_(counts) {}
 
   void add(LogSentence s) {
     const bool time_bearing = time_field_index(s.parsed).has_value();
@@ -77,12 +86,18 @@ class EpochCutter {
   }
 
   void close() {
-    if (!current_.empty()) out_.push_back(std::move(current_.epoch));
+    if (current_.oversized()) {
+      ++counts_.oversized_epochs;
+      counts_.oversized_sentences += current_.sentences;
+    } else if (!current_.empty()) {
+      out_.push_back(std::move(current_.epoch));
+    }
     current_ = Builder{};
   }
 
  private:
   std::vector<LogEpoch>& out_;
+  LogCounts& counts_;
   Builder current_;
 };
 
@@ -192,7 +207,7 @@ std::optional<nanoseconds> parse_time_of_day(std::string_view f) {
 ReplayLog parse_replay_log(std::string_view bytes) {
   ReplayLog log;
   nmea::StreamReader reader;
-  EpochCutter cutter(log.epochs);
+  EpochCutter cutter(log.epochs, log.counts);
   std::size_t dollar = 0;  // where the candidate sentence started
   auto take = [&](nmea::Sentence&& parsed, std::size_t end, std::size_t ending) {
     LogSentence s;
@@ -227,6 +242,12 @@ ReplayLog read_replay_log(const std::filesystem::path& path) {
   if (in.bad()) throw std::runtime_error(fmt::format("cannot read NMEA log '{}'", path.string()));
   const std::string bytes = std::move(content).str();
   ReplayLog log = parse_replay_log(bytes);
+  if (log.epochs.empty() && log.counts.oversized_epochs > 0) {
+    throw std::runtime_error(fmt::format(
+        "NMEA log '{}' has no epoch to send: {} oversized epochs ({} sentences) skipped; an epoch may have at most {} "
+        "sentences and {} bytes", path.string(), log.counts.oversized_epochs, log.counts.oversized_sentences,
+        kMaxEpochSentences, kMaxEpochBytes));
+  }
   if (log.epochs.empty()) {
     const auto& s = log.counts.stream;
     throw std::runtime_error(fmt::format(

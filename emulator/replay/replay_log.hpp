@@ -7,7 +7,9 @@
 //   to its line ending (CR LF, LF or CR, as recorded).
 // - An epoch is a run of consecutive sentences sharing a time field (GGA, RMC, GLL, ZDA, GST, GNS,
 //   GBS, GRS carry one). Sentences without a time field (GSA, GSV, VTG, TXT, proprietary...)
-//   belong to the epoch they sit in; at the start of the log, to the first epoch. A sentence whose
+//   belong to the epoch they sit in; at the start of the log, to the first epoch. An epoch of more
+//   than kMaxEpochSentences sentences or kMaxEpochBytes bytes (a log of one repeated time) is
+//   oversized: skipped whole and counted. A sentence whose
 //   time field is empty (no fix, no time yet) stays in the current epoch unless its address
 //   (e.g. GPGGA) is already there: then it starts a new epoch without a time.
 // - The log's timeline: times of day in order, a day added when the time goes back by more than
@@ -30,6 +32,10 @@
 #include "nmea/parse.hpp"
 
 namespace gpsemu::replay {
+
+/// Largest epoch replayed: a real receiver's is a few dozen sentences and a few KiB.
+inline constexpr std::uint64_t kMaxEpochSentences = 1000;
+inline constexpr std::size_t kMaxEpochBytes = 128 * 1024;
 
 /// One good sentence of the log.
 struct LogSentence {
@@ -55,6 +61,8 @@ struct LogCounts {
   std::chrono::nanoseconds longest_gap{0};
   std::uint64_t steps_back = 0;          ///< times that went back by 12 h or less
   std::uint64_t rollovers = 0;           ///< midnight rollovers
+  std::uint64_t oversized_epochs = 0;    ///< epochs over kMaxEpochSentences/kMaxEpochBytes, skipped
+  std::uint64_t oversized_sentences = 0; ///< the sentences they held
 };
 
 struct ReplayLog {

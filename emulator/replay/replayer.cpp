@@ -175,9 +175,9 @@ void Replayer::log_summary() const {
                stats_.epochs_sent ? ms(stats_.total_delay) / static_cast<double>(stats_.epochs_sent) : 0.0);
   spdlog::info("replay {}: skipped {} bad checksums, {} malformed sentences, {} binary/garbage bytes, {} comment "
                "lines; log: {} epochs ({} without a time, {} bad time fields), {} gaps (longest {:.3f} s), {} steps "
-               "back, {} midnight rollovers", name_, s.bad_checksum, s.malformed, s.garbage_bytes, s.comment_lines,
-               log_.epochs.size(), n.untimed_epochs, n.bad_time_fields, n.gaps, to_s(n.longest_gap),
-               n.steps_back, n.rollovers);
+               "back, {} midnight rollovers, {} oversized epochs skipped ({} sentences)", name_, s.bad_checksum, s.malformed,
+               s.garbage_bytes, s.comment_lines, log_.epochs.size(), n.untimed_epochs, n.bad_time_fields, n.gaps,
+               to_s(n.longest_gap), n.steps_back, n.rollovers, n.oversized_epochs, n.oversized_sentences);
   sink_.log_summary(0);
 }
 

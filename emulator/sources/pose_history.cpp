@@ -1,5 +1,7 @@
 #include "emulator/sources/pose_history.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace gpsemu::sources {
@@ -36,6 +38,8 @@ PushResult PoseHistory::push(const TimedPose& pose) {
     } else if (pose.time < last.time + options_.min_spacing) {
       return PushResult::flood;
     }
+    // Poses across a gap are never interpolated, so only a jump within the timeout matters.
+    if (result == PushResult::accepted && !is_gap(last, pose) && is_jump(last, pose)) return PushResult::too_fast;
   }
   if (result == PushResult::restarted) clear();
   if (size_ == ring_.size()) {  // full: overwrite the oldest
@@ -63,6 +67,14 @@ std::optional<std::size_t> PoseHistory::index_at_or_before(UtcNs t) const {
 
 bool PoseHistory::is_gap(const TimedPose& a, const TimedPose& b) const {
   return b.time - a.time > options_.timeout;
+}
+
+bool PoseHistory::is_jump(const TimedPose& a, const TimedPose& b) {
+  const double dt_s = (a.sender_time_s && b.sender_time_s) ? *b.sender_time_s - *a.sender_time_s
+                                                           : seconds(b.time - a.time);
+  const Enu d = b.position_m - a.position_m;
+  const double distance_m = std::sqrt(d.east_m * d.east_m + d.north_m * d.north_m + d.up_m * d.up_m);
+  return distance_m > kMaxJumpSlackM + kMaxSpeedMps * std::max(dt_s, 0.0);
 }
 
 Enu PoseHistory::track_velocity(std::size_t to) const {

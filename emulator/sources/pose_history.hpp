@@ -1,7 +1,8 @@
 // The recent poses of an external simulator and the truth they imply at an epoch time: a bounded
 // ring buffer (allocated once), linear interpolation between the poses around the epoch,
 // extrapolation with the last velocity over a short horizon, and no truth once the newest pose at
-// the epoch is older than the timeout. Pure: every time is passed in, nothing reads a clock.
+// the epoch is older than the timeout; a pose that jumps farther than a vehicle can go (within
+// the timeout) is refused. Pure: every time is passed in, nothing reads a clock.
 //
 // Time base: each pose holds at its arrival time (CLOCK_REALTIME, i.e. UTC; the kernel's receive
 // time stamp for UDP). The sender's own time `t`, when given, is only used to refuse reordered
@@ -46,6 +47,7 @@ enum class PushResult {
   restarted,     ///< accepted after clearing the history: the sender's time or the clock jumped back
   out_of_order,  ///< refused: sender time not after the newest pose's (within the timeout)
   flood,         ///< refused: less than min_spacing after the newest pose
+  too_fast,      ///< refused: farther from the newest pose (within the timeout) than a vehicle can go
 };
 
 class PoseHistory {
@@ -80,6 +82,9 @@ class PoseHistory {
   /// Speed from the track ending at pose `to`, or zero when there is no usable earlier pose.
   [[nodiscard]] Enu track_velocity(std::size_t to) const;
   [[nodiscard]] bool is_gap(const TimedPose& a, const TimedPose& b) const;
+  /// True when `b` is farther from `a` than kMaxJumpSlackM + kMaxSpeedMps * dt (dt from the
+  /// sender times when both carry one, else from their times).
+  [[nodiscard]] static bool is_jump(const TimedPose& a, const TimedPose& b);
 
   PoseHistoryOptions options_;
   std::vector<TimedPose> ring_;  ///< fixed size: no allocation after construction

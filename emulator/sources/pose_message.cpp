@@ -107,7 +107,10 @@ PoseDecodeResult decode(std::string_view bytes) {
   if (has(k_ve) != has(k_vn) || (has(k_vu) && !has(k_ve))) return PoseReject::missing_key;
 
   PoseMessage m;
-  if (has(k_t)) m.sender_time_s = v[k_t];
+  if (has(k_t)) {
+    if (std::abs(v[k_t]) > kMaxSenderTimeS) return PoseReject::out_of_range;
+    m.sender_time_s = v[k_t];
+  }
   if (geodetic) {
     if (std::abs(v[k_lat]) > 90.0 || std::abs(v[k_lon]) > 180.0) return PoseReject::out_of_range;
     GeodeticPose g{v[k_lat], v[k_lon], std::nullopt};
@@ -150,6 +153,7 @@ const char* to_string(PoseReject reason) {
     case PoseReject::not_finite: return "not_finite";
     case PoseReject::out_of_range: return "out_of_range";
     case PoseReject::out_of_order: return "out_of_order";
+    case PoseReject::too_fast: return "too_fast";
     case PoseReject::flood: return "flood";
     case PoseReject::other_sender: return "other_sender";
     case PoseReject::too_many_clients: return "too_many_clients";

@@ -6,8 +6,9 @@
 //   {"lat": 43.0725, "lon": -89.4125, "alt": 261.2}
 //
 // Keys (every value a JSON number; no other key is accepted):
-//   t            optional  sender time (seconds, any epoch; used to drop reordered datagrams and
-//                          to compute velocity from the track, never as the time base)
+//   t            optional  sender time (seconds, any epoch, |t| <= kMaxSenderTimeS; used to drop
+//                          reordered datagrams and to compute velocity from the track; the time
+//                          base only with --clock lockstep)
 //   lat, lon     geodetic position (degrees, WGS84; lat in [-90, 90], lon in [-180, 180])
 //   alt          optional  altitude above mean sea level (metres); absent: the origin's altitude
 //   x, y         local position, metres East and North of --origin
@@ -34,9 +35,16 @@ inline constexpr std::size_t kMaxPoseMessageBytes = 4096;
 /// Largest magnitude accepted for local coordinates (metres) and velocities (metres per second).
 inline constexpr double kMaxLocalCoordinateM = 1.0e7;
 inline constexpr double kMaxSpeedMps = 1.0e4;
-/// Altitude range accepted (metres above MSL).
+/// Altitude range accepted (metres above MSL); --origin's altitude is held to it too.
 inline constexpr double kMinAltM = -1.0e4;
 inline constexpr double kMaxAltM = 1.0e6;
+/// Largest |t| accepted (seconds, about 127 years: Unix time or simulation time). A larger value
+/// would poison the ordering of later poses, and lockstep's base + t would not be representable.
+inline constexpr double kMaxSenderTimeS = 4.0e9;
+/// A pose farther from the previous one than kMaxJumpSlackM + kMaxSpeedMps * dt is a jump no
+/// vehicle makes (PoseReject::too_fast): interpolating across it would cut through the Earth.
+/// The slack absorbs arrival-time jitter of fast vehicles (poses bunched by the network).
+inline constexpr double kMaxJumpSlackM = 1000.0;
 
 /// Why a message (or connection) was not used. Counted per reason by the socket source.
 enum class PoseReject : std::uint8_t {
@@ -49,14 +57,15 @@ enum class PoseReject : std::uint8_t {
   mixed_position,    ///< both lat/lon/alt and x/y/z keys
   not_a_number,      ///< a value that is not a JSON number (string, bool, null, array, object)
   not_finite,        ///< NaN or infinity (Python's json.dumps writes NaN/Infinity) or out of double range
-  out_of_range,      ///< latitude outside ±90, longitude outside ±180, altitude, coordinate or speed too large
+  out_of_range,      ///< latitude outside ±90, longitude outside ±180, altitude, coordinate, speed or |t| too large
   out_of_order,      ///< sender time `t` not after the previous pose's (a reordered or repeated datagram)
+  too_fast,          ///< farther from the previous pose than kMaxSpeedMps allows (see kMaxJumpSlackM)
   flood,             ///< more than one pose per kMinPoseSpacing: the excess is dropped
   other_sender,      ///< another sender owns the stream (see SocketPoseSource)
   too_many_clients,  ///< a TCP connection beyond the client limit, closed at once
   kernel_overflow,   ///< datagrams the kernel dropped because its receive buffer was full
 };
-inline constexpr std::size_t kPoseRejectCount = 15;
+inline constexpr std::size_t kPoseRejectCount = 16;
 
 [[nodiscard]] const char* to_string(PoseReject reason);
 

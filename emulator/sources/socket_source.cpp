@@ -12,9 +12,6 @@ namespace {
 
 double seconds(std::chrono::nanoseconds d) { return std::chrono::duration<double>(d).count(); }
 
-/// Largest |t| a lockstep pose may carry (seconds, about 127 years): base + t stays representable.
-constexpr double kMaxLockstepTimeS = 4.0e9;
-
 /// The start of a refused message for the log: printable, at most 48 characters.
 std::string excerpt(std::string_view bytes) {
   std::string out;
@@ -118,9 +115,6 @@ void SocketPoseSource::handle_message(const transport::ReceivedMessage& m) {
   const auto& pose = std::get<PoseMessage>(decoded);
   // Lockstep: the sender's time is the time base, so a pose without one cannot be placed.
   if (options_.sender_time_base && !pose.sender_time_s) return reject(PoseReject::missing_key, m);
-  if (options_.sender_time_base && std::abs(*pose.sender_time_s) > kMaxLockstepTimeS) {
-    return reject(PoseReject::out_of_range, m);
-  }
 
   if (owner_ != m.sender) {
     if (owner_ && m.arrival - owner_last_ <= options_.history.timeout) return reject(PoseReject::other_sender, m);
@@ -143,6 +137,7 @@ void SocketPoseSource::handle_message(const transport::ReceivedMessage& m) {
   switch (history_.push(timed)) {
     case PushResult::out_of_order: return reject(PoseReject::out_of_order, m);
     case PushResult::flood: return reject(PoseReject::flood, m);
+    case PushResult::too_fast: return reject(PoseReject::too_fast, m);
     case PushResult::restarted:
       ++stats_.restarts;
       spdlog::warn("pose input: sender time or clock went back (simulator restarted?): pose history cleared");

@@ -358,6 +358,27 @@ TEST(PoseSocketEndToEnd, TcpBadInputIsDroppedCountedAndTheStreamKeepsTheLastGood
   for (const int fd : extra) ::close(fd);
 }
 
+// Issue 18: a sender time beyond ±4e9 s is out of range (it would poison the ordering), and a
+// pose farther from the previous one than 10 km/s allows is refused, not interpolated through
+// the Earth: every epoch keeps reporting the good position.
+TEST(PoseSocketEndToEnd, UdpHugeSenderTimesAndJumpsAcrossTheEarthAreRefusedAndCounted) {
+  check_bad_input_keeps_the_stream(
+      false,
+      [&](Sender& s, int i) {
+        if (i == 20) s.send(R"({"t": 1e300, "x": 3, "y": -4, "z": 0.5})");
+        if (i == 22) s.send(R"({"t": -1e300, "x": 3, "y": -4, "z": 0.5})");
+        if (i % 10 == 5 && i > 30 && i < 150) {  // 10 ms after a good pose: not a flood, a jump
+          std::this_thread::sleep_for(milliseconds(10));
+          if (i % 20 == 5) {
+            s.send(fmt::format(R"({{"t": {:.6f}, "lat": -43.0725, "lon": 90.5875, "alt": 260}})", realtime_s()));
+          } else {
+            s.send(fmt::format(R"({{"t": {:.6f}, "x": 5000000, "y": 3000000}})", realtime_s()));
+          }
+        }
+      },
+      {"out_of_range", "too_fast"});
+}
+
 // ---- staleness -----------------------------------------------------------------------------
 
 void check_timeout_and_resume(bool tcp) {

@@ -49,6 +49,9 @@ TEST(Config, FileErrorsNameFileLineAndKey) {
 TEST(Config, FlagErrorsNameTheFlagAndTheAcceptedValues) {
   EXPECT_NE(error_of(std::nullopt, {{"noise", {"pink"}}}).find("--noise: unknown noise model 'pink'"), std::string::npos);
   EXPECT_NE(error_of(std::nullopt, {{"origin", {"95,0,0"}}}).find("latitude 95"), std::string::npos);
+  EXPECT_NE(error_of(std::nullopt, {{"origin", {"43,-89,-7000000"}}}).find("--origin: origin altitude -7000000 m"),
+            std::string::npos);
+  EXPECT_NE(error_of(std::nullopt, {{"origin", {"0,0,1e9"}}}).find("origin altitude 1000000000 m"), std::string::npos);
   EXPECT_NE(error_of(std::nullopt, {{"rate", {"2.5"}}}).find("--rate"), std::string::npos);
   EXPECT_NE(error_of(std::nullopt, {{"talker", {"XX"}}}).find("GP, GN"), std::string::npos);
   EXPECT_NE(error_of(std::nullopt, {{"start-time", {"noon"}}}).find("'noon'"), std::string::npos);

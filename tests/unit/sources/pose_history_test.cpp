@@ -197,5 +197,28 @@ TEST(PoseHistory, FiftyHertzCircleSampledAtTenHertzIsWithinAMillimetre) {
   EXPECT_LT(worst, 0.001);
 }
 
+TEST(PoseHistory, AJumpFartherThanAVehicleCanGoIsRefusedAndNotInterpolated) {
+  PoseHistory h;  // timeout 1 s
+  EXPECT_EQ(h.push(pose(0.00, {0, 0, 0})), PushResult::accepted);
+  // 20 ms later 12 000 km away (the other side of the Earth in ENU): refused.
+  EXPECT_EQ(h.push(pose(0.02, {0, -6.0e6, -1.0e7})), PushResult::too_fast);
+  // Within slack + 10 km/s: a fast vehicle with bunched arrivals is kept.
+  EXPECT_EQ(h.push(pose(0.021, {1005, 0, 0})), PushResult::accepted);
+  expect_near(h.sample(at_s(0.021))->position_m, {1005, 0, 0});
+  // The sender's times, when both poses carry them, set the allowed distance.
+  PoseHistory s;
+  EXPECT_EQ(s.push(pose(0.0, {0, 0, 0}, std::nullopt, 100.0)), PushResult::accepted);
+  EXPECT_EQ(s.push(pose(0.5, {20500, 0, 0}, std::nullopt, 102.0)), PushResult::accepted);  // 2 s of sender time: 21 km allowed
+  EXPECT_EQ(s.push(pose(0.6, {23000, 0, 0}, std::nullopt, 102.1)), PushResult::too_fast);
+}
+
+TEST(PoseHistory, AJumpAfterTheTimeoutStartsAfreshWithoutInterpolation) {
+  PoseHistory h;  // timeout 1 s
+  h.push(pose(0.0, {0, 0, 0}));
+  EXPECT_EQ(h.push(pose(1.5, {5.0e6, 0, 0})), PushResult::accepted);  // across a gap: never interpolated
+  EXPECT_FALSE(h.sample(at_s(1.2)));
+  expect_near(h.sample(at_s(1.5))->position_m, {5.0e6, 0, 0});
+}
+
 }  // namespace
 }  // namespace gpsemu::sources

@@ -150,5 +150,13 @@ TEST(PoseMessage, EveryReasonHasAName) {
   }
 }
 
+TEST(PoseMessage, SenderTimeBeyondTheLimitIsOutOfRange) {
+  EXPECT_EQ(refused(R"({"t": 1e300, "x": 0, "y": 0})"), "out_of_range");
+  EXPECT_EQ(refused(R"({"t": -1e300, "x": 0, "y": 0})"), "out_of_range");
+  EXPECT_EQ(refused(R"({"t": 4.1e9, "x": 0, "y": 0})"), "out_of_range");
+  EXPECT_TRUE(accepted(R"({"t": 1.7e9, "x": 0, "y": 0})").sender_time_s);   // Unix time
+  EXPECT_TRUE(accepted(R"({"t": -12.5, "x": 0, "y": 0})").sender_time_s);   // any epoch
+}
+
 }  // namespace
 }  // namespace gpsemu::sources
