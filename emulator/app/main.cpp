@@ -25,8 +25,9 @@ void install_signal_handlers() {
   sa.sa_handler = on_signal;
   sigemptyset(&sa.sa_mask);
   sa.sa_flags = 0;  // no SA_RESTART: a signal interrupts sleeps so shutdown is prompt
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
+  // HUP (the terminal went away) and QUIT shut down like TERM: pty link removed, summary logged,
+  // exit 0. (No log-rotation reopen: file outputs are for batch runs; docs/reliability.md.)
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) sigaction(sig, &sa, nullptr);
   signal(SIGPIPE, SIG_IGN);
 }
 
