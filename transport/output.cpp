@@ -39,4 +39,20 @@ void Output::report(WriteStatus status, const std::string& error_text, std::uint
   }
 }
 
+void Output::client_wrote(std::string_view bytes) {
+  if (client_input_ == nullptr) return;
+  client_input_->client_wrote(bytes);
+  reply_ += client_input_->take_reply();
+}
+
+void Output::answer_clients() {
+  if (reply_.empty()) return;
+  std::string error_text;
+  if (write_bytes(reply_, error_text) == WriteStatus::ok) {
+    ++stats_.replies_written;
+    if (!count_when_sent_) stats_.bytes_written += reply_.size();  // else counted when sent
+  }
+  reply_.clear();
+}
+
 }  // namespace gpsemu::transport

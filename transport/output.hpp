@@ -24,6 +24,7 @@ struct OutputStats {
   std::uint64_t epochs_dropped = 0;
   std::uint64_t epochs_failed = 0;
   std::uint64_t bytes_written = 0;
+  std::uint64_t replies_written = 0;  ///< answers to a client written between epochs
 };
 
 /// Where the bytes a client wrote to an output go (pipeline/channel.hpp: the receiver's encoders).
@@ -32,6 +33,9 @@ class ClientInput {
   virtual ~ClientInput() = default;
   /// Bytes a client wrote, in arrival order (any framing: a protocol decoder reassembles).
   virtual void client_wrote(std::string_view bytes) = 0;
+  /// What the receiver answers at once (a u-blox's ACKs and poll answers), taken after each
+  /// client_wrote(); the output writes it back before the next epoch. Default: nothing.
+  [[nodiscard]] virtual std::string take_reply() { return {}; }
 };
 
 class Output {
@@ -47,6 +51,10 @@ class Output {
   /// Non-blocking housekeeping between epochs: read client input (handed to the ClientInput, or
   /// dropped), accept clients.
   virtual void service() {}
+
+  /// Writes what the ClientInput answered to the input service() read (a u-blox's ACKs), at once.
+  /// Called right after service(), outside the backend's own loops over its clients.
+  void answer_clients();
 
   /// Attaches where client input goes (nullptr: dropped). Not owned; outlives the output's use.
   void set_client_input(ClientInput* input) { client_input_ = input; }
@@ -75,10 +83,9 @@ class Output {
   /// or drop, which the base class logs at most once a second.
   virtual WriteStatus write_bytes(std::string_view bytes, std::string& error_text) = 0;
 
-  /// Backend hook: hands what a client wrote to the attached ClientInput (none: dropped).
-  void client_wrote(std::string_view bytes) {
-    if (client_input_) client_input_->client_wrote(bytes);
-  }
+  /// Backend hook: hands what a client wrote to the attached ClientInput (none: dropped) and
+  /// keeps its answer for answer_clients().
+  void client_wrote(std::string_view bytes);
 
   /// A buffering backend calls this in its constructor: an `ok` epoch is not counted as written
   /// then; the backend counts what the operating system takes (count_sent) or what is lost.
@@ -100,6 +107,7 @@ class Output {
 
   ClientInput* client_input_ = nullptr;
   bool count_when_sent_ = false;
+  std::string reply_;  ///< the ClientInput's answers not yet written
   OutputStats stats_;
   std::chrono::steady_clock::time_point last_report_{};
   std::uint64_t unreported_ = 0;

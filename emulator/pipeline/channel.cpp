@@ -26,4 +26,10 @@ void Channel::client_wrote(std::string_view bytes) {
   for (const auto& encoder : encoders_) encoder->client_wrote(bytes);
 }
 
+std::string Channel::take_reply() {
+  std::string reply;
+  for (const auto& encoder : encoders_) reply += encoder->take_reply();
+  return reply;
+}
+
 }  // namespace gpsemu

@@ -62,6 +62,8 @@ class Channel final : public transport::ClientInput {
   [[nodiscard]] bool ended() const { return ended_; }
 
   void client_wrote(std::string_view bytes) override;
+  /// Every encoder's answer to what the client wrote, in encoder order.
+  [[nodiscard]] std::string take_reply() override;
 
   [[nodiscard]] const LocalFrame& frame() const { return frame_; }
   [[nodiscard]] const Receiver& receiver() const { return *receiver_; }

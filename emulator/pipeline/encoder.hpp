@@ -2,7 +2,8 @@
 // plain fix structure an epoch (nmea::Fix: protocol-neutral fields, pure); each encoder of a
 // channel publishes it into the epoch's bytes, in the order they were added. A protocol that also
 // reads what the client writes (UBX polls and configuration) takes those bytes through
-// client_wrote() and answers in its next encode(): nothing in the loop or the sink changes.
+// client_wrote(); its answers (ACKs) leave at once through take_reply(), which the output that
+// read the bytes writes back right after servicing them (Output::answer_clients()).
 #pragma once
 
 #include <string>
@@ -19,6 +20,9 @@ class Encoder {
   virtual void encode(const nmea::Fix& fix, std::string& out) = 0;
   /// Bytes a client wrote to one of the receiver's outputs, in arrival order. Default: ignored.
   virtual void client_wrote(std::string_view /*bytes*/) {}
+  /// The answer to what the client wrote, due at once (written back by the output before the next
+  /// epoch: PX4 waits 250 ms for an ACK). Default: none.
+  [[nodiscard]] virtual std::string take_reply() { return {}; }
 };
 
 /// The configured NMEA sentences (nmea/sentences.hpp), in receiver order. Ignores client input.

@@ -29,6 +29,7 @@ std::unique_ptr<SystemClockIo> make_loop_io(Sink& sink, EpochProducer& producer)
       SystemClockIo::ReadyServicer([&producer, polled](std::size_t k) {
         if (k < polled->outputs.size()) {
           polled->outputs[k]->service();
+          polled->outputs[k]->answer_clients();
         } else {
           producer.service_input(polled->inputs[k - polled->outputs.size()]);
         }

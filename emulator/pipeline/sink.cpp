@@ -41,7 +41,10 @@ void Sink::prepare(std::size_t i) {
 
 void Sink::service_all() {
   for (const auto& outputs : receivers_) {
-    for (const auto& out : outputs) out->service();
+    for (const auto& out : outputs) {
+      out->service();
+      out->answer_clients();
+    }
   }
 }
 

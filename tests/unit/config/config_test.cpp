@@ -5,25 +5,17 @@
 #include <fstream>
 
 #include "emulator/config/config.hpp"
+#include "tests/support/config_files.hpp"
 #include "tests/support/output_texts.hpp"
 
 namespace gpsemu {
 namespace {
 
 std::string write_temp(const std::string& name, const std::string& text) {
-  const auto path = std::filesystem::temp_directory_path() / ("gpsemu_cfg_" + std::to_string(::getpid()) + name);
-  std::ofstream(path) << text;
-  return path.string();
+  return test::write_temp("gpsemu_cfg_", name, text);
 }
 
-std::string error_of(const std::optional<std::string>& file, const RawOptions& cli) {
-  try {
-    (void)build_config(file, cli);
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
+std::string error_of(const std::optional<std::string>& file, const RawOptions& cli) { return test::config_error_of(file, cli); }
 
 TEST(Config, DefaultsAreTheEmbeddedScenario) {
   const Config c = build_config(std::nullopt, {});

@@ -1,0 +1,171 @@
+// Generation-9 configuration keys over Settings (see cfg_keys.hpp).
+#include "emulator/ubx/cfg_keys.hpp"
+
+#include <array>
+
+#include "emulator/ubx/cfg_legacy.hpp"
+
+namespace gpsemu::ubx {
+namespace {
+
+/// CFG-MSGOUT keys: the I2C key of each message; UART1, UART2, USB, SPI follow at +1..+4.
+struct MsgOut {
+  MessageId id;
+  std::uint32_t i2c_key;
+};
+constexpr std::array<MsgOut, 35> kMsgOut = {{
+    {msg::nav_pvt, 0x20910006},      {msg::nav_posllh, 0x20910029},  {msg::nav_velned, 0x20910042},
+    {msg::nav_status, 0x2091001A},   {msg::nav_dop, 0x20910038},     {msg::nav_sat, 0x20910015},
+    {msg::nav_timeutc, 0x2091005B},  {msg::nav_timegps, 0x20910047}, {msg::nav_cov, 0x20910083},
+    {{0x01, 0x01}, 0x20910024},      // NAV-POSECEF
+    {{0x01, 0x11}, 0x2091003D},      // NAV-VELECEF
+    {{0x01, 0x14}, 0x20910033},      // NAV-HPPOSLLH
+    {{0x01, 0x22}, 0x20910065},      // NAV-CLOCK
+    {{0x01, 0x3B}, 0x20910088},      // NAV-SVIN
+    {{0x01, 0x3C}, 0x2091008D},      // NAV-RELPOSNED
+    {{0x01, 0x43}, 0x20910345},      // NAV-SIG
+    {{0x01, 0x61}, 0x2091015F},      // NAV-EOE
+    {{0x02, 0x13}, 0x20910231},      // RXM-SFRBX
+    {{0x02, 0x15}, 0x209102A4},      // RXM-RAWX
+    {{0x02, 0x32}, 0x20910268},      // RXM-RTCM
+    {{0x0A, 0x09}, 0x209101B4},      // MON-HW
+    {{0x0A, 0x38}, 0x20910359},      // MON-RF
+    {{0xF0, 0x00}, 0x209100BA},      // NMEA GGA
+    {{0xF0, 0x01}, 0x209100C9},      // GLL
+    {{0xF0, 0x02}, 0x209100BF},      // GSA
+    {{0xF0, 0x03}, 0x209100C4},      // GSV
+    {{0xF0, 0x04}, 0x209100AB},      // RMC
+    {{0xF0, 0x05}, 0x209100B0},      // VTG
+    {{0xF0, 0x06}, 0x209100CE},      // GRS
+    {{0xF0, 0x07}, 0x209100D3},      // GST
+    {{0xF0, 0x08}, 0x209100D8},      // ZDA
+    {{0xF0, 0x09}, 0x209100DD},      // GBS
+    {{0xF0, 0x0A}, 0x209100A6},      // DTM
+    {{0xF0, 0x0D}, 0x209100B5},      // GNS
+    {{0xF0, 0x0F}, 0x209100E7},      // VLW
+}};
+
+/// CFG-NAVSPG keys stored in the CFG-NAV5 payload: key -> byte offset.
+struct Nav5Key {
+  std::uint32_t key;
+  std::size_t offset;
+};
+constexpr std::array<Nav5Key, 5> kNav5Keys = {{{0x20110011, 3},    // FIXMODE
+                                               {0x20110021, 2},    // DYNMODEL
+                                               {0x201100A4, 12},   // INFIL_MINELEV
+                                               {0x201100C4, 23},   // CONSTR_DGNSSTO
+                                               {0x2011001C, 30}}}; // UTCSTANDARD
+
+std::optional<MsgOut> msgout_of_key(std::uint32_t key, Port& port) {
+  for (const MsgOut& m : kMsgOut) {
+    if (key >= m.i2c_key && key <= m.i2c_key + 4) {
+      port = static_cast<Port>(key - m.i2c_key);
+      return m;
+    }
+  }
+  return std::nullopt;
+}
+
+/// CFG-<port>INPROT / OUTPROT-<protocol>: group 0x71..0x7A, item 1 UBX, 2 NMEA, 4 RTCM3X.
+struct ProtoKey {
+  Port port;
+  bool input;
+  std::uint16_t mask;
+};
+std::optional<ProtoKey> proto_of_key(std::uint32_t key) {
+  const std::uint32_t group = (key >> 16) & 0xFF;
+  const std::uint32_t item = key & 0xFFFF;
+  if ((key >> 24) != 0x10 || group < 0x71 || group > 0x7A) return std::nullopt;
+  constexpr std::array<Port, 5> ports = {Port::i2c, Port::uart1, Port::uart2, Port::usb, Port::spi};
+  const std::uint16_t mask = item == 1 ? proto_ubx : item == 2 ? proto_nmea : item == 4 ? proto_rtcm3 : 0;
+  if (mask == 0) return std::nullopt;
+  return ProtoKey{ports[(group - 0x71) / 2], (group - 0x71) % 2 == 0, mask};
+}
+
+}  // namespace
+
+std::size_t key_value_bytes(std::uint32_t key) {
+  switch ((key >> 28) & 0x7) {
+    case 1:
+    case 2: return 1;
+    case 3: return 2;
+    case 4: return 4;
+    case 5: return 8;
+    default: return 0;
+  }
+}
+
+std::optional<std::uint32_t> msgout_key(MessageId id, Port port) {
+  for (const MsgOut& m : kMsgOut) {
+    if (m.id == id) return m.i2c_key + static_cast<std::uint32_t>(port);
+  }
+  return std::nullopt;
+}
+
+std::optional<std::uint64_t> get_key(const Settings& s, std::uint32_t key) {
+  if (key == key::rate_meas) return s.meas_period_ms;
+  if (key == key::rate_nav) return s.nav_rate_cycles;
+  if (key == key::rate_timeref) return s.time_ref;
+  if (key == key::uart1_baudrate) return s.ports[static_cast<std::size_t>(Port::uart1)].baud;
+  if (key == key::uart2_baudrate) return s.ports[static_cast<std::size_t>(Port::uart2)].baud;
+  if (const auto proto = proto_of_key(key)) {
+    const PortSettings& p = s.ports[static_cast<std::size_t>(proto->port)];
+    return ((proto->input ? p.in_proto_mask : p.out_proto_mask) & proto->mask) != 0 ? 1 : 0;
+  }
+  for (const Nav5Key& n : kNav5Keys) {
+    if (n.key == key) return static_cast<std::uint8_t>(s.nav5[n.offset]);
+  }
+  Port port = Port::i2c;
+  if (const auto m = msgout_of_key(key, port)) return s.rate(m->id, port);
+  const auto it = s.other_keys.find(key);
+  if (it != s.other_keys.end()) return it->second;
+  return std::nullopt;
+}
+
+bool set_key(Settings& s, std::uint32_t key, std::uint64_t value) {
+  if (key_value_bytes(key) == 0) return false;
+  if (key == key::rate_meas) {
+    if (value < min_meas_period_ms) return false;
+    s.meas_period_ms = static_cast<std::uint16_t>(value);
+    return true;
+  }
+  if (key == key::rate_nav) {
+    if (value < 1 || value > 127) return false;
+    s.nav_rate_cycles = static_cast<std::uint16_t>(value);
+    return true;
+  }
+  if (key == key::rate_timeref) {
+    if (value > 5) return false;
+    s.time_ref = static_cast<std::uint16_t>(value);
+    return true;
+  }
+  if (key == key::uart1_baudrate || key == key::uart2_baudrate) {
+    if (!is_supported_baud(value)) return false;
+    s.ports[static_cast<std::size_t>(key == key::uart1_baudrate ? Port::uart1 : Port::uart2)].baud =
+        static_cast<std::uint32_t>(value);
+    return true;
+  }
+  if (const auto proto = proto_of_key(key)) {
+    PortSettings& p = s.ports[static_cast<std::size_t>(proto->port)];
+    std::uint16_t& mask = proto->input ? p.in_proto_mask : p.out_proto_mask;
+    mask = static_cast<std::uint16_t>(value != 0 ? (mask | proto->mask) : (mask & ~proto->mask));
+    return true;
+  }
+  for (const Nav5Key& n : kNav5Keys) {
+    if (n.key != key) continue;
+    if (key == key::navspg_dynmodel && !is_dyn_model(value)) return false;
+    if (key == key::navspg_fixmode && (value < 1 || value > 3)) return false;
+    s.nav5[n.offset] = static_cast<char>(value & 0xFF);
+    return true;
+  }
+  Port port = Port::i2c;
+  if (const auto m = msgout_of_key(key, port)) {
+    if (value > 255) return false;
+    s.set_rate(m->id, port, static_cast<std::uint8_t>(value));
+    return true;
+  }
+  s.other_keys[key] = value;
+  return true;
+}
+
+}  // namespace gpsemu::ubx

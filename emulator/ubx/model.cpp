@@ -1,0 +1,47 @@
+// Receiver models (see model.hpp). The version strings are those real modules report.
+#include "emulator/ubx/model.hpp"
+
+#include <array>
+
+#include "emulator/ubx/bytes.hpp"
+
+namespace gpsemu::ubx {
+namespace {
+
+const std::array<ModelInfo, 4>& models() {
+  static const std::array<ModelInfo, 4> all = {
+      ModelInfo{"generic", 1800, false, 9600, "ROM CORE 3.01 (107888)", "00080000",
+                {"FWVER=SPG 3.01", "PROTVER=18.00", "GPS;GLO;GAL;BDS", "SBAS;IMES;QZSS"}},
+      ModelInfo{"ublox-m8n", 1800, false, 9600, "ROM CORE 3.01 (107888)", "00080000",
+                {"FWVER=SPG 3.01", "PROTVER=18.00", "MOD=NEO-M8N-0", "GPS;GLO;GAL;BDS", "SBAS;IMES;QZSS"}},
+      ModelInfo{"ublox-m9n", 3201, true, 38400, "ROM SPG 4.04 (7f89f7)", "00190000",
+                {"ROM BASE 0x118B2060", "FWVER=SPG 4.04", "PROTVER=32.01", "MOD=NEO-M9N-00B", "GPS;GLO;GAL;BDS",
+                 "SBAS;QZSS"}},
+      ModelInfo{"ublox-f9p", 2731, true, 38400, "EXT CORE 1.00 (61ce84)", "00190000",
+                {"ROM BASE 0x118B2060", "FWVER=HPG 1.32", "PROTVER=27.31", "MOD=ZED-F9P", "GPS;GLO;GAL;BDS",
+                 "SBAS;QZSS"}},
+  };
+  return all;
+}
+
+}  // namespace
+
+const ModelInfo& model_info(ReceiverModel model) { return models()[static_cast<std::size_t>(model)]; }
+
+std::optional<ReceiverModel> receiver_model_from_name(std::string_view name) {
+  for (std::size_t i = 0; i < models().size(); ++i) {
+    if (models()[i].name == name) return static_cast<ReceiverModel>(i);
+  }
+  return std::nullopt;
+}
+
+std::string mon_ver_payload(ReceiverModel model) {
+  const ModelInfo& info = model_info(model);
+  std::string p;
+  put_chars(p, info.sw_version, 30);
+  put_chars(p, info.hw_version, 10);
+  for (const std::string_view ext : info.extensions) put_chars(p, ext, 30);
+  return p;
+}
+
+}  // namespace gpsemu::ubx

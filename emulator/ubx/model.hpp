@@ -1,0 +1,33 @@
+// The u-blox receiver models gpsemu can be (--receiver): what each answers to MON-VER, which
+// configuration interface it speaks (M8: protocol 18-23, CFG-* messages only; M9/F9: 27+, the
+// key/value interface CFG-VALSET/VALGET/VALDEL beside the deprecated CFG-* messages) and its
+// default baud rate. `generic` answers as an M8 does. Pure values.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace gpsemu::ubx {
+
+enum class ReceiverModel { generic, ublox_m8n, ublox_m9n, ublox_f9p };
+
+struct ModelInfo {
+  std::string_view name;          ///< "ublox-m8n" (the --receiver value)
+  int protocol_version_x100 = 0;  ///< PROTVER times 100: 1800 is 18.00
+  bool key_value_config = false;  ///< answers CFG-VALSET/VALGET/VALDEL (protocol 27+)
+  std::uint32_t default_baud = 0; ///< UART1 baud after a factory reset (bits per second)
+  std::string_view sw_version;    ///< MON-VER swVersion (30 characters at most)
+  std::string_view hw_version;    ///< MON-VER hwVersion: "00080000" M8, "00190000" M9/F9
+  std::vector<std::string_view> extensions;  ///< MON-VER extension strings (30 characters each)
+};
+
+[[nodiscard]] const ModelInfo& model_info(ReceiverModel model);
+/// The model named `name` ("ublox-f9p"), nullopt for an unknown name.
+[[nodiscard]] std::optional<ReceiverModel> receiver_model_from_name(std::string_view name);
+/// MON-VER's payload for `model`: swVersion[30], hwVersion[10], extension[30] each.
+[[nodiscard]] std::string mon_ver_payload(ReceiverModel model);
+
+}  // namespace gpsemu::ubx

@@ -1,0 +1,58 @@
+// What goes out with each solution (see output.hpp).
+#include "emulator/ubx/output.hpp"
+
+#include <algorithm>
+
+namespace gpsemu::ubx {
+namespace {
+
+bool due(std::uint8_t rate, std::uint64_t solution_index) { return rate != 0 && solution_index % rate == 0; }
+
+bool outputs(const Settings& s, Port port, std::uint16_t protocol) {
+  return (s.ports[static_cast<std::size_t>(port)].out_proto_mask & protocol) != 0;
+}
+
+}  // namespace
+
+std::vector<MessageId> due_messages(const Settings& s, Port port, std::uint64_t solution_index) {
+  std::vector<MessageId> ids;
+  if (!outputs(s, port, proto_ubx)) return ids;
+  for (const auto& [id, rates] : s.rates) {  // a std::map: class, then id order
+    if (due(rates[static_cast<std::size_t>(port)], solution_index) && nav_encodes(id)) {
+      ids.push_back(id);
+    }
+  }
+  return ids;
+}
+
+nmea::SentenceSet due_sentences(const Settings& s, Port port, std::uint64_t solution_index) {
+  nmea::SentenceSet set;
+  if (!outputs(s, port, proto_nmea)) return set;
+  for (const nmea::SentenceType type : nmea::all_sentence_types) {
+    if (due(s.rate(nmea_message(type), port), solution_index)) set.insert(type);
+  }
+  return set;
+}
+
+std::size_t widest_solution_ubx_bytes(const Settings& s, Port port) {
+  nmea::Fix widest;
+  widest.satellites_in_view = static_cast<int>(nmea::max_satellites);
+  std::size_t bytes = 0;
+  for (const MessageId id : due_messages(s, port, 0)) {
+    bytes += frame_overhead_bytes + nav_payload(id, widest, NavExtras{})->size();
+  }
+  return bytes;
+}
+
+void append_solution(std::string& out, const Settings& s, Port port, std::uint64_t solution_index,
+                     const nmea::Fix& fix, const NavExtras& extras, std::span<const MessageId> polled) {
+  std::vector<MessageId> ids = due_messages(s, port, solution_index);
+  for (const MessageId id : polled) {
+    if (std::find(ids.begin(), ids.end(), id) == ids.end()) ids.push_back(id);
+  }
+  for (const MessageId id : ids) {
+    if (const auto payload = nav_payload(id, fix, extras)) append_frame(out, id, *payload);
+  }
+}
+
+}  // namespace gpsemu::ubx

@@ -1,0 +1,31 @@
+// What a u-blox writes with each navigation solution, from its settings: the UBX messages and
+// NMEA sentences due on the client's port (a message at rate n goes out with every n-th
+// solution; none of a protocol the port does not output), the UBX ones encoded in u-blox's order
+// (by class, then id: NAV-POSLLH, NAV-STATUS, NAV-DOP, NAV-SOL, NAV-PVT, NAV-VELNED, NAV-TIMEGPS,
+// NAV-TIMEUTC, NAV-SAT, NAV-COV), polled messages once more. Pure.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "emulator/ubx/nav.hpp"
+#include "emulator/ubx/settings.hpp"
+#include "nmea/sentence_set.hpp"
+
+namespace gpsemu::ubx {
+
+/// UBX messages this library encodes that are due with solution `solution_index` (0, 1, ...).
+[[nodiscard]] std::vector<MessageId> due_messages(const Settings& s, Port port, std::uint64_t solution_index);
+/// NMEA sentences gpsemu writes that are due with solution `solution_index`.
+[[nodiscard]] nmea::SentenceSet due_sentences(const Settings& s, Port port, std::uint64_t solution_index);
+/// The most UBX bytes one solution can carry on `port` with these settings (every message that is
+/// on, NAV-SAT with max_satellites): the serial line budget's share of UBX.
+[[nodiscard]] std::size_t widest_solution_ubx_bytes(const Settings& s, Port port);
+/// Appends the frames of the due UBX messages, then those of `polled` not already written.
+void append_solution(std::string& out, const Settings& s, Port port, std::uint64_t solution_index,
+                     const nmea::Fix& fix, const NavExtras& extras, std::span<const MessageId> polled = {});
+
+}  // namespace gpsemu::ubx

@@ -1,0 +1,52 @@
+// One u-blox port (see session.hpp).
+#include "emulator/ubx/session.hpp"
+
+#include <utility>
+
+#include "emulator/ubx/output.hpp"
+#include "nmea/sentences.hpp"
+
+namespace gpsemu::ubx {
+
+Session::Session(SessionSettings settings) : settings_(std::move(settings)), machine_(settings_.start) {}
+
+void Session::client_wrote(std::string_view bytes) {
+  Answer answer = machine_.feed(bytes);
+  reply_ += answer.bytes;
+  for (Effect& effect : answer.effects) {
+    if (const auto* poll = std::get_if<PollOnce>(&effect)) {
+      polled_.push_back(poll->id);
+    } else if (std::holds_alternative<MeasurementPeriodChanged>(effect) || std::holds_alternative<BaudChanged>(effect) ||
+               std::holds_alternative<ColdStart>(effect)) {
+      effects_.push_back(std::move(effect));
+    }
+    // Rates, sentences and protocols are in the settings append_solution() reads.
+  }
+}
+
+std::string Session::take_reply() { return std::exchange(reply_, std::string{}); }
+
+std::vector<Effect> Session::take_effects() { return std::exchange(effects_, std::vector<Effect>{}); }
+
+void Session::append_solution(const nmea::Fix& fix, std::string& out) {
+  const auto since_epoch = fix.time_utc.time_since_epoch();
+  const auto period = machine_.settings().output_period();
+  if (period.count() > 0 && since_epoch % period != std::chrono::milliseconds{0}) return;
+  if (!first_epoch_) first_epoch_ = fix.time_utc;
+  NavExtras extras;
+  extras.speed_sigma_mps = settings_.speed_sigma_mps;
+  extras.since_start = fix.time_utc - *first_epoch_;
+  if (!time_to_first_fix_ && fix.has_fix()) time_to_first_fix_ = extras.since_start;
+  extras.time_to_first_fix = time_to_first_fix_.value_or(std::chrono::milliseconds{0});
+
+  const Settings& s = machine_.settings();
+  const Port port = machine_.port();
+  nmea::FormatOptions format = settings_.format;
+  format.sentences = due_sentences(s, port, solutions_);
+  nmea::append_epoch(fix, format, out);
+  ubx::append_solution(out, s, port, solutions_, fix, extras, polled_);
+  polled_.clear();
+  ++solutions_;
+}
+
+}  // namespace gpsemu::ubx

@@ -1,0 +1,61 @@
+// One u-blox port as the emulator sees it, pure (PX4-GPSDrivers' shape; the UBX encoder of a
+// receiver channel is a thin adapter over it): what the client writes goes in, the answers
+// (ACKs, poll answers) come out at once through take_reply() for the loop to write before the
+// next epoch, the effects the emulator must apply (measurement period, baud, cold start) through
+// take_effects(), and each epoch's bytes (the NMEA sentences, then the UBX messages, the
+// settings turn on) through append_solution().
+//
+// The solutions lie on the client's measurement grid: an epoch whose UTC time is not a multiple
+// of the settings' output period writes nothing, so CFG-RATE slows the output down by itself
+// when the loop runs at least as fast as asked; a faster period needs the loop's clock changed
+// (the MeasurementPeriodChanged effect).
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "emulator/ubx/machine.hpp"
+#include "emulator/ubx/nav.hpp"
+#include "nmea/fix.hpp"
+
+namespace gpsemu::ubx {
+
+struct SessionSettings {
+  StartSettings start;           ///< model, port, start rate, NMEA sentences and UBX messages on
+  nmea::FormatOptions format;    ///< how the NMEA part is written (its sentence set is ignored)
+  double speed_sigma_mps = 0.0;  ///< 1-sigma speed error reported as sAcc (metres per second)
+};
+
+class Session {
+ public:
+  explicit Session(SessionSettings settings);
+
+  /// Bytes a client wrote (any chunking).
+  void client_wrote(std::string_view bytes);
+  /// The answers not yet written (empties them).
+  [[nodiscard]] std::string take_reply();
+  /// MeasurementPeriodChanged, BaudChanged and ColdStart effects not yet taken (empties them).
+  [[nodiscard]] std::vector<Effect> take_effects();
+
+  /// Appends the epoch's bytes for `fix` to `out`: nothing off the measurement grid.
+  void append_solution(const nmea::Fix& fix, std::string& out);
+
+  [[nodiscard]] const ConfigMachine& machine() const { return machine_; }
+  [[nodiscard]] std::uint64_t solutions() const { return solutions_; }
+
+ private:
+  SessionSettings settings_;
+  ConfigMachine machine_;
+  std::string reply_;
+  std::vector<Effect> effects_;
+  std::vector<MessageId> polled_;
+  std::uint64_t solutions_ = 0;
+  std::optional<nmea::UtcTime> first_epoch_;
+  std::optional<std::chrono::milliseconds> time_to_first_fix_;
+};
+
+}  // namespace gpsemu::ubx

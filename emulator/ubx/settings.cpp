@@ -1,0 +1,159 @@
+// Receiver settings and their power-up values (see settings.hpp).
+#include "emulator/ubx/settings.hpp"
+
+#include "emulator/ubx/bytes.hpp"
+
+namespace gpsemu::ubx {
+namespace {
+
+struct NmeaName {
+  std::string_view name;
+  std::uint8_t id;
+};
+constexpr std::array<NmeaName, 13> kNmeaIds = {{{"GGA", 0x00}, {"GLL", 0x01}, {"GSA", 0x02}, {"GSV", 0x03},
+                                               {"RMC", 0x04}, {"VTG", 0x05}, {"GRS", 0x06}, {"GST", 0x07},
+                                               {"ZDA", 0x08}, {"GBS", 0x09}, {"DTM", 0x0A}, {"GNS", 0x0D},
+                                               {"VLW", 0x0F}}};
+constexpr std::uint8_t kNmeaClass = 0xF0;
+
+std::string default_nav5() {
+  std::string p;
+  put_u2(p, 0xFFFF);   // mask: every parameter (as a poll answers)
+  put_u1(p, 0);        // dynModel: portable
+  put_u1(p, 3);        // fixMode: auto 2-D/3-D
+  put_i4(p, 0);        // fixedAlt (0.01 m)
+  put_u4(p, 10000);    // fixedAltVar (0.0001 m^2)
+  put_i1(p, 5);        // minElev (degrees)
+  put_u1(p, 0);        // drLimit (s)
+  put_u2(p, 250);      // pDop (0.1)
+  put_u2(p, 250);      // tDop (0.1)
+  put_u2(p, 100);      // pAcc (m)
+  put_u2(p, 300);      // tAcc (m)
+  put_u1(p, 0);        // staticHoldThresh (cm/s)
+  put_u1(p, 60);       // dgnssTimeout (s)
+  put_u1(p, 0);        // cnoThreshNumSVs
+  put_u1(p, 0);        // cnoThresh (dBHz)
+  put_zeros(p, 2);
+  put_u2(p, 0);        // staticHoldMaxDist (m)
+  put_u1(p, 0);        // utcStandard: automatic
+  put_zeros(p, 5);
+  return p;
+}
+
+std::string default_gnss() {
+  struct Block {
+    std::uint8_t gnss_id, reserved_channels, max_channels;
+    std::uint32_t flags;  // enable bit 0, signal mask bits 16-23
+  };
+  constexpr std::array<Block, 7> blocks = {{{0, 8, 16, 0x01010001}, {1, 1, 3, 0x01010001}, {2, 4, 8, 0x01010001},
+                                            {3, 8, 16, 0x01010000}, {4, 0, 8, 0x03010000}, {5, 0, 3, 0x05010001},
+                                            {6, 8, 14, 0x01010001}}};
+  std::string p;
+  put_u1(p, 0);   // msgVer
+  put_u1(p, 32);  // numTrkChHw
+  put_u1(p, 32);  // numTrkChUse
+  put_u1(p, static_cast<std::uint32_t>(blocks.size()));
+  for (const Block& b : blocks) {
+    put_u1(p, b.gnss_id);
+    put_u1(p, b.reserved_channels);
+    put_u1(p, b.max_channels);
+    put_u1(p, 0);
+    put_u4(p, b.flags);
+  }
+  return p;
+}
+
+std::string default_sbas() {
+  std::string p;
+  put_u1(p, 0x01);  // mode: enabled
+  put_u1(p, 0x03);  // usage: range, diffCorr
+  put_u1(p, 3);     // maxSBAS
+  put_u1(p, 0);     // scanmode2
+  put_u4(p, 0);     // scanmode1: all PRNs
+  return p;
+}
+
+/// Generation-9 keys without a modelled effect that drivers read back (CFG-VALGET), with the
+/// values of a factory-default M9/F9.
+struct DefaultKey {
+  std::uint32_t key;
+  std::uint64_t value;
+};
+constexpr std::array<DefaultKey, 20> kDefaultKeys = {{
+    {0x20030001, 0},  // CFG-TMODE-MODE: disabled
+    {0x20520002, 1},  // CFG-UART1-STOPBITS: 1
+    {0x20520003, 0},  // CFG-UART1-DATABITS: 8
+    {0x20520004, 0},  // CFG-UART1-PARITY: none
+    {0x10520005, 1},  // CFG-UART1-ENABLED
+    {0x201100A3, 6},  // CFG-NAVSPG-INFIL_MINCNO (dBHz)
+    {0x10220001, 0},  // CFG-ODO-USE_ODO
+    {0x10220002, 0},  // CFG-ODO-USE_COG
+    {0x10220003, 0},  // CFG-ODO-OUTLPVEL
+    {0x10220004, 0},  // CFG-ODO-OUTLPCOG
+    {0x1041000D, 0},  // CFG-ITFM-ENABLE
+    {0x20140011, 3},  // CFG-NAVHPG-DGNSSMODE: RTK fixed
+    {0x1031001F, 1},  // CFG-SIGNAL-GPS_ENA
+    {0x10310001, 1},  // CFG-SIGNAL-GPS_L1CA_ENA
+    {0x10310020, 1},  // CFG-SIGNAL-SBAS_ENA
+    {0x10310021, 1},  // CFG-SIGNAL-GAL_ENA
+    {0x10310022, 1},  // CFG-SIGNAL-BDS_ENA
+    {0x10310024, 1},  // CFG-SIGNAL-QZSS_ENA
+    {0x10310025, 1},  // CFG-SIGNAL-GLO_ENA
+    {0x10310018, 1},  // CFG-SIGNAL-GLO_L1_ENA
+}};
+
+}  // namespace
+
+std::uint8_t Settings::rate(MessageId id, Port port) const {
+  const auto it = rates.find(id);
+  return it == rates.end() ? 0 : it->second[static_cast<std::size_t>(port)];
+}
+
+void Settings::set_rate(MessageId id, Port port, std::uint8_t rate) {
+  if (rate == 0 && !rates.contains(id)) return;
+  rates[id][static_cast<std::size_t>(port)] = rate;
+}
+
+Settings start_settings(const StartSettings& start) {
+  Settings s;
+  s.meas_period_ms = static_cast<std::uint16_t>(start.measurement_period.count());
+  for (std::size_t i = 0; i < port_count; ++i) s.ports[i] = PortSettings{};
+  const std::uint32_t default_baud = model_info(start.model).default_baud;
+  s.ports[static_cast<std::size_t>(Port::uart1)].baud = default_baud;
+  s.ports[static_cast<std::size_t>(Port::uart2)].baud = default_baud;
+  s.ports[static_cast<std::size_t>(start.port)].baud = start.baud != 0 ? start.baud : default_baud;
+  if (start.port == Port::usb) s.ports[static_cast<std::size_t>(Port::usb)].baud = 0;
+  // NMEA sentences on at start on every port (as a factory-default u-blox), UBX on the client's.
+  start.sentences.for_each([&](nmea::SentenceType type) {
+    for (const Port p : {Port::i2c, Port::uart1, Port::uart2, Port::usb, Port::spi}) s.set_rate(nmea_message(type), p, 1);
+  });
+  for (const MessageId id : start.ubx_messages) s.set_rate(id, start.port, 1);
+  s.nav5 = default_nav5();
+  s.gnss = default_gnss();
+  s.sbas = default_sbas();
+  if (model_info(start.model).key_value_config) {
+    for (const DefaultKey& k : kDefaultKeys) s.other_keys[k.key] = k.value;
+  }
+  return s;
+}
+
+MessageId nmea_message(nmea::SentenceType type) {
+  return *nmea_message_from_name(nmea::sentence_name(type));
+}
+
+std::optional<nmea::SentenceType> sentence_of(MessageId id) {
+  if (id.msg_class != kNmeaClass) return std::nullopt;
+  for (const NmeaName& n : kNmeaIds) {
+    if (n.id == id.msg_id) return nmea::sentence_type_from_name(n.name);
+  }
+  return std::nullopt;
+}
+
+std::optional<MessageId> nmea_message_from_name(std::string_view name) {
+  for (const NmeaName& n : kNmeaIds) {
+    if (n.name == name) return MessageId{kNmeaClass, n.id};
+  }
+  return std::nullopt;
+}
+
+}  // namespace gpsemu::ubx

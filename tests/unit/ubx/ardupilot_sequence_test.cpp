@@ -1,0 +1,178 @@
+// ArduPilot's AP_GPS_UBLOX start-up, played against the state machine: the detection blob
+// (CFG-MSG NAV-SOL 1 and $PUBX,41 to 115200, UBX only), then _request_next_config()'s steps in
+// their order. ArduPilot polls each setting and writes it back only when it differs from what it
+// wants (GPS_RATE_MS 200, GPS_NAVFILTER 8 airborne < 4 g, RATE_PVT 1, RATE_TIMEGPS 5, RATE_HW 5,
+// GPS_SBAS_MODE and GPS_GNSS_MODE left alone); the test does the same with the answers it gets.
+// On an F9 the GNSS poll is skipped and CFG-TMODE-MODE is read with CFG-VALGET.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "emulator/ubx/cfg_keys.hpp"
+#include "emulator/ubx/machine.hpp"
+#include "nmea/sentences.hpp"
+#include "tests/unit/ubx/ubx_test_support.hpp"
+
+namespace gpsemu::ubx {
+namespace {
+
+using namespace std::chrono_literals;
+using test::ack_of;
+using test::effects_of;
+using test::send;
+using test::unhex;
+
+constexpr MessageId nav_svinfo{0x01, 0x30};
+constexpr MessageId mon_hw{0x0A, 0x09};
+constexpr MessageId mon_hw2{0x0A, 0x0B};
+constexpr std::uint32_t tmode_mode = 0x20030001;
+
+/// ArduPilot's side of the handshake: what it wants and what it learnt.
+class ArduPilotDriver {
+ public:
+  explicit ArduPilotDriver(ConfigMachine& m) : m_(m) {}
+
+  void detection_blob() {
+    Answer a = m_.feed(unhex("b562 0601 0300 010601 124f") + "$PUBX,41,1,0023,0001,115200,0*1C\r\n");
+    const auto frames = test::frames_in(a.bytes);
+    EXPECT_EQ(frames, std::vector<Frame>{ack_of(msg::cfg_msg)});  // nothing for the PUBX
+    EXPECT_EQ(effects_of<BaudChanged>(a.effects).at(0).baud, 115200u);
+    EXPECT_FALSE(effects_of<OutputProtocolsChanged>(a.effects).at(0).nmea);
+  }
+
+  /// STEP_<message>: poll the rate (CFG-MSG, 2 bytes), set it when it is not `desired`.
+  void rate_step(MessageId id, std::uint8_t desired) {
+    auto got = send(m_, msg::cfg_msg, std::string{char(id.msg_class), char(id.msg_id)});
+    ASSERT_EQ(got.frames.size(), 2u);
+    ASSERT_EQ(got.frames[0].id, msg::cfg_msg);
+    ASSERT_EQ(got.frames[0].payload.size(), 8u);  // rates of 6 ports: read at _ublox_port
+    EXPECT_EQ(got.frames[1], ack_of(msg::cfg_msg));
+    const std::uint8_t rate = get_u1(got.frames[0].payload, 2 + port_);
+    if (rate == desired) return;
+    got = send(m_, msg::cfg_msg, std::string{char(id.msg_class), char(id.msg_id), char(desired)});
+    EXPECT_EQ(got.frames, std::vector<Frame>{ack_of(msg::cfg_msg)});
+    ++writes_;
+  }
+
+  void nav_rate_step() {
+    auto got = send(m_, msg::cfg_rate);
+    ASSERT_EQ(got.frames.size(), 2u);
+    const std::string& p = got.frames[0].payload;
+    if (get_u2(p, 0) == 200 && get_u2(p, 2) == 1 && get_u2(p, 4) == 0) return;
+    got = send(m_, msg::cfg_rate, unhex("c800 0100 0000"));
+    EXPECT_EQ(got.frames, std::vector<Frame>{ack_of(msg::cfg_rate)});
+    ++writes_;
+  }
+
+  void port_step() {
+    const auto got = send(m_, msg::cfg_prt);
+    ASSERT_EQ(got.frames.size(), 2u);
+    port_ = get_u1(got.frames[0].payload, 0);
+  }
+
+  void nav_settings_step() {
+    auto got = send(m_, msg::cfg_nav5);
+    ASSERT_EQ(got.frames.size(), 2u);
+    std::string nav5 = got.frames[0].payload;
+    ASSERT_EQ(nav5.size(), 36u);
+    if (get_u1(nav5, 2) == 8) return;
+    nav5[0] = 0x01;  // mask: dynModel only
+    nav5[1] = 0;
+    nav5[2] = 8;
+    got = send(m_, msg::cfg_nav5, nav5);
+    EXPECT_EQ(got.frames, std::vector<Frame>{ack_of(msg::cfg_nav5)});
+    ++writes_;
+  }
+
+  void poll_answered(MessageId id) {
+    const auto got = send(m_, id);
+    ASSERT_EQ(got.frames.size(), 2u);
+    EXPECT_EQ(got.frames[0].id, id);
+    EXPECT_EQ(got.frames[1], ack_of(id));
+  }
+
+  std::string version_step() {
+    const auto got = send(m_, msg::mon_ver);
+    EXPECT_EQ(got.frames.size(), 1u);
+    return got.frames.empty() ? std::string{} : got.frames[0].payload.substr(30, 8);
+  }
+
+  /// The configuration loop once through (_request_next_config, classic steps).
+  void configure_round(bool f9) {
+    rate_step(msg::nav_pvt, 1);           // STEP_PVT
+    nav_rate_step();                      // STEP_NAV_RATE
+    rate_step(msg::nav_sol, 1);           // STEP_SOL (no PVT seen yet: wanted)
+    port_step();                          // STEP_PORT
+    rate_step(msg::nav_status, 1);        // STEP_STATUS
+    rate_step(msg::nav_posllh, 1);        // STEP_POSLLH
+    rate_step(msg::nav_velned, 1);        // STEP_VELNED
+    rate_step(msg::nav_timegps, 5);       // STEP_TIMEGPS
+    EXPECT_TRUE(send(m_, nav_svinfo).frames.empty());  // STEP_POLL_SVINFO: not encoded, no answer
+    nav_settings_step();                  // STEP_POLL_NAV
+    if (f9) {                             // STEP_TMODE (F9 config)
+      const auto got = send(m_, msg::cfg_valget, test::valget({tmode_mode}));
+      ASSERT_EQ(got.frames.size(), 2u);
+      EXPECT_EQ(got.frames[0].payload, unhex("01 00 0000 01000320 00"));
+      EXPECT_EQ(got.frames[1], ack_of(msg::cfg_valget));
+    } else {
+      poll_answered(msg::cfg_gnss);       // STEP_POLL_GNSS
+    }
+    rate_step(msg::nav_dop, 1);           // STEP_DOP
+    rate_step(mon_hw, 5);                 // STEP_MON_HW
+    rate_step(mon_hw2, 5);                // STEP_MON_HW2
+  }
+
+  [[nodiscard]] int writes() const { return writes_; }
+
+ private:
+  ConfigMachine& m_;
+  std::uint8_t port_ = 1;
+  int writes_ = 0;
+};
+
+ConfigMachine machine_of(ReceiverModel model) {
+  StartSettings start;
+  start.model = model;
+  return ConfigMachine(start);
+}
+
+void expect_ardupilot_rates(const Settings& s) {
+  EXPECT_EQ(s.output_period(), 200ms);
+  EXPECT_EQ(s.time_ref, 0);
+  EXPECT_EQ(s.dyn_model(), 8);
+  EXPECT_EQ(s.ports[1].baud, 115200u);
+  EXPECT_EQ(s.ports[1].out_proto_mask, proto_ubx);
+  for (const MessageId id : {msg::nav_pvt, msg::nav_sol, msg::nav_status, msg::nav_posllh, msg::nav_velned,
+                             msg::nav_dop}) {
+    EXPECT_EQ(s.rate(id, Port::uart1), 1) << int(id.msg_id);
+  }
+  EXPECT_EQ(s.rate(msg::nav_timegps, Port::uart1), 5);
+  EXPECT_EQ(s.rate(mon_hw, Port::uart1), 5);
+}
+
+TEST(UbxArduPilotSequence, M8nIsConfiguredInOneRoundAndTheSecondRoundChangesNothing) {
+  ConfigMachine m = machine_of(ReceiverModel::ublox_m8n);
+  ArduPilotDriver driver(m);
+  driver.detection_blob();
+  driver.configure_round(false);
+  EXPECT_EQ(driver.version_step(), "00080000");  // STEP_VERSION: UBLOX_M8
+  EXPECT_EQ(driver.writes(), 10);  // PVT, rate, STATUS, POSLLH, VELNED, TIMEGPS, NAV5, DOP, HW, HW2
+  expect_ardupilot_rates(m.settings());
+  ArduPilotDriver again(m);
+  again.configure_round(false);
+  EXPECT_EQ(again.writes(), 0);
+  EXPECT_EQ(m.stats().naks, 0u);
+}
+
+TEST(UbxArduPilotSequence, F9pAnswersTheTmodeValgetAndTheClassicSteps) {
+  ConfigMachine m = machine_of(ReceiverModel::ublox_f9p);
+  ArduPilotDriver driver(m);
+  driver.detection_blob();
+  driver.configure_round(true);
+  EXPECT_EQ(driver.version_step(), "00190000");  // STEP_VERSION: UBLOX_F9
+  expect_ardupilot_rates(m.settings());
+  EXPECT_EQ(m.stats().naks, 0u);
+}
+
+}  // namespace
+}  // namespace gpsemu::ubx

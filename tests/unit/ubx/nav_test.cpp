@@ -1,0 +1,172 @@
+// NAV messages from a fixed fix, byte for byte (golden frames; decoded independently with
+// gpsd's gpsdecode when they were made: TPV mode 3 at 47.3977419 N 8.5455938 E, altHAE 535.5,
+// altMSL 488, eph 1.0, epv 1.2, speed 5, track 45, eps 0.30; SKY with the three satellites),
+// then the fields that follow the receiver state: no fix, 2-D, DGPS and RTK flags, GPS time.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <string>
+
+#include "emulator/ubx/bytes.hpp"
+#include "emulator/ubx/nav.hpp"
+#include "tests/unit/ubx/ubx_test_support.hpp"
+
+namespace gpsemu::ubx {
+namespace {
+
+using namespace std::chrono;
+using test::hex;
+
+nmea::Fix fixed_fix() {
+  nmea::Fix f;
+  f.time_utc = sys_days{year{2026} / November / 24} + hours{12} + minutes{34} + seconds{56} + milliseconds{200};
+  f.quality = nmea::FixQuality::gps;
+  f.dimension = nmea::FixDimension::three_d;
+  f.lat_deg = 47.3977419;
+  f.lon_deg = 8.5455938;
+  f.alt_msl_m = 488.0;
+  f.geoid_sep_m = 47.5;
+  f.speed_mps = 5.0;
+  f.course_deg_true = 45.0;
+  f.satellites_used = 12;
+  f.hdop = 0.9;
+  f.vdop = 1.35;
+  f.pdop = 1.62;
+  f.sigma_lat_m = 0.6;
+  f.sigma_lon_m = 0.8;
+  f.sigma_alt_m = 1.2;
+  f.range_rms_m = 1.0;
+  f.satellites_in_view = 3;
+  f.satellites[0] = {5, 45, 120, 42, true};
+  f.satellites[1] = {13, 10, 300, 30, false};
+  f.satellites[2] = {33, 30, 200, std::nullopt, false};  // SBAS PRN 120
+  return f;
+}
+
+NavExtras fixed_extras() {
+  NavExtras x;
+  x.speed_sigma_mps = 0.3;
+  x.since_start = milliseconds{60000};
+  x.time_to_first_fix = milliseconds{28000};
+  return x;
+}
+
+struct Golden {
+  MessageId id;
+  std::size_t payload_bytes;
+  const char* frame_hex;
+};
+
+const Golden goldens[] = {
+    {msg::nav_pvt, 92,
+     "b56201075c009828000dea070b180c2238071400000000c2eb0b0301e00c42f417054b52401ccc2b080040720700e8030000b004"
+     "0000d00d0000d00d0000000000008813000020aa44002c010000433d0500a2000000000000000000000000000000c7a0"},
+    {msg::nav_posllh, 28, "b56201021c009828000d42f417054b52401ccc2b080040720700e8030000b00400008e92"},
+    {msg::nav_velned, 36, "b562011224009828000d620100006201000000000000f4010000f401000020aa44001e000000433d0500659a"},
+    {msg::nav_status, 16, "b562010310009828000d030d0000606d000060ea000008da"},
+    {msg::nav_sol, 52,
+     "b562010634009828000d000000008e09030dda127f19d0c9d4038c37d91b9c000000cafeffff37010000ef0000001e000000a2"
+     "00000c00000000af28"},
+    {msg::nav_dop, 18, "b562010412009828000dbd00a200610087005a00400040000579"},
+    {msg::nav_timeutc, 20, "b562012114009828000d1400000000c2eb0bea070b180c223837801b"},
+    {msg::nav_timegps, 16, "b562012010009828000d000000008e09120714000000c2a3"},
+    {msg::nav_sat, 44,
+     "b56201352c009828000d0103000000052a2d780000001f090000000d1e0a2c010000140000000178001ec80000001100000015"
+     "de"},
+    {msg::nav_cov, 64,
+     "b562013640009828000d000101000000000000000000ec51b83e00000000000000000ad7233f00000000ec51b83fec51b83d00"
+     "00000000000000ec51b83d00000000ec51b83d868d"},
+};
+
+TEST(UbxNav, EachMessageOfTheFixedFixIsByteExact) {
+  for (const Golden& g : goldens) {
+    const auto payload = nav_payload(g.id, fixed_fix(), fixed_extras());
+    ASSERT_TRUE(payload.has_value());
+    EXPECT_EQ(payload->size(), g.payload_bytes) << hex(std::string{char(g.id.msg_class), char(g.id.msg_id)});
+    EXPECT_EQ(hex(frame_bytes(g.id, *payload)), g.frame_hex)
+        << "message " << hex(std::string{char(g.id.msg_class), char(g.id.msg_id)});
+  }
+}
+
+TEST(UbxNav, PvtFieldsAtTheirOffsets) {
+  const std::string p = nav_pvt(fixed_fix(), fixed_extras());
+  EXPECT_EQ(get_u4(p, 0), 218114200u);  // iTOW: Tuesday 12:34:56.2 UTC + 18 s
+  EXPECT_EQ(get_u2(p, 4), 2026);
+  EXPECT_EQ(get_u1(p, 10), 56);
+  EXPECT_EQ(get_i4(p, 16), 200'000'000);     // nano
+  EXPECT_EQ(get_u1(p, 20), 3);               // fixType 3-D
+  EXPECT_EQ(get_u1(p, 21), 0x01);            // gnssFixOK
+  EXPECT_EQ(get_u1(p, 23), 12);              // numSV
+  EXPECT_EQ(get_i4(p, 24), 85455938);        // lon 1e-7 deg
+  EXPECT_EQ(get_i4(p, 28), 473977419);       // lat
+  EXPECT_EQ(get_i4(p, 32), 535500);          // height above ellipsoid (mm)
+  EXPECT_EQ(get_i4(p, 36), 488000);          // hMSL (mm)
+  EXPECT_EQ(get_u4(p, 40), 1000u);           // hAcc = hypot(0.6, 0.8) m
+  EXPECT_EQ(get_u4(p, 44), 1200u);           // vAcc
+  EXPECT_EQ(get_i4(p, 48), 3536);            // velN mm/s
+  EXPECT_EQ(get_i4(p, 52), 3536);            // velE
+  EXPECT_EQ(get_i4(p, 60), 5000);            // gSpeed
+  EXPECT_EQ(get_i4(p, 64), 4500000);         // headMot 1e-5 deg
+  EXPECT_EQ(get_u4(p, 68), 300u);            // sAcc mm/s
+  EXPECT_EQ(get_u2(p, 76), 162);             // pDOP 0.01
+  EXPECT_EQ(get_u1(p, 78) & 0x01, 0);        // invalidLlh clear
+}
+
+TEST(UbxNav, NoFixIsFixTypeZeroWithInvalidPosition) {
+  nmea::Fix f = fixed_fix();
+  f.quality = nmea::FixQuality::none;
+  const std::string p = nav_pvt(f, fixed_extras());
+  EXPECT_EQ(get_u1(p, 20), 0);
+  EXPECT_EQ(get_u1(p, 21), 0);
+  EXPECT_EQ(get_u1(p, 23), 0);
+  EXPECT_EQ(get_i4(p, 28), 0);
+  EXPECT_EQ(get_u4(p, 40), no_fix_accuracy_mm);
+  EXPECT_EQ(get_u1(p, 78) & 0x01, 1);  // invalidLlh
+  EXPECT_EQ(get_u1(nav_status(f, fixed_extras()), 4), 0);
+}
+
+TEST(UbxNav, TwoDimensionalFixIsFixTypeTwo) {
+  nmea::Fix f = fixed_fix();
+  f.dimension = nmea::FixDimension::two_d;
+  EXPECT_EQ(get_u1(nav_pvt(f, fixed_extras()), 20), 2);
+  EXPECT_EQ(get_u1(nav_sol(f, fixed_extras()), 10), 2);
+}
+
+TEST(UbxNav, FixQualitySetsDifferentialAndCarrierFlags) {
+  nmea::Fix f = fixed_fix();
+  f.quality = nmea::FixQuality::dgps;
+  EXPECT_EQ(get_u1(nav_pvt(f, fixed_extras()), 21), 0x03);
+  f.quality = nmea::FixQuality::rtk_float;
+  EXPECT_EQ(get_u1(nav_pvt(f, fixed_extras()), 21), 0x43);
+  EXPECT_EQ(get_u1(nav_status(f, fixed_extras()), 6), 0x03);  // fixStat: diffCorr, carrSolnValid
+  f.quality = nmea::FixQuality::rtk_fixed;
+  EXPECT_EQ(get_u1(nav_pvt(f, fixed_extras()), 21), 0x83);
+  EXPECT_EQ(get_u1(nav_status(f, fixed_extras()), 7), 0x80);
+  f.quality = nmea::FixQuality::estimated;
+  EXPECT_EQ(get_u1(nav_pvt(f, fixed_extras()), 20), 1);  // dead reckoning only
+}
+
+TEST(UbxNav, GpsTimeIsUtcPlusLeapSeconds) {
+  const GpsTime start = gps_time(sys_days{year{1980} / January / 6} - seconds{gps_leap_seconds});
+  EXPECT_EQ(start.week, 0);
+  EXPECT_EQ(start.tow_ms, 0u);
+  // Sunday 2026-11-22 00:00:00 UTC is 18 s into GPS week 2446.
+  const GpsTime sunday = gps_time(sys_days{year{2026} / November / 22});
+  EXPECT_EQ(sunday.week, 2446);
+  EXPECT_EQ(sunday.tow_ms, 18000u);
+}
+
+TEST(UbxNav, SatellitesFollowTheFixAsGsvDoes) {
+  const std::string p = nav_sat(fixed_fix());
+  ASSERT_EQ(p.size(), 8u + 3 * 12);
+  EXPECT_EQ(get_u1(p, 5), 3);                // numSvs
+  EXPECT_EQ(get_u1(p, 8 + 1), 5);            // svId
+  EXPECT_EQ(get_u1(p, 8 + 2), 42);           // cno
+  EXPECT_NE(get_u4(p, 8 + 8) & 0x08, 0u);    // svUsed
+  EXPECT_EQ(get_u4(p, 20 + 8) & 0x08, 0u);   // PRN 13 not used
+  EXPECT_EQ(get_u1(p, 32), 1);               // SBAS gnssId
+  EXPECT_EQ(get_u1(p, 33), 120);             // PRN 120
+}
+
+}  // namespace
+}  // namespace gpsemu::ubx

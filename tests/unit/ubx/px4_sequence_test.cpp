@@ -1,0 +1,184 @@
+// PX4's u-blox driver start-up (PX4-GPSDrivers src/ubx.cpp, GPSDriverUBX::configure() with
+// auto-baud, output mode GPS, default parameters), played frame by frame in its order against
+// the state machine: an F9P takes the CFG-VALSET path, an M8N NAKs the first VALSET and gets the
+// classic CFG-PRT / CFG-RATE / CFG-NAV5 / CFG-MSG path. Every step PX4 waits for is answered
+// within the same call (PX4 waits UBX_CONFIG_TIMEOUT = 250 ms, 2 s for the first VALSET: the
+// loop must flush the answer before the next epoch), and the resulting rates are PX4's.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "emulator/ubx/cfg_keys.hpp"
+#include "emulator/ubx/machine.hpp"
+#include "tests/unit/ubx/ubx_test_support.hpp"
+
+namespace gpsemu::ubx {
+namespace {
+
+using namespace std::chrono_literals;
+using test::ack_of;
+using test::effects_of;
+using test::nak_of;
+using test::send;
+using test::valset;
+
+// PX4's keys (src/ubx.h).
+constexpr std::uint32_t uart1_stopbits = 0x20520002, uart1_databits = 0x20520003, uart1_parity = 0x20520004;
+constexpr std::uint32_t uart1inprot_nmea = 0x10730002, uart1inprot_rtcm3x = 0x10730004;
+constexpr std::uint32_t usbinprot_ubx = 0x10770001, usbinprot_nmea = 0x10770002, usbinprot_rtcm3x = 0x10770004;
+constexpr std::uint32_t usboutprot_ubx = 0x10780001, usboutprot_nmea = 0x10780002;
+constexpr std::uint32_t navspg_utcstandard = 0x2011001C;
+constexpr std::uint32_t odo_use_odo = 0x10220001, odo_use_cog = 0x10220002, odo_outlpvel = 0x10220003,
+                        odo_outlpcog = 0x10220004;
+constexpr std::uint32_t navhpg_dgnssmode = 0x20140011, itfm_enable = 0x1041000D, sec_jamdet_hi = 0x10F60051;
+constexpr std::uint32_t msgout_hpposllh_i2c = 0x20910033, msgout_relposned_i2c = 0x2091008D,
+                        msgout_dop_i2c = 0x20910038, msgout_sat_i2c = 0x20910015, msgout_status_i2c = 0x2091001A,
+                        msgout_mon_rf_i2c = 0x20910359, msgout_rxm_rtcm_i2c = 0x20910268;
+constexpr std::uint32_t i2cinprot_ubx = 0x10710001, i2cinprot_nmea = 0x10710002, i2cinprot_rtcm3x = 0x10710004,
+                        i2coutprot_ubx = 0x10720001, i2coutprot_nmea = 0x10720002, i2coutprot_rtcm3x = 0x10720004;
+constexpr std::uint8_t uart1 = 1, usb = 3;  // cfgValsetPort() writes UART1 (+1) and USB (+3)
+
+ConfigMachine machine_of(ReceiverModel model) {
+  StartSettings start;
+  start.model = model;
+  start.baud = 38400;  // the first baud PX4 tries
+  return ConfigMachine(start);
+}
+
+/// PX4's first VALSET: UART1 8N1, UBX in and out, no NMEA.
+std::string uart1_valset() {
+  return valset({{uart1_stopbits, 1}, {uart1_databits, 0}, {uart1_parity, 0}, {key::uart1inprot_ubx, 1},
+                 {uart1inprot_nmea, 0}, {key::uart1outprot_ubx, 1}, {key::uart1outprot_nmea, 0}});
+}
+
+/// Two CFG-PRT blocks (UART1 and USB) at `baud`, UBX+RTCM3 in, UBX out, as PX4 writes them.
+std::string cfg_prt_pair(std::uint32_t baud) {
+  std::string p;
+  for (const std::uint8_t port : {uart1, usb}) {
+    put_u1(p, port);
+    put_zeros(p, 3);
+    put_u4(p, 0x08D0);
+    put_u4(p, baud);
+    put_u2(p, 0x0021);
+    put_u2(p, 0x0001);
+    put_zeros(p, 4);
+  }
+  return p;
+}
+
+std::string cfg_msg_3(MessageId id, std::uint8_t rate) {
+  return std::string{static_cast<char>(id.msg_class), static_cast<char>(id.msg_id), static_cast<char>(rate)};
+}
+
+TEST(UbxPx4Sequence, F9pAnswersTheValsetPathAndEndsUbxOnlyAt5HzAnd115200) {
+  ConfigMachine m = machine_of(ReceiverModel::ublox_f9p);
+  // 1. Protocol probe: VALSET answered means protocol 27+.
+  auto got = send(m, msg::cfg_valset, uart1_valset());
+  EXPECT_EQ(got.frames, std::vector<Frame>{ack_of(msg::cfg_valset)});
+  ASSERT_EQ(effects_of<OutputProtocolsChanged>(got.effects).size(), 1u);
+  EXPECT_FALSE(effects_of<OutputProtocolsChanged>(got.effects)[0].nmea);
+  // 2. Baud to 115200 (PX4 does not wait for this ACK, it reads it if it comes).
+  got = send(m, msg::cfg_valset, valset({{key::uart1_baudrate, 115200}}));
+  EXPECT_EQ(got.frames, std::vector<Frame>{ack_of(msg::cfg_valset)});
+  EXPECT_EQ(effects_of<BaudChanged>(got.effects).at(0).baud, 115200u);
+  // 3. MON-VER: hwVersion 00190000 and MOD=ZED-F9P make PX4 pick u_blox9_F9P_L1L2.
+  got = send(m, msg::mon_ver);
+  ASSERT_EQ(got.frames.size(), 1u);
+  EXPECT_EQ(got.frames[0].payload.substr(30, 8), "00190000");
+  EXPECT_NE(got.frames[0].payload.find("MOD=ZED-F9P"), std::string::npos);
+  // 4. configureDevice(): protocols of UART1 and USB.
+  got = send(m, msg::cfg_valset,
+             valset({{uart1inprot_rtcm3x, 1}, {usbinprot_ubx, 1}, {usbinprot_rtcm3x, 1}, {usbinprot_nmea, 0},
+                     {usboutprot_ubx, 1}, {usboutprot_nmea, 0}}));
+  EXPECT_EQ(got.frames, std::vector<Frame>{ack_of(msg::cfg_valset)});
+  // 5. Navigation settings and the measurement rate (200 ms for an F9P).
+  got = send(m, msg::cfg_valset,
+             valset({{key::navspg_fixmode, 3}, {navspg_utcstandard, 3}, {key::navspg_dynmodel, 7}, {odo_use_odo, 0},
+                     {odo_use_cog, 0}, {odo_outlpvel, 0}, {odo_outlpcog, 0}, {key::rate_meas, 200},
+                     {key::rate_nav, 1}, {key::rate_timeref, 0}}));
+  EXPECT_EQ(got.frames, std::vector<Frame>{ack_of(msg::cfg_valset)});
+  EXPECT_EQ(effects_of<MeasurementPeriodChanged>(got.effects).at(0).period, 200ms);
+  // 6-8. RTK mode, jamming monitor, jamming sensitivity: each acknowledged.
+  for (const std::uint32_t k : {navhpg_dgnssmode, itfm_enable, sec_jamdet_hi}) {
+    got = send(m, msg::cfg_valset, valset({{k, k == navhpg_dgnssmode ? 3u : 1u}}));
+    EXPECT_EQ(got.frames, std::vector<Frame>{ack_of(msg::cfg_valset)}) << std::hex << k;
+  }
+  // 9. Message rates on UART1 and USB.
+  got = send(m, msg::cfg_valset,
+             valset({{key::msgout_nav_pvt_i2c + uart1, 1}, {key::msgout_nav_pvt_i2c + usb, 1},
+                     {msgout_hpposllh_i2c + uart1, 1}, {msgout_hpposllh_i2c + usb, 1},
+                     {msgout_relposned_i2c + uart1, 0}, {msgout_relposned_i2c + usb, 0},
+                     {msgout_dop_i2c + uart1, 1}, {msgout_dop_i2c + usb, 1}, {msgout_sat_i2c + uart1, 10},
+                     {msgout_sat_i2c + usb, 10}, {msgout_status_i2c + uart1, 1}, {msgout_status_i2c + usb, 1},
+                     {msgout_mon_rf_i2c + uart1, 1}, {msgout_mon_rf_i2c + usb, 1},
+                     {msgout_rxm_rtcm_i2c + uart1, 1}, {msgout_rxm_rtcm_i2c + usb, 1}}));
+  EXPECT_EQ(got.frames, std::vector<Frame>{ack_of(msg::cfg_valset)});
+  // 10. I2C protocols.
+  got = send(m, msg::cfg_valset,
+             valset({{i2cinprot_ubx, 0}, {i2cinprot_nmea, 0}, {i2cinprot_rtcm3x, 0}, {i2coutprot_ubx, 0},
+                     {i2coutprot_nmea, 0}, {i2coutprot_rtcm3x, 0}}));
+  EXPECT_EQ(got.frames, std::vector<Frame>{ack_of(msg::cfg_valset)});
+
+  const Settings& s = m.settings();
+  EXPECT_EQ(s.output_period(), 200ms);
+  EXPECT_EQ(s.dyn_model(), 7);
+  EXPECT_EQ(s.ports[1].baud, 115200u);
+  EXPECT_EQ(s.ports[1].out_proto_mask & proto_nmea, 0);
+  EXPECT_EQ(s.rate(msg::nav_pvt, Port::uart1), 1);
+  EXPECT_EQ(s.rate(msg::nav_dop, Port::uart1), 1);
+  EXPECT_EQ(s.rate(msg::nav_status, Port::uart1), 1);
+  EXPECT_EQ(s.rate(msg::nav_sat, Port::uart1), 10);
+  EXPECT_EQ(s.rate(msg::nav_posllh, Port::uart1), 0);
+  EXPECT_EQ(m.stats().naks, 0u);
+}
+
+TEST(UbxPx4Sequence, M8nNaksValsetAndAnswersTheClassicPathEndingAt5HzAnd115200) {
+  ConfigMachine m = machine_of(ReceiverModel::ublox_m8n);
+  // 1. The VALSET probe is refused: PX4 falls back to protocol < 27.
+  auto got = send(m, msg::cfg_valset, uart1_valset());
+  EXPECT_EQ(got.frames, std::vector<Frame>{nak_of(msg::cfg_valset)});
+  EXPECT_TRUE(got.effects.empty());
+  // 2. CFG-PRT for UART1 and USB at the current baud: UBX only out.
+  got = send(m, msg::cfg_prt, cfg_prt_pair(38400));
+  EXPECT_EQ(got.frames, std::vector<Frame>{ack_of(msg::cfg_prt)});
+  EXPECT_TRUE(effects_of<BaudChanged>(got.effects).empty());
+  EXPECT_FALSE(effects_of<OutputProtocolsChanged>(got.effects).at(0).nmea);
+  // 3. Again with the pre-M8 baud 38400 (unchanged here), then MON-VER.
+  got = send(m, msg::cfg_prt, cfg_prt_pair(38400));
+  EXPECT_EQ(got.frames, std::vector<Frame>{ack_of(msg::cfg_prt)});
+  got = send(m, msg::mon_ver);
+  ASSERT_EQ(got.frames.size(), 1u);
+  EXPECT_EQ(got.frames[0].payload.substr(30, 8), "00080000");
+  // 4. An M8 on auto-baud: CFG-PRT to 115200, applied after the ACK.
+  got = send(m, msg::cfg_prt, cfg_prt_pair(115200));
+  EXPECT_EQ(got.frames, std::vector<Frame>{ack_of(msg::cfg_prt)});
+  EXPECT_EQ(effects_of<BaudChanged>(got.effects).at(0).baud, 115200u);
+  // 5. configureDevicePreV27(): CFG-RATE 200 ms, CFG-NAV5 (mask dyn + fix mode: airborne < 2 g, 3-D).
+  got = send(m, msg::cfg_rate, test::unhex("c800 0100 0000"));
+  EXPECT_EQ(got.frames, std::vector<Frame>{ack_of(msg::cfg_rate)});
+  EXPECT_EQ(effects_of<MeasurementPeriodChanged>(got.effects).at(0).period, 200ms);
+  std::string nav5(36, '\0');
+  nav5[0] = 0x05;
+  nav5[2] = 7;
+  nav5[3] = 2;
+  EXPECT_EQ(send(m, msg::cfg_nav5, nav5).frames, std::vector<Frame>{ack_of(msg::cfg_nav5)});
+  // 6. Message rates, each with its ACK: PVT, STATUS, DOP, SVINFO (5: satellite info on), MON-HW.
+  for (const auto& [id, rate] : std::vector<std::pair<MessageId, std::uint8_t>>{
+           {msg::nav_pvt, 1}, {msg::nav_status, 1}, {msg::nav_dop, 1}, {{0x01, 0x30}, 5}, {{0x0A, 0x09}, 1}}) {
+    got = send(m, msg::cfg_msg, cfg_msg_3(id, rate));
+    EXPECT_EQ(got.frames, std::vector<Frame>{ack_of(msg::cfg_msg)});
+  }
+  const Settings& s = m.settings();
+  EXPECT_EQ(s.output_period(), 200ms);
+  EXPECT_EQ(s.dyn_model(), 7);
+  EXPECT_EQ(s.nav5[3], 2);
+  EXPECT_EQ(s.ports[1].baud, 115200u);
+  EXPECT_EQ(s.ports[3].out_proto_mask, 0x0001);
+  EXPECT_EQ(s.rate(msg::nav_pvt, Port::uart1), 1);
+  EXPECT_EQ(s.rate(msg::nav_status, Port::uart1), 1);
+  EXPECT_EQ(s.rate(msg::nav_dop, Port::uart1), 1);
+  EXPECT_EQ(m.stats().naks, 1u);
+}
+
+}  // namespace
+}  // namespace gpsemu::ubx

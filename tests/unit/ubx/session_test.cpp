@@ -1,0 +1,109 @@
+// One u-blox port end to end, pure: an F9P told by a client to write NAV-PVT at 5 Hz with NMEA
+// off answers at once (before any epoch), then writes only NAV-PVT frames on the 200 ms grid of
+// a 10 Hz epoch stream; polls are answered with the next solution; a baud change and a cold
+// reset reach the caller as effects; NAV-STATUS counts time to first fix.
+#include <gtest/gtest.h>
+
+#include <chrono>
+
+#include "emulator/ubx/bytes.hpp"
+#include "emulator/ubx/session.hpp"
+#include "tests/unit/ubx/ubx_test_support.hpp"
+
+namespace gpsemu::ubx {
+namespace {
+
+using namespace std::chrono;
+using test::frames_in;
+using test::valset;
+
+nmea::Fix fix_at(milliseconds since_midnight, bool has_fix = true) {
+  nmea::Fix f;
+  f.time_utc = sys_days{year{2026} / November / 24} + since_midnight;
+  f.quality = has_fix ? nmea::FixQuality::gps : nmea::FixQuality::none;
+  f.lat_deg = 47.0;
+  f.lon_deg = 8.0;
+  return f;
+}
+
+SessionSettings f9p_nmea_only() {
+  SessionSettings s;
+  s.start.model = ReceiverModel::ublox_f9p;
+  s.start.measurement_period = milliseconds{100};
+  s.speed_sigma_mps = 0.05;
+  return s;
+}
+
+TEST(UbxSession, StartsWithNmeaOnly) {
+  Session session(f9p_nmea_only());
+  std::string out;
+  session.append_solution(fix_at(hours{12}), out);
+  EXPECT_EQ(out.rfind("$GPRMC", 0), 0u);
+  EXPECT_TRUE(frames_in(out).empty());
+}
+
+TEST(UbxSession, ConfiguredFiveHertzPvtOnlyOnTheGrid) {
+  Session session(f9p_nmea_only());
+  session.client_wrote(frame_bytes(msg::cfg_valset, valset({{key::uart1outprot_nmea, 0},
+                                                             {key::msgout_nav_pvt_i2c + 1, 1},
+                                                             {key::rate_meas, 200}})));
+  const auto reply = frames_in(session.take_reply());
+  ASSERT_EQ(reply.size(), 1u);
+  EXPECT_EQ(reply[0], test::ack_of(msg::cfg_valset));
+  EXPECT_TRUE(session.take_reply().empty());
+  const auto effects = session.take_effects();
+  ASSERT_EQ(effects.size(), 1u);
+  EXPECT_EQ(std::get<MeasurementPeriodChanged>(effects[0]).period, milliseconds{200});
+
+  std::vector<std::uint32_t> tows;
+  for (int k = 0; k < 10; ++k) {  // one second of 10 Hz epochs
+    std::string out;
+    session.append_solution(fix_at(hours{12} + milliseconds{100 * k}), out);
+    for (const Frame& f : frames_in(out)) {
+      EXPECT_EQ(f.id, msg::nav_pvt);
+      tows.push_back(get_u4(f.payload, 0));
+    }
+    EXPECT_EQ(out.find('$'), std::string::npos);
+  }
+  ASSERT_EQ(tows.size(), 5u);
+  for (std::size_t i = 1; i < tows.size(); ++i) EXPECT_EQ(tows[i] - tows[i - 1], 200u);
+}
+
+TEST(UbxSession, PollIsAnsweredWithTheNextSolutionOnly) {
+  Session session(f9p_nmea_only());
+  session.client_wrote(frame_bytes(msg::nav_dop, ""));
+  EXPECT_TRUE(session.take_reply().empty());
+  std::string first, second;
+  session.append_solution(fix_at(hours{12}), first);
+  session.append_solution(fix_at(hours{12} + milliseconds{100}), second);
+  ASSERT_EQ(frames_in(first).size(), 1u);
+  EXPECT_EQ(frames_in(first)[0].id, msg::nav_dop);
+  EXPECT_TRUE(frames_in(second).empty());
+}
+
+TEST(UbxSession, BaudAndColdStartAreEffectsForTheCaller) {
+  Session session(f9p_nmea_only());
+  session.client_wrote(frame_bytes(msg::cfg_valset, valset({{key::uart1_baudrate, 115200}})) +
+                       frame_bytes(msg::cfg_rst, test::unhex("ffff 0200")));
+  EXPECT_EQ(frames_in(session.take_reply()).size(), 1u);  // the VALSET's ACK; CFG-RST is not answered
+  const auto effects = session.take_effects();
+  ASSERT_EQ(effects.size(), 2u);
+  EXPECT_EQ(std::get<BaudChanged>(effects[0]).baud, 115200u);
+  EXPECT_TRUE(std::holds_alternative<ColdStart>(effects[1]));
+}
+
+TEST(UbxSession, StatusCountsTimeToFirstFix) {
+  Session session(f9p_nmea_only());
+  session.client_wrote(frame_bytes(msg::cfg_msg, test::unhex("0103 01")));
+  std::string out;
+  session.append_solution(fix_at(hours{12}, false), out);
+  out.clear();
+  session.append_solution(fix_at(hours{12} + milliseconds{2500}, true), out);
+  const auto frames = frames_in(out);
+  ASSERT_EQ(frames.size(), 1u);
+  EXPECT_EQ(get_u4(frames[0].payload, 8), 2500u);   // ttff
+  EXPECT_EQ(get_u4(frames[0].payload, 12), 2500u);  // msss
+}
+
+}  // namespace
+}  // namespace gpsemu::ubx
