@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <stdexcept>
 
@@ -57,6 +58,8 @@ FileOutput::FileOutput(int fd, bool owns_fd, std::string description, bool flush
       description_(std::move(description)),
       flush_each_epoch_(flush_each_epoch) {
   pending_.reserve(kBufferBytes);
+  epoch_ends_.reserve(1024);
+  count_when_sent();
 }
 
 FileOutput::FileOutput(const std::filesystem::path& path, bool flush_each_epoch, FileMode mode)
@@ -127,18 +130,38 @@ FileOutput::DrainResult FileOutput::drain(bool wait, std::string& error_text) {
     }
     // A failed file (disk full, I/O error, reader gone) loses what was buffered: keeping it
     // would only make every later epoch fail too.
+    if (n < 0 && errno == EPIPE) gone_ = true;
     error_text = fmt::format("write failed: {}; {} buffered bytes lost",
                              n < 0 ? posix::errno_text(errno) : "no progress", pending_.size() - done);
+    sent(done);
+    const std::uint64_t lost = epoch_ends_.size();
     pending_.clear();
+    epoch_ends_.clear();
+    count_lost(lost, error_text);
     return DrainResult::failed;
   }
+  sent(done);
   pending_.erase(0, done);
   return result;
 }
 
+void FileOutput::sent(std::size_t bytes) {
+  if (bytes == 0) return;
+  // The epochs whose last byte the operating system took are written; a partial one is not yet.
+  const auto complete = std::upper_bound(epoch_ends_.begin(), epoch_ends_.end(), bytes) - epoch_ends_.begin();
+  count_sent(static_cast<std::uint64_t>(complete), bytes);
+  epoch_ends_.erase(epoch_ends_.begin(), epoch_ends_.begin() + complete);
+  for (auto& end : epoch_ends_) end -= bytes;
+}
+
 WriteStatus FileOutput::write_bytes(std::string_view bytes, std::string& error_text) {
+  if (gone_) {
+    error_text = "the reader closed the pipe";
+    return WriteStatus::error;
+  }
   if (!committed_ && !take_over(error_text)) return WriteStatus::error;
   if (!pending_.empty() && pending_.size() + bytes.size() > kBufferBytes) {
+    // A failure here is counted for the buffered epochs it lost; this epoch is not written either.
     if (drain(false, error_text) == DrainResult::failed) return WriteStatus::error;
     if (!pending_.empty() && pending_.size() + bytes.size() > kBufferBytes) {
       error_text = fmt::format("the reader is not keeping up ({} bytes waiting)", pending_.size());
@@ -146,9 +169,9 @@ WriteStatus FileOutput::write_bytes(std::string_view bytes, std::string& error_t
     }
   }
   pending_.append(bytes);
-  if (flush_each_epoch_ && drain(false, error_text) == DrainResult::failed) {
-    return WriteStatus::error;
-  }
+  epoch_ends_.push_back(pending_.size());
+  // A failure in drain() counted this epoch among the lost ones.
+  if (flush_each_epoch_) (void)drain(false, error_text);
   return WriteStatus::ok;
 }
 
@@ -162,8 +185,7 @@ void FileOutput::flush() {
       spdlog::warn("{}: reader not keeping up; {} bytes not written at flush", description_,
                    pending_.size());
       break;
-    case DrainResult::failed:
-      spdlog::warn("{}: {}", description_, error_text);
+    case DrainResult::failed:  // counted and reported by drain()
       break;
   }
 }

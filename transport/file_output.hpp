@@ -1,6 +1,8 @@
 // Writes a receiver's bytes to a regular file (`file:PATH`) or to standard output (`stdout`),
 // for batch generation (`--fast`: large buffer, written in big blocks) and for watching a run
 // with `tail -f` (real time: every epoch is handed to the operating system as it is written).
+// An epoch counts as written once the operating system took all of its bytes; bytes are counted as
+// the operating system takes them. A pipe whose reader has gone (EPIPE) makes the output gone().
 #pragma once
 
 #include <cstddef>
@@ -8,6 +10,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "transport/output.hpp"
 
@@ -53,6 +56,7 @@ class FileOutput final : public Output {
   [[nodiscard]] std::string describe() const override { return description_; }
   /// Writes out everything buffered, waiting (up to a few seconds) for a slow reader.
   void flush() override;
+  [[nodiscard]] bool gone() const override { return gone_; }
 
  protected:
   WriteStatus write_bytes(std::string_view bytes, std::string& error_text) override;
@@ -64,6 +68,8 @@ class FileOutput final : public Output {
   DrainResult drain(bool wait, std::string& error_text);
   /// commit()'s work; false (with `error_text`) when the file cannot be truncated.
   bool take_over(std::string& error_text);
+  /// The operating system took the first `bytes` of pending_: counts them and the epochs they complete.
+  void sent(std::size_t bytes);
 
   int fd_ = -1;
   bool owns_fd_ = false;
@@ -73,6 +79,9 @@ class FileOutput final : public Output {
   std::string description_;
   bool flush_each_epoch_ = false;
   std::string pending_;  ///< bytes accepted but not yet handed to the operating system
+  /// Where each epoch in pending_ ends (offsets into pending_, ascending).
+  std::vector<std::size_t> epoch_ends_;
+  bool gone_ = false;    ///< EPIPE: the reader closed the pipe for good
 };
 
 }  // namespace gpsemu::transport

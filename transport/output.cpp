@@ -9,8 +9,10 @@ WriteStatus Output::write_epoch(std::string_view bytes) {
   const WriteStatus status = write_bytes(bytes, error_text);
   switch (status) {
     case WriteStatus::ok:
-      ++stats_.epochs_written;
-      stats_.bytes_written += bytes.size();
+      if (!count_when_sent_) {
+        ++stats_.epochs_written;
+        stats_.bytes_written += bytes.size();
+      }
       return status;
     case WriteStatus::dropped:
       ++stats_.epochs_dropped;
@@ -19,17 +21,22 @@ WriteStatus Output::write_epoch(std::string_view bytes) {
       ++stats_.epochs_failed;
       break;
   }
+  report(status, error_text, 1);
+  return status;
+}
+
+void Output::report(WriteStatus status, const std::string& error_text, std::uint64_t count) {
   // Repeated failures are reported at most once a second, with how many were folded in.
-  ++unreported_;
+  unreported_ += count;
   const auto now = std::chrono::steady_clock::now();
   if (now - last_report_ >= std::chrono::seconds(1)) {
-    spdlog::warn("{}: epoch {} ({}){}", describe(),
-                 status == WriteStatus::dropped ? "dropped" : "not written", error_text,
-                 unreported_ > 1 ? fmt::format(" [{} since last report]", unreported_) : "");
+    spdlog::warn("{}: {} ({}){}", describe(),
+                 count > 1 ? fmt::format("{} epochs not written", count)
+                           : (status == WriteStatus::dropped ? "epoch dropped" : "epoch not written"),
+                 error_text, unreported_ > count ? fmt::format(" [{} since last report]", unreported_) : "");
     last_report_ = now;
     unreported_ = 0;
   }
-  return status;
 }
 
 void Output::client_wrote(std::string_view bytes) {
@@ -43,7 +50,7 @@ void Output::answer_clients() {
   std::string error_text;
   if (write_bytes(reply_, error_text) == WriteStatus::ok) {
     ++stats_.replies_written;
-    stats_.bytes_written += reply_.size();
+    if (!count_when_sent_) stats_.bytes_written += reply_.size();  // else counted when sent
   }
   reply_.clear();
 }

@@ -14,9 +14,9 @@
 namespace gpsemu::transport {
 
 enum class WriteStatus {
-  ok,       ///< the whole epoch was handed to the operating system
+  ok,       ///< the whole epoch was handed to the operating system (a buffering backend: kept for it)
   dropped,  ///< the epoch was not sent (no room, no client): nothing partial went out
-  error,    ///< the backend failed; it stays usable and may recover
+  error,    ///< the backend failed; it stays usable and may recover (unless gone())
 };
 
 struct OutputStats {
@@ -81,6 +81,9 @@ class Output {
 
   [[nodiscard]] const OutputStats& stats() const { return stats_; }
 
+  /// True once the output can never take bytes again (the reader of a pipe closed it: EPIPE).
+  [[nodiscard]] virtual bool gone() const { return false; }
+
  protected:
   /// Backend hook: send `bytes` entirely or not at all. `error_text` receives a reason on error
   /// or drop, which the base class logs at most once a second.
@@ -90,8 +93,26 @@ class Output {
   /// keeps its answer for answer_clients().
   void client_wrote(std::string_view bytes);
 
+  /// A buffering backend calls this in its constructor: an `ok` epoch is not counted as written
+  /// then; the backend counts what the operating system takes (count_sent) or what is lost.
+  void count_when_sent() { count_when_sent_ = true; }
+  /// A buffering backend: the operating system took `bytes`, completing `epochs` epochs.
+  void count_sent(std::uint64_t epochs, std::uint64_t bytes) {
+    stats_.epochs_written += epochs;
+    stats_.bytes_written += bytes;
+  }
+  /// A buffering backend: `epochs` buffered epochs (a partial one included) were lost.
+  void count_lost(std::uint64_t epochs, const std::string& error_text) {
+    stats_.epochs_failed += epochs;
+    report(WriteStatus::error, error_text, epochs);
+  }
+
  private:
+  /// Logs a dropped or failed epoch (`count` of them) at most once a second.
+  void report(WriteStatus status, const std::string& error_text, std::uint64_t count);
+
   ClientInput* client_input_ = nullptr;
+  bool count_when_sent_ = false;
   std::string reply_;  ///< the ClientInput's answers not yet written
   OutputStats stats_;
   std::chrono::steady_clock::time_point last_report_{};

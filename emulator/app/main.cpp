@@ -1,5 +1,6 @@
 // gpsemu: a GPS receiver emulator. Parses the command line and config file, sets up logging and
-// signals, and runs the main loop. Exit status: 0 done, 2 bad configuration or start-up failure.
+// signals, and runs the main loop. Exit status: 0 done, 1 every output gone (the reader of the pipe
+// left), 2 bad configuration or start-up failure.
 #include <algorithm>
 #include <csignal>
 #include <cstdio>
@@ -28,8 +29,9 @@ void install_signal_handlers() {
   sa.sa_handler = on_signal;
   sigemptyset(&sa.sa_mask);
   sa.sa_flags = 0;  // no SA_RESTART: a signal interrupts sleeps so shutdown is prompt
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
+  // HUP (the terminal went away) and QUIT shut down like TERM: pty link removed, summary logged,
+  // exit 0. (No log-rotation reopen: file outputs are for batch runs; docs/reliability.md.)
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) sigaction(sig, &sa, nullptr);
   signal(SIGPIPE, SIG_IGN);
 }
 

@@ -60,6 +60,7 @@ struct LoopStats {
   /// whose time went back: after the previous epoch's deadline), and the sum (for the mean).
   std::chrono::nanoseconds worst_delay{0};
   std::chrono::nanoseconds total_delay{0};
+  bool outputs_gone = false;  ///< stopped because every output is gone (Sink::all_gone)
 };
 
 /// The real ClockIo of a loop: polls every output's and input's descriptor and services those
@@ -72,7 +73,8 @@ class EpochLoop {
   EpochLoop(EpochProducer& producer, Sink& sink, EpochClock& clock, LoopOptions options, PpsTimeline* pps = nullptr);
   ~EpochLoop();
 
-  /// Runs until the producer has no epoch left or `stop` becomes true, then flushes the sink.
+  /// Runs until the producer has no epoch left, `stop` becomes true or every output is gone for
+  /// good (stats().outputs_gone), then flushes the sink.
   void run(const std::atomic<bool>& stop);
 
   [[nodiscard]] const LoopStats& stats() const { return stats_; }

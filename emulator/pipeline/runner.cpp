@@ -183,6 +183,10 @@ int Runner::run(const std::atomic<bool>& stop) {
     stats_.pps_worst_edge_delay = pps_->stats().worst_edge_delay;
   }
   log_summary();
+  if (loop.stats().outputs_gone) {
+    spdlog::error("every output is gone (the reader of the pipe closed it): stopped");
+    return 1;
+  }
   return 0;
 }
 

@@ -48,6 +48,17 @@ void Sink::service_all() {
   }
 }
 
+bool Sink::all_gone() const {
+  bool any = false;
+  for (const auto& outputs : receivers_) {
+    for (const auto& out : outputs) {
+      if (!out->gone()) return false;
+      any = true;
+    }
+  }
+  return any;
+}
+
 void Sink::flush() {
   for (const auto& outputs : receivers_) {
     for (const auto& out : outputs) out->flush();

@@ -55,6 +55,8 @@ class Sink {
   }
   /// Services every output (between epochs when nothing is polled: --fast).
   void service_all();
+  /// True when every output of every receiver is gone for good (each a pipe whose reader left).
+  [[nodiscard]] bool all_gone() const;
   void flush();
   /// Every output of every receiver takes over its destination (Output::commit(): files are
   /// truncated), once everything that can fail at start-up is open. Throws what an output throws.

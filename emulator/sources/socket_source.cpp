@@ -44,9 +44,14 @@ SocketPoseSource::~SocketPoseSource() {
     reasons += fmt::format("{}{} {}", reasons.empty() ? "" : ", ", to_string(static_cast<PoseReject>(i)),
                            stats_.rejected[i]);
   }
-  spdlog::info("pose input {}: {} poses used, {} dropped{}{}; {} sender changes, {} restarts", socket_->describe(),
+  const std::string connections =
+      stats_.connections == 0 ? std::string()
+                              : fmt::format("; {} connections, {} closed by the sender, {} closed idle, {} taken over",
+                                            stats_.connections, stats_.disconnections, stats_.idle_closed,
+                                            stats_.taken_over);
+  spdlog::info("pose input {}: {} poses used, {} dropped{}{}; {} sender changes, {} restarts{}", socket_->describe(),
                stats_.accepted, stats_.rejected_total(), reasons.empty() ? "" : " by reason: ", reasons,
-               stats_.sender_changes, stats_.restarts);
+               stats_.sender_changes, stats_.restarts, connections);
 }
 
 std::string SocketPoseSource::describe() const {
@@ -87,6 +92,26 @@ void SocketPoseSource::reject(PoseReject reason, const transport::ReceivedMessag
   unreported_[i] = 0;
 }
 
+void SocketPoseSource::note_connection(const transport::ReceivedMessage& m, std::uint64_t& total) {
+  using Kind = transport::ReceivedMessage::Kind;
+  ++total;
+  const auto i = static_cast<std::size_t>(m.kind);
+  ++unnoted_[i];
+  if (m.arrival - last_note_[i] < std::chrono::seconds(1)) return;
+  const char* what = m.kind == Kind::connected      ? "connected"
+                     : m.kind == Kind::disconnected ? "disconnected"
+                     : m.kind == Kind::idle_closed  ? "closed: no complete line within the idle timeout"
+                                                    : "closed to make room for a new connection (idle)";
+  if (unnoted_[i] == 1) {
+    spdlog::info("pose sender {} {} ({} in all)", m.sender_name, what, total);
+  } else {
+    spdlog::info("pose sender {} {}, and {} more since the last such line ({} in all)", m.sender_name, what,
+                 unnoted_[i] - 1, total);
+  }
+  last_note_[i] = m.arrival;
+  unnoted_[i] = 0;
+}
+
 Enu SocketPoseSource::to_local(const PoseMessage& pose) const {
   if (const auto* enu = std::get_if<Enu>(&pose.position)) return *enu;
   const auto& g = std::get<GeodeticPose>(pose.position);
@@ -100,11 +125,13 @@ void SocketPoseSource::handle_message(const transport::ReceivedMessage& m) {
     case Kind::partial_line: return reject(PoseReject::partial_line, m);
     case Kind::kernel_dropped: return reject(PoseReject::kernel_overflow, m, m.count);
     case Kind::refused_client: return reject(PoseReject::too_many_clients, m);
-    case Kind::connected:
-      spdlog::info("pose sender {} connected", m.sender_name);
-      return;
+    case Kind::connected: return note_connection(m, stats_.connections);
     case Kind::disconnected:
-      spdlog::info("pose sender {} disconnected", m.sender_name);
+    case Kind::idle_closed:
+    case Kind::taken_over:
+      note_connection(m, m.kind == Kind::disconnected ? stats_.disconnections
+                         : m.kind == Kind::idle_closed ? stats_.idle_closed
+                                                       : stats_.taken_over);
       if (owner_ == m.sender) owner_.reset();  // the next sender may take over at once
       return;
     case Kind::message: break;

@@ -12,7 +12,8 @@
 //   the pose timeout or, over TCP, has disconnected. Then the next sender takes over with a fresh
 //   history.
 // - Bad input is dropped, counted per reason, logged at most once a second per reason; the last
-//   good pose stays. service() handles at most max_messages_per_service messages a call.
+//   good pose stays. TCP connections, disconnections and idle clients closed (transport's idle
+//   timeout and take-over) are counted and logged at most once a second per kind, with counts. service() handles at most max_messages_per_service messages a call.
 // - Staleness: no truth once the newest pose is older than the timeout; each transition is logged
 //   once. The counts are logged when the source is destroyed.
 #pragma once
@@ -44,6 +45,10 @@ struct SocketSourceStats {
   std::array<std::uint64_t, kPoseRejectCount> rejected{};     ///< dropped, by PoseReject
   std::uint64_t sender_changes = 0;                           ///< times another sender took over
   std::uint64_t restarts = 0;                                 ///< history cleared: sender time or clock went back
+  std::uint64_t connections = 0;                              ///< TCP connections taken
+  std::uint64_t disconnections = 0;                           ///< TCP connections closed by their client
+  std::uint64_t idle_closed = 0;                              ///< TCP clients closed after the idle timeout
+  std::uint64_t taken_over = 0;                               ///< idle TCP clients closed for a newcomer
   [[nodiscard]] std::uint64_t rejected_total() const;
 };
 
@@ -65,6 +70,8 @@ class SocketPoseSource final : public PoseSource {
  private:
   void handle_message(const transport::ReceivedMessage& m);
   void reject(PoseReject reason, const transport::ReceivedMessage& m, std::uint64_t count = 1);
+  /// A TCP connection came or went: counted in `total`, logged at most once a second per kind.
+  void note_connection(const transport::ReceivedMessage& m, std::uint64_t& total);
   [[nodiscard]] Enu to_local(const PoseMessage& pose) const;
 
   enum class State { waiting, fresh, stale };
@@ -80,6 +87,10 @@ class SocketPoseSource final : public PoseSource {
   UtcNs owner_last_{};                  ///< arrival of the owner's newest accepted pose
   std::array<UtcNs, kPoseRejectCount> last_report_{};
   std::array<std::uint64_t, kPoseRejectCount> unreported_{};
+  /// Connection notes, indexed by transport::ReceivedMessage::Kind (connected .. taken_over).
+  static constexpr std::size_t kNoteKinds = 9;
+  std::array<UtcNs, kNoteKinds> last_note_{};
+  std::array<std::uint64_t, kNoteKinds> unnoted_{};
 };
 
 /// Builds a source listening on `endpoint`: a UDP receiver (`udp`) or a TCP server. Throws

@@ -101,20 +101,28 @@ class TcpPoseServer final : public PoseSocket {
   TcpPoseServer(const PoseEndpoint& endpoint, const PoseSocketOptions& options)
       : endpoint_(endpoint),
         max_(options.max_message_bytes),
-        server_(endpoint.host, endpoint.port, where("tcp", endpoint), {.max_clients = options.max_clients}),
+        idle_timeout_(options.idle_timeout),
+        take_over_idle_(options.take_over_idle),
+        server_(endpoint.host, endpoint.port, where("tcp", endpoint),
+                {.max_clients = options.max_clients, .take_over = [this] { return idlest_client(); }}),
         clients_(options.max_clients) {
     endpoint_.port = server_.port();
     for (auto& c : clients_) c.buffer.resize(max_ + 2);  // a longest line, CR, LF; allocated once per slot
   }
 
   std::optional<ReceivedMessage> receive() override {
+    if (pending_connect_) {  // the newcomer that took over a slot, reported after the client it closed
+      const std::size_t slot = *pending_connect_;
+      pending_connect_.reset();
+      return event(ReceivedMessage::Kind::connected, clients_[slot]);
+    }
     for (int step = 0; step < 8; ++step) {
       if (current_) {
         if (auto m = next_from_client(*current_)) return m;
         current_.reset();
       }
       const auto event = server_.next_event();
-      if (!event) return std::nullopt;
+      if (!event) return close_idle_client();
       using Kind = posix::TcpServerEvent::Kind;
       if (event->kind == Kind::ready) {
         read_client(event->slot);
@@ -122,13 +130,23 @@ class TcpPoseServer final : public PoseSocket {
         continue;
       }
       Client& c = event->kind == Kind::connected ? clients_[event->slot] : refused_;
+      if (event->replaced != 0) {  // keep the closed client's name for its report
+        taken_over_.serial = c.serial;
+        taken_over_.name = c.name;
+        taken_over_.name_len = c.name_len;
+        taken_over_.arrival = posix::wall_clock_now();
+      }
       c.serial = event->serial;
-      c.arrival = posix::wall_clock_now();
+      c.arrival = c.last_line = posix::wall_clock_now();
       const auto r = fmt::format_to_n(c.name.data(), c.name.size() - 1, "{} (tcp #{})", event->peer, event->serial);
       c.name_len = std::min(r.size, c.name.size() - 1);
       if (event->kind == Kind::refused) return this->event(ReceivedMessage::Kind::refused_client, c);
       c.start = c.end = 0;
       c.discarding = c.eof = false;
+      if (event->replaced != 0) {
+        pending_connect_ = event->slot;
+        return this->event(ReceivedMessage::Kind::taken_over, taken_over_);
+      }
       return this->event(ReceivedMessage::Kind::connected, c);
     }
     return std::nullopt;
@@ -151,7 +169,37 @@ class TcpPoseServer final : public PoseSocket {
     bool discarding = false;         ///< inside an overlong line: drop bytes up to the next '\n'
     bool eof = false;
     posix::WallTime arrival{};
+    posix::WallTime last_line{};     ///< when its last complete line was read (or it connected)
   };
+
+  /// Every slot taken: the client without a complete line for longest, if for take_over_idle.
+  std::optional<std::size_t> idlest_client() const {
+    const posix::WallTime now = posix::wall_clock_now();
+    std::optional<std::size_t> idlest;
+    for (std::size_t i = 0; i < clients_.size(); ++i) {
+      if (!server_.occupied(i) || clients_[i].eof || now - clients_[i].last_line < take_over_idle_) continue;
+      if (!idlest || clients_[i].last_line < clients_[*idlest].last_line) idlest = i;
+    }
+    return idlest;
+  }
+
+  /// Closes one client without a complete line for the idle timeout (a few compares and one
+  /// clock read a call, only while clients are connected).
+  std::optional<ReceivedMessage> close_idle_client() {
+    if (server_.client_count() == 0) return std::nullopt;
+    const posix::WallTime now = posix::wall_clock_now();
+    for (std::size_t i = 0; i < clients_.size(); ++i) {
+      Client& c = clients_[i];
+      if (!server_.occupied(i) || c.eof || now - c.last_line < idle_timeout_) continue;
+      c.arrival = now;
+      ReceivedMessage m = event(ReceivedMessage::Kind::idle_closed, c);
+      server_.drop(i);
+      c.start = c.end = 0;
+      c.discarding = false;
+      return m;  // sender_name points into the slot, untouched until the next accept
+    }
+    return std::nullopt;
+  }
 
   ReceivedMessage event(ReceivedMessage::Kind kind, const Client& c) const {
     ReceivedMessage m;
@@ -188,6 +236,7 @@ class TcpPoseServer final : public PoseSocket {
       if (nl == nullptr) break;
       const std::size_t length = static_cast<std::size_t>(nl - begin);
       c.start += length + 1;
+      c.last_line = c.arrival;
       if (c.discarding) {  // the tail of an overlong line
         c.discarding = false;
         continue;
@@ -222,10 +271,12 @@ class TcpPoseServer final : public PoseSocket {
 
   PoseEndpoint endpoint_;
   std::size_t max_;
+  std::chrono::nanoseconds idle_timeout_, take_over_idle_;
   posix::TcpServer server_;
   std::vector<Client> clients_;
-  Client refused_;
+  Client refused_, taken_over_;  ///< names for the reports of a refused and a closed client
   std::optional<std::size_t> current_;
+  std::optional<std::size_t> pending_connect_;
 };
 
 }  // namespace

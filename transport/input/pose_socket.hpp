@@ -1,7 +1,9 @@
 // Pose sockets: where an external simulator's pose messages come in. A UDP receiver (one message
 // per datagram) and a TCP line server (one message per '\n'-terminated line, several clients),
 // both non-blocking behind ONE pollable file descriptor (the TCP server is posix::TcpServer, as
-// the NMEA tcp output's). They return raw messages with their arrival time and sender; decoding is
+// the NMEA tcp output's). A TCP client that sends no complete line for the idle timeout is closed,
+// and when every slot is taken a newcomer takes the slot of the client idle longest (idle for at
+// least the take-over time); docs/pose-input.md. They return raw messages with their arrival time and sender; decoding is
 // the caller's business.
 #pragma once
 
@@ -27,6 +29,11 @@ using PoseEndpoint = posix::Endpoint;
 struct PoseSocketOptions {
   std::size_t max_message_bytes = 4096;  ///< longer datagrams or lines are refused (reported, not returned)
   std::size_t max_clients = 8;           ///< TCP: connections beyond this are accepted and closed at once
+  /// TCP: a client without a complete line ('\n'-terminated, blank ones too) for this long is closed.
+  std::chrono::nanoseconds idle_timeout{std::chrono::seconds(5)};
+  /// TCP: every slot taken, a newcomer closes the client idle longest if idle at least this long
+  /// (otherwise the newcomer is refused): clients that send are never pushed out.
+  std::chrono::nanoseconds take_over_idle{std::chrono::seconds(1)};
 };
 
 /// One thing that happened on a pose socket.
@@ -39,6 +46,8 @@ struct ReceivedMessage {
     connected,          ///< TCP: a client connected
     disconnected,       ///< TCP: a client closed (or reset) its connection
     refused_client,     ///< TCP: a client beyond max_clients was closed at once
+    idle_closed,        ///< TCP: a client sent no complete line for the idle timeout and was closed
+    taken_over,         ///< TCP: an idle client was closed to make room for a new connection
   };
   Kind kind = Kind::message;
   std::string_view bytes;          ///< message only; valid until the next receive()

@@ -85,6 +85,15 @@ std::optional<TcpServerEvent> TcpServer::accept_one() {
   for (std::size_t i = 0; i < clients_.size() && !slot; ++i) {
     if (clients_[i].serial == 0) slot = i;
   }
+  std::uint64_t replaced = 0;
+  if (!slot && options_.take_over) {
+    slot = options_.take_over();
+    if (slot && (*slot >= clients_.size() || clients_[*slot].serial == 0)) slot.reset();
+    if (slot) {
+      replaced = clients_[*slot].serial;
+      drop(*slot);
+    }
+  }
   Client& c = slot ? clients_[*slot] : refused_;
   c.serial = ++serial_counter_;
   c.peer_len = format_address(from, c.peer);
@@ -111,6 +120,7 @@ std::optional<TcpServerEvent> TcpServer::accept_one() {
   ++client_count_;
   e.kind = TcpServerEvent::Kind::connected;
   e.slot = *slot;
+  e.replaced = replaced;
   return e;
 }
 

@@ -1,7 +1,7 @@
 // One TCP server for every TCP endpoint of the emulator (the NMEA output's clients, the pose
 // input's simulators): a listening socket and its clients behind ONE pollable descriptor (an epoll
-// instance), a fixed number of client slots, connections beyond them accepted and closed at once,
-// and events handed out one at a time so the caller bounds its work by bounding its calls. What
+// instance), a fixed number of client slots, connections beyond them accepted and closed at once
+// (or, when the caller names one, a client is closed to make room for the newcomer), and events handed out one at a time so the caller bounds its work by bounding its calls. What
 // is read from or written to a client is the caller's business (per slot, in its own arrays).
 #pragma once
 
@@ -10,6 +10,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -23,6 +24,9 @@ struct TcpServerOptions {
   std::size_t max_clients = 8;     ///< slots; more connections are accepted and closed at once
   bool no_delay = false;           ///< TCP_NODELAY on each client: small writes leave at once
   int send_buffer_bytes = 0;       ///< SO_SNDBUF of each client (bytes); 0: the system's default
+  /// Every slot taken and a client connects: the slot whose client is closed to make room for it,
+  /// or nothing to refuse the newcomer. Empty: newcomers are refused.
+  std::function<std::optional<std::size_t>()> take_over{};
 };
 
 /// One thing that happened on the server.
@@ -38,6 +42,7 @@ struct TcpServerEvent {
   std::string_view peer;      ///< "127.0.0.1:50123"; valid until the slot is taken again
   bool readable = false;      ///< ready: data, end of file, hang-up or an error waits for a read
   bool writable = false;      ///< ready: the socket takes more bytes (when asked for, see watch)
+  std::uint64_t replaced = 0; ///< connected: serial of the client closed to make room (0: none)
 };
 
 class TcpServer {
