@@ -198,7 +198,9 @@ TEST(UbxGpsd, RawCfgRateWriteIsAcknowledgedAndTheEpochRateFollows) {
   std::int64_t previous = -1;
   for (const std::int64_t t : m.times) {
     EXPECT_EQ(t % 400, 0) << "a solution off the 400 ms grid";
-    if (previous >= 0) EXPECT_EQ(t - previous, 400) << "a solution missing, or one between";
+    if (previous >= 0) {
+      EXPECT_EQ(t - previous, 400) << "a solution missing, or one between";
+    }
     previous = t;
   }
   EXPECT_GE(m.times.size(), 11u) << "5 s at 400 ms";
