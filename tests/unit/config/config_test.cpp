@@ -63,9 +63,12 @@ TEST(Config, ProtocolAndUbloxReceiverFromFlagsAndFileAndPerReceiverTable) {
   EXPECT_EQ(c.receiver().protocol, Protocol::nmea_ubx);
   EXPECT_EQ(c.receiver().ublox_model, ubx::ReceiverModel::ublox_f9p);
   EXPECT_TRUE(c.receiver().sentences_given);
-  // In a file `receiver` is the model (a string) or the [[receiver]] tables; `protocol` may differ per receiver.
-  const auto file = write_temp("ubx.toml", "receiver = \"ublox-m9n\"\nprotocol = \"ubx\"\n"
-                                           "[[receiver]]\noutput = \"stdout\"\n"
+  // In a file `receiver` is the model (a string) or the [[receiver]] tables (TOML allows one of
+  // them: with tables, each names its model); `protocol` may differ per receiver.
+  const auto single = write_temp("ubx1.toml", "receiver = \"ublox-m9n\"\nprotocol = \"ubx\"\n");
+  EXPECT_EQ(build_config(single, {}).receiver().ublox_model, ubx::ReceiverModel::ublox_m9n);
+  const auto file = write_temp("ubx.toml", "protocol = \"ubx\"\n"
+                                           "[[receiver]]\noutput = \"stdout\"\nreceiver = \"ublox-m9n\"\n"
                                            "[[receiver]]\noutput = \"file:/tmp/b\"\nprotocol = \"nmea\"\n");
   const Config f = build_config(file, {});
   ASSERT_EQ(f.receivers.size(), 2u);
