@@ -64,8 +64,7 @@ std::string open_failure(int err) {
 SerialOutput::SerialOutput(SerialTarget target, SerialOptions options, std::shared_ptr<PortLister> lister)
     : target_(std::move(target)), options_(options), lister_(std::move(lister)) {
   (void)speed_for(options_.baud_bps);  // validates the baud before anything is opened
-  spec_text_ = target_.usb ? fmt::format("serial:usb:{}@{}", to_string(*target_.usb), options_.baud_bps)
-                           : fmt::format("serial:{}@{}", target_.device.string(), options_.baud_bps);
+  spec_text_ = spec_text();
   std::string path = target_.device.string();
   if (target_.usb) {
     if (!lister_) lister_ = make_system_port_lister();
@@ -285,6 +284,33 @@ void SerialOutput::flush() {
     pollfd pfd{fd_, POLLOUT, 0};
     (void)::poll(&pfd, 1, 50);
   }
+}
+
+std::string SerialOutput::spec_text() const {
+  return target_.usb ? fmt::format("serial:usb:{}@{}", to_string(*target_.usb), options_.baud_bps)
+                     : fmt::format("serial:{}@{}", target_.device.string(), options_.baud_bps);
+}
+
+bool SerialOutput::set_baud(int baud_bps, std::string& error_text) {
+  speed_t speed{};
+  try {
+    speed = speed_for(baud_bps);
+  } catch (const std::invalid_argument& e) {
+    error_text = e.what();
+    return false;
+  }
+  options_.baud_bps = baud_bps;  // a reopen after a hang-up uses it too
+  spec_text_ = spec_text();
+  if (fd_ < 0) return true;
+  flush();
+  (void)::tcdrain(fd_);  // what was queued (the acknowledgement) leaves at the old rate
+  termios tio{};
+  if (::tcgetattr(fd_, &tio) != 0 || ::cfsetispeed(&tio, speed) != 0 || ::cfsetospeed(&tio, speed) != 0 ||
+      ::tcsetattr(fd_, TCSANOW, &tio) != 0) {
+    error_text = fmt::format("cannot set {} baud on {}: {}", baud_bps, device_, posix::errno_text(errno));
+    return false;
+  }
+  return true;
 }
 
 void SerialOutput::check_modem_line(ModemLine line) {

@@ -76,6 +76,12 @@ class SerialOutput final : public Output {
   /// The device node currently (or last) open: "/dev/ttyUSB1", "/dev/pts/4".
   [[nodiscard]] const std::string& device() const { return device_; }
   [[nodiscard]] const SerialStats& serial_stats() const { return serial_stats_; }
+  [[nodiscard]] int baud_bps() const { return options_.baud_bps; }
+
+  /// Changes the line's speed (a u-blox client's CFG-PRT): finishes the partly written epoch,
+  /// waits until the queued bytes are on the line (tcdrain), then sets the new baud. False with
+  /// `error_text` for a baud not in nmea::kStandardBauds or one the driver refuses.
+  bool set_baud(int baud_bps, std::string& error_text);
 
   /// Start-up check that the device has `line` (a pty has no modem lines). Throws
   /// std::runtime_error naming the device and the reason.
@@ -89,6 +95,7 @@ class SerialOutput final : public Output {
 
  private:
   void open_device(const std::string& path);
+  [[nodiscard]] std::string spec_text() const;
   void lose_device(const std::string& why);
   void maybe_reopen();
   /// Writes what is left of a partly written epoch; false when the device was lost.

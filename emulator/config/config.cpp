@@ -132,7 +132,7 @@ Config build(const toml::table* file, const std::string& file_name, const RawOpt
     for (const auto& [key, node] : *file) {
       const std::string name{key.str()};
       const int line = static_cast<int>(node.source().begin.line);
-      if (name == "receiver") {
+      if (name == "receiver" && !node.is_string()) {  // a string is --receiver's value
         config.receiver_tables = parse_receiver_tables(file_name, node);
         continue;
       }

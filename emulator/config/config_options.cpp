@@ -314,7 +314,22 @@ std::vector<OptionDef> make_option_table() {
       }, true);
   add("sentences", "LIST", "NMEA sentences of each epoch, comma-separated, from RMC VTG GGA GSA GSV GLL GST "
       "ZDA; written in that (u-blox) order whatever the order given, e.g. GGA,RMC (default RMC,VTG,GGA,GSA,GSV,GLL)",
-      [](ConfigDraft& d, V v) { d.receiver.settings.format.sentences = parse_sentence_set(v); });
+      [](ConfigDraft& d, V v) {
+        d.receiver.settings.format.sentences = parse_sentence_set(v);
+        d.receiver.settings.sentences_given = true;
+      });
+  add("protocol", "P", "what the receiver writes: nmea | ubx (u-blox binary, answering its configuration "
+      "handshake; NMEA only with --sentences) | nmea+ubx (default nmea)",
+      [](ConfigDraft& d, V v) {
+        const std::string p = parse_choice("protocol", v.back(), {"nmea", "ubx", "nmea+ubx"});
+        d.receiver.settings.protocol = p == "ubx" ? Protocol::ubx : p == "nmea" ? Protocol::nmea : Protocol::nmea_ubx;
+      });
+  add("receiver", "MODEL", "the u-blox receiver emulated with --protocol ubx or nmea+ubx: ublox-m8n | ublox-m9n | "
+      "ublox-f9p | generic (answers as an M8) (default generic)",
+      [](ConfigDraft& d, V v) {
+        const std::string m = parse_choice("receiver", v.back(), {"ublox-m8n", "ublox-m9n", "ublox-f9p", "generic"});
+        d.receiver.settings.ublox_model = *ubx::receiver_model_from_name(m);
+      });
   add("geoid-separation", "M", "geoid separation in GGA, metres (default 0)",
       [](ConfigDraft& d, V v) { d.receiver.settings.model.geoid_sep_m = parse_number("geoid-separation", v.back(), -120.0, 120.0); });
   add("talker", "ID", "NMEA talker ID: GP (GPS) | GN (several systems) | GL (GLONASS) | GA (Galileo) | BD (BeiDou) (default GP)",

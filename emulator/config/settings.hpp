@@ -18,6 +18,7 @@
 #include "emulator/replay/replay_options.hpp"
 #include "emulator/sources/sim.hpp"
 #include "emulator/sources/source_spec.hpp"
+#include "emulator/ubx/model.hpp"
 #include "nmea/fix.hpp"
 #include "transport/output_spec.hpp"
 #include "transport/posix/realtime.hpp"
@@ -46,6 +47,10 @@ struct TimelineSettings {
   [[nodiscard]] bool fast() const { return clock.kind == ClockKind::fast; }
 };
 
+/// What a receiver writes (--protocol): NMEA sentences, u-blox UBX (answering the configuration
+/// handshake), or both.
+enum class Protocol { nmea, ubx, nmea_ubx };
+
 /// One receiver: where its truth comes from, how it errs, what it writes and where.
 struct ReceiverSettings {
   sources::SourceSpec source;                  ///< sim:NAME, replay:FILE.csv, udp:/tcp:[HOST:]PORT
@@ -57,6 +62,9 @@ struct ReceiverSettings {
   std::uint64_t seed = 1;                      ///< noise and sky seed (receiver i of --receivers: seed + i)
   ReceiverOptions model;                       ///< receiver model: fix quality, satellites, HDOP, cold start, outages
   nmea::FormatOptions format;                  ///< sentences, talker, NMEA version, resolution, time decimals
+  bool sentences_given = false;                ///< --sentences was given (ubx: no NMEA unless it was)
+  Protocol protocol = Protocol::nmea;          ///< --protocol
+  ubx::ReceiverModel ublox_model = ubx::ReceiverModel::generic;  ///< --receiver (MON-VER, configuration interface)
   std::vector<transport::OutputSpec> outputs;  ///< where NMEA goes (parsed --output specs)
   std::optional<std::string> tee;              ///< file copying everything sent, with send times (default none)
 };

@@ -22,7 +22,7 @@ std::string names_of(OptionScope scope) {
 }  // namespace
 
 const char* why_not_per_receiver(std::string_view name) {
-  if (name == "config" || name == "receiver") return "a [[receiver]] table holds option keys only";
+  if (name == "config") return "a [[receiver]] table holds option keys only";
   const OptionDef* option = find_option(name);
   if (!option) return nullptr;
   switch (option->scope) {

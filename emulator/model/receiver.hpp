@@ -100,6 +100,13 @@ class Receiver {
   /// during an outage or the acquisition phase of a cold start. Call with non-decreasing `t`.
   [[nodiscard]] nmea::Fix fix_at(UtcNs t, const std::optional<sources::Truth>& truth);
 
+  /// Starts again at `t` (a cold start, CFG-RST): the cold-start phases and outages of the
+  /// options count from `t`, the held course is forgotten.
+  void restart(UtcNs t) {
+    first_epoch_ = t;
+    last_course_deg_.reset();
+  }
+
   [[nodiscard]] const Geometry& geometry() const { return geometry_; }
 
  private:

@@ -5,7 +5,13 @@ namespace gpsemu {
 Channel::Channel(const ChannelSettings& settings, UtcNs first_epoch) : settings_(settings), frame_(settings.origin) {
   receiver_ = std::make_unique<Receiver>(frame_, settings_.receiver,
                                          noise::make_noise_model(settings_.noise, settings_.seed), first_epoch);
-  encoders_.push_back(std::make_unique<NmeaEncoder>(settings_.format));
+  if (settings_.ubx) {
+    auto ubx = std::make_unique<UbxEncoder>(*settings_.ubx);
+    ubx_ = ubx.get();
+    encoders_.push_back(std::move(ubx));
+  } else {
+    encoders_.push_back(std::make_unique<NmeaEncoder>(settings_.format));
+  }
   bytes_.reserve(1024);
 }
 
@@ -21,6 +27,8 @@ nmea::Fix Channel::step(UtcNs t, const std::optional<sources::Truth>& truth) {
   for (const auto& encoder : encoders_) encoder->encode(fix, bytes_);
   return fix;
 }
+
+void Channel::cold_start(UtcNs t) { receiver_->restart(t); }
 
 void Channel::client_wrote(std::string_view bytes) {
   for (const auto& encoder : encoders_) encoder->client_wrote(bytes);

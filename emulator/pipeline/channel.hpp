@@ -16,6 +16,7 @@
 #include "emulator/model/receiver.hpp"
 #include "emulator/model/time.hpp"
 #include "emulator/pipeline/encoder.hpp"
+#include "emulator/pipeline/ubx_encoder.hpp"
 #include "emulator/sources/pose_source.hpp"
 #include "nmea/fix.hpp"
 #include "transport/output.hpp"
@@ -29,6 +30,9 @@ struct ChannelSettings {
   noise::NoiseConfig noise;
   std::uint64_t seed = 1;
   nmea::FormatOptions format;
+  /// --protocol ubx or nmea+ubx: the u-blox port's start settings; the UBX encoder then writes the
+  /// NMEA part too (as its CFG-MSG settings say) in place of the NMEA encoder.
+  std::optional<ubx::SessionSettings> ubx;
 };
 
 /// One receiver's counts (a fleet's summary has one line per receiver).
@@ -39,7 +43,8 @@ struct ReceiverStats {
 
 class Channel final : public transport::ClientInput {
  public:
-  /// The receiver model starts at `first_epoch`, with the NMEA encoder of settings.format.
+  /// The receiver model starts at `first_epoch`, with the NMEA encoder of settings.format, or the
+  /// UBX encoder of settings.ubx.
   Channel(const ChannelSettings& settings, UtcNs first_epoch);
   Channel(const Channel&) = delete;
   Channel& operator=(const Channel&) = delete;
@@ -65,6 +70,11 @@ class Channel final : public transport::ClientInput {
   /// Every encoder's answer to what the client wrote, in encoder order.
   [[nodiscard]] std::string take_reply() override;
 
+  /// The UBX encoder (settings.ubx), null for an NMEA channel.
+  [[nodiscard]] UbxEncoder* ubx_encoder() const { return ubx_; }
+  /// Cold start at `t` (CFG-RST): the receiver model starts again, no fix until it reacquires.
+  void cold_start(UtcNs t);
+
   [[nodiscard]] const LocalFrame& frame() const { return frame_; }
   [[nodiscard]] const Receiver& receiver() const { return *receiver_; }
   [[nodiscard]] const ChannelSettings& settings() const { return settings_; }
@@ -77,6 +87,7 @@ class Channel final : public transport::ClientInput {
   std::unique_ptr<Receiver> receiver_;
   std::unique_ptr<sources::PoseSource> source_;
   std::vector<std::unique_ptr<Encoder>> encoders_;
+  UbxEncoder* ubx_ = nullptr;  ///< owned by encoders_
   std::string bytes_;
   bool ended_ = false;
   ReceiverStats stats_;

@@ -6,11 +6,40 @@
 #include "emulator/config/receiver_config.hpp"
 #include "emulator/config/validate.hpp"
 #include "emulator/pipeline/serial_line_check.hpp"
+#include "emulator/pipeline/ubx_effects.hpp"
 
 namespace gpsemu {
 namespace {
 
 std::chrono::nanoseconds to_ns(double seconds) { return std::chrono::nanoseconds{std::llround(seconds * 1e9)}; }
+
+// The u-blox port's start settings (--protocol ubx / nmea+ubx): --receiver's model, the period of
+// --rate, the sentences of --sentences (ubx: none unless given), NAV-PVT every epoch, the baud of
+// a serial output, and as sAcc a tenth of the horizontal noise sigma a second (the speed itself
+// is the truth's).
+std::optional<ubx::SessionSettings> ubx_settings(const ReceiverSettings& receiver, const ReceiverOptions& options,
+                                                 const TimelineSettings& timeline) {
+  if (receiver.protocol == Protocol::nmea) return std::nullopt;
+  ubx::SessionSettings s;
+  s.start.model = receiver.ublox_model;
+  s.start.measurement_period = std::chrono::milliseconds{std::llround(1000.0 / timeline.rate_hz)};
+  s.start.sentences = receiver.protocol == Protocol::ubx && !receiver.sentences_given ? nmea::SentenceSet{}
+                                                                                     : receiver.format.sentences;
+  s.start.ubx_messages = {ubx::msg::nav_pvt};
+  for (const transport::OutputSpec& spec : receiver.outputs) {
+    if (spec.kind == transport::OutputKind::serial)
+      s.start.baud = static_cast<std::uint32_t>(spec.baud_bps != 0 ? spec.baud_bps : nmea::kDefaultBaud);
+  }
+  s.format = receiver.format;
+  s.speed_sigma_mps = 0.1 * std::hypot(options.noise_sigma_m.east_m, options.noise_sigma_m.north_m);
+  return s;
+}
+
+// The widest epoch of a receiver's protocols: its NMEA sentences, or the u-blox port's at start.
+std::size_t widest_epoch_bytes(const nmea::FormatOptions& format, const std::optional<ubx::SessionSettings>& ubx) {
+  if (!ubx) return worst_case_epoch_bytes(format);
+  return widest_ubx_epoch_bytes(format, ubx::start_settings(ubx->start), ubx->start.port);
+}
 
 }  // namespace
 
@@ -29,16 +58,18 @@ LoopSettings loop_settings(const TimelineSettings& timeline) {
 
 ReceiverSetup receiver_setup(const ReceiverSettings& receiver, const TimelineSettings& timeline) {
   ReceiverSetup r;
+  const ReceiverOptions options = receiver_options(receiver);
   r.channel = {.origin = receiver.origin,
-               .receiver = receiver_options(receiver),
+               .receiver = options,
                .noise = receiver.noise,
                .seed = receiver.seed,
-               .format = receiver.format};
+               .format = receiver.format,
+               .ubx = ubx_settings(receiver, options, timeline)};
   r.outputs = {.outputs = receiver.outputs,
                .tee = receiver.tee,
                .realtime = !timeline.fast(),
                .rate_hz = timeline.rate_hz,
-               .widest_epoch_bytes = [format = receiver.format] { return worst_case_epoch_bytes(format); }};
+               .widest_epoch_bytes = [format = receiver.format, ubx = r.channel.ubx] { return widest_epoch_bytes(format, ubx); }};
   r.sim_source = receiver.source.kind == sources::SourceKind::sim;
   r.source_text = receiver.source.text;
   r.make_source = [receiver, timeline](const LocalFrame& frame, UtcNs first_epoch) {

@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "emulator/pipeline/epoch_loop.hpp"
+#include "emulator/pipeline/ubx_effects.hpp"
 #include "nmea/sentences.hpp"
 
 namespace gpsemu {
@@ -64,6 +65,8 @@ class ChannelSet final : public EpochProducer {
   [[nodiscard]] bool active(std::size_t i) const override { return !channels[i]->ended(); }
   std::string_view produce(std::size_t i, UtcNs t) override {
     Channel& ch = *channels[i];
+    // What a u-blox client asked for since the last epoch: its answer is already written.
+    if (ch.ubx_encoder() && sink) apply_ubx_effects(ch, sink->outputs(i), rate_hz, t, sink->who(i));
     (void)ch.step(t);
     ++ch.stats().epochs_emitted;
     return ch.bytes();
@@ -82,6 +85,8 @@ class ChannelSet final : public EpochProducer {
   }
 
   std::vector<std::unique_ptr<Channel>> channels;  ///< not moved: a receiver refers to its frame
+  const Sink* sink = nullptr;  ///< the receivers' outputs (u-blox baud changes)
+  double rate_hz = 1.0;        ///< the loop's
 
  private:
   const Timeline& timeline_;
@@ -111,6 +116,8 @@ Runner::Runner(RunSettings settings, std::optional<RunnerIo> io)
     if (with_pps(loop_, io)) pps_line_ = open_pps(loop_.pps, sink_);
   }
   for (std::size_t i = 0; i < sink_.receivers(); ++i) sink_.attach_client_input(i, channels_->channels[i].get());
+  channels_->sink = &sink_;
+  channels_->rate_hz = loop_.rate_hz;
   if (pps_line_) pps_ = std::make_unique<PpsTimeline>(*pps_line_, loop_.pps.width, timeline_.epoch_minus_wall);
   io_ = make_loop_io(sink_, *channels_);
   if (channels_->channels.size() > 1 && loop_.clock.kind == ClockKind::lockstep) {

@@ -27,6 +27,7 @@
 #include "emulator/model/geo.hpp"
 #include "emulator/model/time.hpp"
 #include "nmea/parse.hpp"
+#include "tests/support/gpsd.hpp"
 #include "tests/support/process.hpp"
 #include "tests/support/read_deadline.hpp"
 
@@ -37,40 +38,10 @@ namespace fs = std::filesystem;
 using namespace std::chrono;
 using nlohmann::json;
 
-constexpr const char* kGpsd = "/usr/sbin/gpsd";
+using test::connect_gpsd;
+using test::free_tcp_port;
+using test::kGpsd;
 const Geodetic kOrigin{43.0725, -89.4125, 260.0};  // gpsemu's default origin (sim:stationary truth)
-
-/// A TCP port that was free a moment ago (bound to port 0 and released): parallel tests and a
-/// system gpsd on 2947 do not collide.
-int free_tcp_port() {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  socklen_t len = sizeof a;
-  if (fd < 0 || ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 ||
-      ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len) != 0) {
-    throw std::runtime_error("cannot find a free port");
-  }
-  ::close(fd);
-  return ntohs(a.sin_port);
-}
-
-/// Connects to gpsd on 127.0.0.1:port, retrying (paced by poll timeouts) until it listens.
-int connect_gpsd(int port, milliseconds timeout) {
-  const auto deadline = steady_clock::now() + timeout;
-  while (steady_clock::now() < deadline) {
-    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_port = htons(static_cast<std::uint16_t>(port));
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    if (::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0) return fd;
-    ::close(fd);
-    ::poll(nullptr, 0, 20);  // gpsd is still starting: try again shortly
-  }
-  return -1;
-}
 
 struct Report {
   int mode = 0;
