@@ -100,6 +100,16 @@ UtcFields utc_fields(nmea::UtcTime t) {
           static_cast<std::int32_t>(hms.subseconds().count() * 1'000'000)};
 }
 
+/// Year (2 bytes), month, day, hour, minute, second: the date-time block NAV-PVT and NAV-TIMEUTC share.
+void put_date_time(std::string& p, const UtcFields& utc) {
+  put_u2(p, static_cast<std::uint32_t>(utc.year));
+  put_u1(p, utc.month);
+  put_u1(p, utc.day);
+  put_u1(p, utc.hour);
+  put_u1(p, utc.minute);
+  put_u1(p, utc.second);
+}
+
 /// WGS84 earth-centred, earth-fixed coordinates (metres) of the fix's position.
 struct Ecef {
   double x_m = 0.0, y_m = 0.0, z_m = 0.0;
@@ -134,12 +144,7 @@ std::string nav_pvt(const nmea::Fix& fix, const NavExtras& extras) {
   std::string p;
   p.reserve(92);
   put_u4(p, tow_ms(fix));
-  put_u2(p, static_cast<std::uint32_t>(utc.year));
-  put_u1(p, utc.month);
-  put_u1(p, utc.day);
-  put_u1(p, utc.hour);
-  put_u1(p, utc.minute);
-  put_u1(p, utc.second);
+  put_date_time(p, utc);
   put_u1(p, 0x07);  // valid: validDate, validTime, fullyResolved
   put_u4(p, fix.has_fix() ? kTimeAccuracyNs : kNoFixTimeAccuracyNs);
   put_i4(p, utc.nano);
@@ -266,12 +271,7 @@ std::string nav_timeutc(const nmea::Fix& fix) {
   put_u4(p, tow_ms(fix));
   put_u4(p, fix.has_fix() ? kTimeAccuracyNs : kNoFixTimeAccuracyNs);
   put_i4(p, utc.nano);
-  put_u2(p, static_cast<std::uint32_t>(utc.year));
-  put_u1(p, utc.month);
-  put_u1(p, utc.day);
-  put_u1(p, utc.hour);
-  put_u1(p, utc.minute);
-  put_u1(p, utc.second);
+  put_date_time(p, utc);
   put_u1(p, 0x37);  // validTOW, validWKN, validUTC; utcStandard 3 (USNO)
   return p;
 }
