@@ -1,6 +1,6 @@
 // The u-blox encoder of a receiver channel: a thin adapter over ubx::Session (emulator/ubx/,
-// pure). Each epoch it writes what the receiver's u-blox settings turn on (NMEA sentences, then
-// UBX NAV messages, on the client's measurement grid); what a client writes is answered at once
+// pure). Each epoch it writes what the receiver's u-blox settings turn on (UBX NAV messages, NMEA
+// sentences, then NAV-EOE, on the client's measurement grid); what a client writes is answered at once
 // through take_reply(), which the output writes back before the next epoch. Bad frames from the
 // client are counted (ubx::FrameStats) and logged at most once a second. The effects the emulator
 // must apply (measurement period, baud, cold start) wait in take_effects().

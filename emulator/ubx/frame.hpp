@@ -40,6 +40,7 @@ inline constexpr MessageId nav_timegps{0x01, 0x20};
 inline constexpr MessageId nav_timeutc{0x01, 0x21};
 inline constexpr MessageId nav_sat{0x01, 0x35};
 inline constexpr MessageId nav_cov{0x01, 0x36};
+inline constexpr MessageId nav_eoe{0x01, 0x61};
 inline constexpr MessageId ack_nak{0x05, 0x00};
 inline constexpr MessageId ack_ack{0x05, 0x01};
 inline constexpr MessageId cfg_prt{0x06, 0x00};

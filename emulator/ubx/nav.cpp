@@ -342,9 +342,16 @@ std::string nav_cov(const nmea::Fix& fix, const NavExtras& extras) {
   return p;
 }
 
+std::string nav_eoe(const nmea::Fix& fix) {
+  std::string p;
+  put_u4(p, tow_ms(fix));
+  return p;
+}
+
 bool nav_encodes(MessageId id) {
   for (const MessageId m : {msg::nav_pvt, msg::nav_posllh, msg::nav_velned, msg::nav_status, msg::nav_sol,
-                            msg::nav_dop, msg::nav_timeutc, msg::nav_timegps, msg::nav_sat, msg::nav_cov}) {
+                            msg::nav_dop, msg::nav_timeutc, msg::nav_timegps, msg::nav_sat, msg::nav_cov,
+                            msg::nav_eoe}) {
     if (m == id) return true;
   }
   return false;
@@ -361,6 +368,7 @@ std::optional<std::string> nav_payload(MessageId id, const nmea::Fix& fix, const
   if (id == msg::nav_timegps) return nav_timegps(fix);
   if (id == msg::nav_sat) return nav_sat(fix);
   if (id == msg::nav_cov) return nav_cov(fix, extras);
+  if (id == msg::nav_eoe) return nav_eoe(fix);
   return std::nullopt;
 }
 

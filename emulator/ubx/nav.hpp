@@ -60,6 +60,9 @@ inline constexpr std::uint32_t no_fix_speed_accuracy_mm_s = 20000;
 [[nodiscard]] std::string nav_sat(const nmea::Fix& fix);
 /// NAV-COV, 64 bytes (NED covariances from the sigmas; off-diagonal terms 0).
 [[nodiscard]] std::string nav_cov(const nmea::Fix& fix, const NavExtras& extras);
+/// NAV-EOE, 4 bytes (the epoch's iTOW): the end-of-epoch marker (protocol 18+), written after
+/// every other NAV message and the NMEA sentences of the epoch.
+[[nodiscard]] std::string nav_eoe(const nmea::Fix& fix);
 
 /// Whether `id` is one of the NAV messages above.
 [[nodiscard]] bool nav_encodes(MessageId id);

@@ -51,8 +51,17 @@ void append_solution(std::string& out, const Settings& s, Port port, std::uint64
     if (std::find(ids.begin(), ids.end(), id) == ids.end()) ids.push_back(id);
   }
   for (const MessageId id : ids) {
+    if (id == msg::nav_eoe) continue;  // append_end_of_epoch()
     if (const auto payload = nav_payload(id, fix, extras)) append_frame(out, id, *payload);
   }
+}
+
+void append_end_of_epoch(std::string& out, const Settings& s, Port port, std::uint64_t solution_index,
+                         const nmea::Fix& fix, std::span<const MessageId> polled) {
+  const std::vector<MessageId> due = due_messages(s, port, solution_index);
+  const bool on = std::find(due.begin(), due.end(), msg::nav_eoe) != due.end() ||
+                  std::find(polled.begin(), polled.end(), msg::nav_eoe) != polled.end();
+  if (on) append_frame(out, msg::nav_eoe, nav_eoe(fix));
 }
 
 }  // namespace gpsemu::ubx

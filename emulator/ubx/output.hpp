@@ -1,8 +1,12 @@
 // What a u-blox writes with each navigation solution, from its settings: the UBX messages and
 // NMEA sentences due on the client's port (a message at rate n goes out with every n-th
-// solution; none of a protocol the port does not output), the UBX ones encoded in u-blox's order
-// (by class, then id: NAV-POSLLH, NAV-STATUS, NAV-DOP, NAV-SOL, NAV-PVT, NAV-VELNED, NAV-TIMEGPS,
-// NAV-TIMEUTC, NAV-SAT, NAV-COV), polled messages once more. Pure.
+// solution; none of a protocol the port does not output). A u-blox writes the epoch's NAV
+// messages first, then its NMEA sentences, and ends the epoch with NAV-EOE when that is on (the
+// recorded u-blox 8 and F9 streams of gpsd's regression logs; u-blox's interface description of
+// NAV-EOE): append_solution() writes the NAV messages by class, then id (NAV-POSLLH, NAV-STATUS,
+// NAV-DOP, NAV-SOL, NAV-PVT, NAV-VELNED, NAV-TIMEGPS, NAV-TIMEUTC, NAV-SAT, NAV-COV), polled
+// messages once more; the caller writes the NMEA sentences after them, then
+// append_end_of_epoch(). Pure.
 #pragma once
 
 #include <cstddef>
@@ -24,8 +28,12 @@ namespace gpsemu::ubx {
 /// The most UBX bytes one solution can carry on `port` with these settings (every message that is
 /// on, NAV-SAT with max_satellites): the serial line budget's share of UBX.
 [[nodiscard]] std::size_t widest_solution_ubx_bytes(const Settings& s, Port port);
-/// Appends the frames of the due UBX messages, then those of `polled` not already written.
+/// Appends the frames of the due UBX messages but NAV-EOE, then those of `polled` not already
+/// written.
 void append_solution(std::string& out, const Settings& s, Port port, std::uint64_t solution_index,
                      const nmea::Fix& fix, const NavExtras& extras, std::span<const MessageId> polled = {});
+/// Appends NAV-EOE when it is due (or polled): the last bytes of the epoch, after its NMEA.
+void append_end_of_epoch(std::string& out, const Settings& s, Port port, std::uint64_t solution_index,
+                         const nmea::Fix& fix, std::span<const MessageId> polled = {});
 
 }  // namespace gpsemu::ubx

@@ -43,8 +43,9 @@ void Session::append_solution(const nmea::Fix& fix, std::string& out) {
   const Port port = machine_.port();
   nmea::FormatOptions format = settings_.format;
   format.sentences = due_sentences(s, port, solutions_);
-  nmea::append_epoch(fix, format, out);
   ubx::append_solution(out, s, port, solutions_, fix, extras, polled_);
+  nmea::append_epoch(fix, format, out);
+  ubx::append_end_of_epoch(out, s, port, solutions_, fix, polled_);
   polled_.clear();
   ++solutions_;
 }

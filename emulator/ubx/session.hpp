@@ -2,8 +2,8 @@
 // receiver channel is a thin adapter over it): what the client writes goes in, the answers
 // (ACKs, poll answers) come out at once through take_reply() for the loop to write before the
 // next epoch, the effects the emulator must apply (measurement period, baud, cold start) through
-// take_effects(), and each epoch's bytes (the NMEA sentences, then the UBX messages, the
-// settings turn on) through append_solution().
+// take_effects(), and each epoch's bytes (NAV messages, NMEA sentences, then NAV-EOE, as the
+// settings turn them on: output.hpp) through append_solution().
 //
 // The solutions lie on the client's measurement grid: an epoch whose UTC time is not a multiple
 // of the settings' output period writes nothing, so CFG-RATE slows the output down by itself

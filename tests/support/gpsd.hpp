@@ -1,5 +1,6 @@
 // Test support for the end-to-end tests with the real gpsd: a free TCP port for gpsd to listen on
-// (parallel tests and a system gpsd on 2947 do not collide) and a connection to it once it listens.
+// (parallel tests and a system gpsd on 2947 do not collide), a connection to it once it listens,
+// the JSON watch, and its reports split into lines with the TPV fields the tests check.
 #pragma once
 
 #include <arpa/inet.h>
@@ -9,8 +10,16 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
+#include <string>
+#include <string_view>
+
+#include <nlohmann/json.hpp>
+
+#include "emulator/model/time.hpp"
 
 namespace gpsemu::test {
 
@@ -46,5 +55,57 @@ inline int connect_gpsd(int port, std::chrono::milliseconds timeout) {
   }
   return -1;
 }
+
+/// Asks gpsd for its JSON reports on a connected socket; false when the write failed.
+inline bool watch_json(int sock) {
+  const std::string watch = "?WATCH={\"enable\":true,\"json\":true};\n";
+  return ::write(sock, watch.data(), watch.size()) == static_cast<ssize_t>(watch.size());
+}
+
+/// Milliseconds since UTC midnight of an ISO 8601 time as gpsd writes it.
+inline std::int64_t ms_of_day(const std::string& iso) {
+  using namespace std::chrono;
+  const auto t = parse_iso8601_utc(iso);
+  return duration_cast<milliseconds>(t - floor<days>(t)).count();
+}
+
+/// The fields of a TPV report the tests check; NaN or empty where gpsd left them out.
+struct Tpv {
+  int mode = 0;
+  std::optional<std::int64_t> time_of_day_ms;  ///< ms since UTC midnight
+  double lat_deg = NAN, lon_deg = NAN;
+  double eph_m = NAN, epv_m = NAN;  ///< gpsd's horizontal and vertical position error estimates
+};
+
+inline Tpv tpv_of(const nlohmann::json& j) {
+  const auto number = [&](const char* key) { return j.contains(key) ? j[key].get<double>() : NAN; };
+  Tpv r;
+  r.mode = j.value("mode", 0);
+  if (j.contains("time")) r.time_of_day_ms = ms_of_day(j["time"].get<std::string>());
+  r.lat_deg = number("lat");
+  r.lon_deg = number("lon");
+  r.eph_m = number("eph");
+  r.epv_m = number("epv");
+  return r;
+}
+
+/// gpsd's reports, one JSON object a line, from its socket in any chunking.
+class ReportLines {
+ public:
+  /// Adds `chunk`; calls on_report(json) for each line completed that is an object with a class.
+  template <class OnReport>
+  void feed(std::string_view chunk, OnReport on_report) {
+    buffer_.append(chunk);
+    std::size_t nl;
+    while ((nl = buffer_.find('\n')) != std::string::npos) {
+      const nlohmann::json j = nlohmann::json::parse(buffer_.substr(0, nl), nullptr, false);
+      buffer_.erase(0, nl + 1);
+      if (!j.is_discarded() && j.is_object() && j.contains("class")) on_report(j);
+    }
+  }
+
+ private:
+  std::string buffer_;
+};
 
 }  // namespace gpsemu::test

@@ -76,6 +76,7 @@ const Golden goldens[] = {
     {msg::nav_cov, 64,
      "b562013640009828000d000101000000000000000000ec51b83e00000000000000000ad7233f00000000ec51b83fec51b83d00"
      "00000000000000ec51b83d00000000ec51b83d868d"},
+    {msg::nav_eoe, 4, "b562016104009828000d33ac"},
 };
 
 TEST(UbxNav, EachMessageOfTheFixedFixIsByteExact) {

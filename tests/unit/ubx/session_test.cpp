@@ -1,7 +1,8 @@
 // One u-blox port end to end, pure: an F9P told by a client to write NAV-PVT at 5 Hz with NMEA
 // off answers at once (before any epoch), then writes only NAV-PVT frames on the 200 ms grid of
 // a 10 Hz epoch stream; polls are answered with the next solution; a baud change and a cold
-// reset reach the caller as effects; NAV-STATUS counts time to first fix.
+// reset reach the caller as effects; NAV-STATUS counts time to first fix; an epoch is its NAV
+// messages, its NMEA sentences, then NAV-EOE.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -40,6 +41,27 @@ TEST(UbxSession, StartsWithNmeaOnly) {
   session.append_solution(fix_at(hours{12}), out);
   EXPECT_EQ(out.rfind("$GPRMC", 0), 0u);
   EXPECT_TRUE(frames_in(out).empty());
+}
+
+// As a u-blox 8 or F9 writes an epoch (gpsd's recorded streams; u-blox's description of NAV-EOE):
+// the NAV messages, then the NMEA sentences, then NAV-EOE with the epoch's iTOW, once gpsd's
+// configuration (CFG-MSG) turned NAV-DOP, NAV-PVT and NAV-EOE on.
+TEST(UbxSession, EpochIsNavMessagesThenNmeaThenEndOfEpoch) {
+  Session session(f9p_nmea_only());
+  for (const char* on : {"0104 01", "0107 01", "0161 01"}) session.client_wrote(frame_bytes(msg::cfg_msg, test::unhex(on)));
+  (void)session.take_reply();
+  std::string out;
+  session.append_solution(fix_at(hours{12}), out);
+  const auto frames = frames_in(out);
+  ASSERT_EQ(frames.size(), 3u);
+  EXPECT_EQ(frames[0].id, msg::nav_dop);
+  EXPECT_EQ(frames[1].id, msg::nav_pvt);
+  EXPECT_EQ(frames[2].id, msg::nav_eoe);
+  EXPECT_EQ(get_u4(frames[2].payload, 0), get_u4(frames[1].payload, 0));  // the same iTOW
+  const std::size_t rmc = out.find("$GPRMC"), last_sentence = out.rfind("\r\n");
+  ASSERT_NE(rmc, std::string::npos);
+  EXPECT_LT(out.find(frame_bytes(msg::nav_pvt, frames[1].payload)), rmc);
+  EXPECT_EQ(out.substr(last_sentence + 2), frame_bytes(msg::nav_eoe, frames[2].payload));
 }
 
 TEST(UbxSession, ConfiguredFiveHertzPvtOnlyOnTheGrid) {
