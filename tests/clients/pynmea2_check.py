@@ -2,11 +2,15 @@
 """Parses every sentence of a gpsemu NMEA file with python3-nmea2 (pynmea2), checksum checking on,
 and checks that the sentences of each epoch agree with each other. Run by core_clients_tools_test.
 
-Usage: pynmea2_check.py FILE
+Usage: pynmea2_check.py [--ubx] FILE
 Prints one JSON line (counts per type, epochs, epochs with a fix); exits 1 with the reasons on
 any failure. An epoch starts at each RMC (u-blox order: RMC VTG GGA GSA GSV... GLL GST ZDA).
+With --ubx the file is a --protocol nmea+ubx stream: UBX frames between the sentences are taken
+out first (each frame's checksum checked, counted by class and id in "ubx"), and each NAV-PVT
+must carry the time of the RMC after it (a u-blox writes an epoch's NAV messages before its NMEA).
 """
 import json
+import struct
 import sys
 
 import pynmea2
@@ -94,11 +98,63 @@ def check_epoch(index, epoch, problems):
     return has_fix
 
 
+def split_ubx(data, problems):
+    """The NMEA text of a mixed stream, the UBX frames' counts by "class-id", and the UTC times
+    (hhmmss.ss) of the NAV-PVTs each followed by the first RMC after it."""
+    text, counts, pvt_then_rmc = bytearray(), {}, []
+    pending_pvt = None
+    i = 0
+    while i < len(data):
+        if data[i:i + 2] == b"\xb5\x62":
+            if i + 8 > len(data):
+                problems.append(f"byte {i}: truncated UBX header")
+                break
+            length = struct.unpack_from("<H", data, i + 4)[0]
+            body = data[i + 2:i + 6 + length]
+            a = b = 0
+            for byte in body:
+                a = (a + byte) & 0xFF
+                b = (b + a) & 0xFF
+            if data[i + 6 + length:i + 8 + length] != bytes([a, b]):
+                problems.append(f"byte {i}: UBX frame with a bad checksum")
+            key = f"{data[i + 2]:02x}-{data[i + 3]:02x}"
+            counts[key] = counts.get(key, 0) + 1
+            if key == "01-07" and length == 92:
+                hour, minute, second = data[i + 14], data[i + 15], data[i + 16]
+                nano = struct.unpack_from("<i", data, i + 22)[0]
+                pending_pvt = f"{hour:02}{minute:02}{second:02}.{round(nano / 1e7):02}"
+            i += 8 + length
+        elif data[i:i + 1] == b"$":
+            end = data.find(b"\r\n", i)
+            if end < 0:
+                problems.append(f"byte {i}: sentence without CR LF")
+                break
+            line = data[i:end + 2]
+            if line[3:6] == b"RMC" and pending_pvt is not None:
+                pvt_then_rmc.append((pending_pvt, line.split(b",")[1].decode("ascii")))
+                pending_pvt = None
+            text += line
+            i = end + 2
+        else:
+            problems.append(f"byte {i}: neither a UBX frame nor a sentence")
+            break
+    for pvt, rmc in pvt_then_rmc:
+        if pvt != rmc:
+            problems.append(f"NAV-PVT at {pvt} followed by the RMC of {rmc}")
+    return bytes(text), counts, len(pvt_then_rmc)
+
+
 def main():
-    lines = open(sys.argv[1], "rb").read().split(b"\r\n")
+    args = sys.argv[1:]
+    mixed = args[0] == "--ubx"
+    data = open(args[-1], "rb").read()
+    problems = []
+    ubx_counts, pvt_before_rmc = {}, 0
+    if mixed:
+        data, ubx_counts, pvt_before_rmc = split_ubx(data, problems)
+    lines = data.split(b"\r\n")
     if lines[-1] != b"":
         fail(["file does not end in CR LF"])
-    problems = []
     counts = {}
     epochs = []
     for number, raw in enumerate(lines[:-1], 1):
@@ -125,7 +181,10 @@ def main():
     fixes = sum(check_epoch(i, e, problems) for i, e in enumerate(epochs))
     if problems:
         fail(problems)
-    print(json.dumps({"counts": counts, "epochs": len(epochs), "fix_epochs": fixes}, sort_keys=True))
+    summary = {"counts": counts, "epochs": len(epochs), "fix_epochs": fixes}
+    if mixed:
+        summary.update({"ubx": ubx_counts, "pvt_before_rmc": pvt_before_rmc})
+    print(json.dumps(summary, sort_keys=True))
 
 
 if __name__ == "__main__":

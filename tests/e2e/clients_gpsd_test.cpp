@@ -41,13 +41,8 @@ using nlohmann::json;
 using test::connect_gpsd;
 using test::free_tcp_port;
 using test::kGpsd;
+using Report = test::Tpv;
 const Geodetic kOrigin{43.0725, -89.4125, 260.0};  // gpsemu's default origin (sim:stationary truth)
-
-struct Report {
-  int mode = 0;
-  std::optional<std::int64_t> time_of_day_ms;  ///< TPV time, ms since UTC midnight
-  double lat_deg = NAN, lon_deg = NAN;
-};
 
 struct Emitted {
   bool fix = false;
@@ -60,11 +55,6 @@ struct GpsdRun {
   std::int64_t first_epoch_ms = 0;
   int sky_reports = 0;
 };
-
-std::int64_t ms_of_day(const std::string& iso) {
-  const auto t = parse_iso8601_utc(iso);
-  return duration_cast<milliseconds>(t - floor<days>(t)).count();
-}
 
 /// Runs gpsemu for `duration_s` on a pty with gpsd attached; returns gpsd's TPVs and the NMEA.
 GpsdRun run_with_gpsd(const std::string& name, std::vector<std::string> args, double duration_s) {
@@ -94,27 +84,15 @@ GpsdRun run_with_gpsd(const std::string& name, std::vector<std::string> args, do
     ADD_FAILURE() << "gpsd does not listen on port " << port << ": " << gpsd.stderr_text();
     return run;
   }
-  const std::string watch = "?WATCH={\"enable\":true,\"json\":true};\n";
-  EXPECT_EQ(::write(sock, watch.data(), watch.size()), static_cast<ssize_t>(watch.size()));
+  EXPECT_TRUE(test::watch_json(sock));
   // Read reports until gpsemu has had time to finish (it stops after duration_s of epochs).
-  std::string buffer;
+  test::ReportLines lines;
   const milliseconds reading{std::llround(duration_s * 1000.0) + 1500};
   test::read_with_deadline(sock, {reading}, [&](std::string_view chunk) {
-    buffer.append(chunk);
-    std::size_t nl;
-    while ((nl = buffer.find('\n')) != std::string::npos) {
-      const json j = json::parse(buffer.substr(0, nl), nullptr, false);
-      buffer.erase(0, nl + 1);
-      if (j.is_discarded() || !j.contains("class")) continue;
+    lines.feed(chunk, [&](const json& j) {
       if (j["class"] == "SKY") ++run.sky_reports;
-      if (j["class"] != "TPV") continue;
-      Report r;
-      r.mode = j.value("mode", 0);
-      if (j.contains("time")) r.time_of_day_ms = ms_of_day(j["time"].get<std::string>());
-      r.lat_deg = j.value("lat", std::numeric_limits<double>::quiet_NaN());
-      r.lon_deg = j.value("lon", std::numeric_limits<double>::quiet_NaN());
-      run.tpv.push_back(r);
-    }
+      if (j["class"] == "TPV") run.tpv.push_back(test::tpv_of(j));
+    });
     return false;
   });
   ::close(sock);

@@ -1,7 +1,8 @@
 // gpsemu's --fast file output read by real NMEA consumers from Debian (tools/setup
 // --with-test-deps installs them; missing is a failure): python3-nmea2 parsing every sentence with
-// checksums checked (tests/clients/pynmea2_check.py), gpsdecode (gpsd's decoder, no daemon) and
-// gpsbabel converting to GPX. Each is compared with what gpsemu wrote.
+// checksums checked (tests/clients/pynmea2_check.py), also the NMEA part of a --protocol nmea+ubx
+// stream, gpsdecode (gpsd's decoder, no daemon) and gpsbabel converting to GPX. Each is compared
+// with what gpsemu wrote.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -116,6 +117,28 @@ TEST(Pynmea2, ParsesEverySentenceOfEveryTypeWithChecksumsCheckedAndEpochsAgree) 
     EXPECT_EQ(summary["epochs"], 600);
     EXPECT_EQ(summary["fix_epochs"], 600 - 50 - 30);  // 5 s cold start and 3 s outage at 10 Hz
   }
+  fs::remove_all(dir);
+}
+
+// --protocol nmea+ubx: pynmea2 parses the NMEA part (the UBX frames between the sentences taken
+// out, their checksums checked), through a cold start and midnight; each epoch's NAV-PVT comes
+// before its RMC, with the same time.
+TEST(Pynmea2, ParsesTheNmeaPartOfAMixedNmeaAndUbxStream) {
+  const std::string python = "/usr/bin/python3";
+  ASSERT_TRUE(installed(python));
+  const auto dir = temp_dir("pynmea2_ubx");
+  const auto file = dir / "mixed.bin";
+  generate(file, {"--protocol", "nmea+ubx", "--receiver", "ublox-m8n", "--rate", "10", "--duration", "30",
+                  "--source", "sim:circle", "--cold-start", "3,1", "--start-time", "2024-02-29T23:59:45Z"});
+  const auto r = test::run({python, std::string(GPSEMU_SOURCE_DIR) + "/tests/clients/pynmea2_check.py", "--ubx", file.string()});
+  ASSERT_EQ(r.status, 0) << r.err << r.out;
+  std::cout << "pynmea2 (nmea+ubx): " << r.out;
+  const json summary = json::parse(r.out);
+  for (const char* type : {"RMC", "VTG", "GGA", "GLL"}) EXPECT_EQ(summary["counts"][type], 300) << type;
+  EXPECT_EQ(summary["epochs"], 300);
+  EXPECT_EQ(summary["fix_epochs"], 300 - 30);  // 3 s without a fix at 10 Hz
+  EXPECT_EQ(summary["ubx"]["01-07"], 300);       // NAV-PVT every epoch
+  EXPECT_EQ(summary["pvt_before_rmc"], 300);
   fs::remove_all(dir);
 }
 
