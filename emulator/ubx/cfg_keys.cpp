@@ -17,14 +17,14 @@ constexpr std::array<MsgOut, 35> kMsgOut = {{
     {msg::nav_pvt, 0x20910006},      {msg::nav_posllh, 0x20910029},  {msg::nav_velned, 0x20910042},
     {msg::nav_status, 0x2091001A},   {msg::nav_dop, 0x20910038},     {msg::nav_sat, 0x20910015},
     {msg::nav_timeutc, 0x2091005B},  {msg::nav_timegps, 0x20910047}, {msg::nav_cov, 0x20910083},
-    {{0x01, 0x01}, 0x20910024},      // NAV-POSECEF
-    {{0x01, 0x11}, 0x2091003D},      // NAV-VELECEF
+    {msg::nav_posecef, 0x20910024},  // NAV-POSECEF
+    {msg::nav_velecef, 0x2091003D},  // NAV-VELECEF
     {{0x01, 0x14}, 0x20910033},      // NAV-HPPOSLLH
     {{0x01, 0x22}, 0x20910065},      // NAV-CLOCK
     {{0x01, 0x3B}, 0x20910088},      // NAV-SVIN
     {{0x01, 0x3C}, 0x2091008D},      // NAV-RELPOSNED
     {{0x01, 0x43}, 0x20910345},      // NAV-SIG
-    {{0x01, 0x61}, 0x2091015F},      // NAV-EOE
+    {msg::nav_eoe, 0x2091015F},      // NAV-EOE
     {{0x02, 0x13}, 0x20910231},      // RXM-SFRBX
     {{0x02, 0x15}, 0x209102A4},      // RXM-RAWX
     {{0x02, 0x32}, 0x20910268},      // RXM-RTCM

@@ -30,11 +30,13 @@ struct MessageId {
 };
 
 namespace msg {
+inline constexpr MessageId nav_posecef{0x01, 0x01};
 inline constexpr MessageId nav_posllh{0x01, 0x02};
 inline constexpr MessageId nav_status{0x01, 0x03};
 inline constexpr MessageId nav_dop{0x01, 0x04};
 inline constexpr MessageId nav_sol{0x01, 0x06};
 inline constexpr MessageId nav_pvt{0x01, 0x07};
+inline constexpr MessageId nav_velecef{0x01, 0x11};
 inline constexpr MessageId nav_velned{0x01, 0x12};
 inline constexpr MessageId nav_timegps{0x01, 0x20};
 inline constexpr MessageId nav_timeutc{0x01, 0x21};

@@ -215,18 +215,34 @@ std::string nav_status(const nmea::Fix& fix, const NavExtras& extras) {
   return p;
 }
 
-std::string nav_sol(const nmea::Fix& fix, const NavExtras& extras) {
-  const Solution s = solution_of(fix);
+/// The ECEF position (cm) and its accuracy (cm): NAV-SOL's and NAV-POSECEF's fields.
+void put_ecef_position(std::string& p, const nmea::Fix& fix) {
   const Ecef e = fix.has_fix() ? ecef_of(fix) : Ecef{};
+  put_i4(p, round_i32(e.x_m * 100.0));
+  put_i4(p, round_i32(e.y_m * 100.0));
+  put_i4(p, round_i32(e.z_m * 100.0));
+  put_u4(p, fix.has_fix() ? round_u32(std::hypot(h_acc_m(fix), fix.sigma_alt_m) * 100.0) : no_fix_accuracy_mm / 10);
+}
+
+/// The ECEF velocity (cm/s, rotated from NED) and the speed accuracy (cm/s): NAV-SOL's and
+/// NAV-VELECEF's fields.
+void put_ecef_velocity(std::string& p, const nmea::Fix& fix, const NavExtras& extras) {
   const VelocityNed v = velocity_of(fix);
   const double lat = fix.lat_deg * kDegToRad;
   const double lon = fix.lon_deg * kDegToRad;
-  // NED to ECEF rotation of the velocity.
   const double vx = -std::sin(lat) * std::cos(lon) * v.north_mps - std::sin(lon) * v.east_mps -
                     std::cos(lat) * std::cos(lon) * v.down_mps;
   const double vy = -std::sin(lat) * std::sin(lon) * v.north_mps + std::cos(lon) * v.east_mps -
                     std::cos(lat) * std::sin(lon) * v.down_mps;
   const double vz = std::cos(lat) * v.north_mps - std::sin(lat) * v.down_mps;
+  put_i4(p, round_i32(vx * 100.0));
+  put_i4(p, round_i32(vy * 100.0));
+  put_i4(p, round_i32(vz * 100.0));
+  put_u4(p, (s_acc_mm_s(fix, extras) + 5) / 10);
+}
+
+std::string nav_sol(const nmea::Fix& fix, const NavExtras& extras) {
+  const Solution s = solution_of(fix);
   const GpsTime t = gps_time(fix.time_utc);
   std::string p;
   put_u4(p, t.tow_ms);
@@ -234,18 +250,26 @@ std::string nav_sol(const nmea::Fix& fix, const NavExtras& extras) {
   put_i2(p, t.week);
   put_u1(p, s.fix_type);
   put_u1(p, status_flags(s));
-  put_i4(p, round_i32(e.x_m * 100.0));
-  put_i4(p, round_i32(e.y_m * 100.0));
-  put_i4(p, round_i32(e.z_m * 100.0));
-  put_u4(p, fix.has_fix() ? round_u32(std::hypot(h_acc_m(fix), fix.sigma_alt_m) * 100.0) : no_fix_accuracy_mm / 10);
-  put_i4(p, round_i32(vx * 100.0));
-  put_i4(p, round_i32(vy * 100.0));
-  put_i4(p, round_i32(vz * 100.0));
-  put_u4(p, (s_acc_mm_s(fix, extras) + 5) / 10);
+  put_ecef_position(p, fix);
+  put_ecef_velocity(p, fix, extras);
   put_u2(p, fix.has_fix() ? round_u16(fix.pdop * 100.0) : 9999);
   put_u1(p, 0);  // reserved1
   put_u1(p, static_cast<std::uint32_t>(fix.has_fix() ? fix.satellites_used : 0));
   put_zeros(p, 4);  // reserved2
+  return p;
+}
+
+std::string nav_posecef(const nmea::Fix& fix) {
+  std::string p;
+  put_u4(p, tow_ms(fix));
+  put_ecef_position(p, fix);
+  return p;
+}
+
+std::string nav_velecef(const nmea::Fix& fix, const NavExtras& extras) {
+  std::string p;
+  put_u4(p, tow_ms(fix));
+  put_ecef_velocity(p, fix, extras);
   return p;
 }
 
@@ -350,8 +374,8 @@ std::string nav_eoe(const nmea::Fix& fix) {
 
 bool nav_encodes(MessageId id) {
   for (const MessageId m : {msg::nav_pvt, msg::nav_posllh, msg::nav_velned, msg::nav_status, msg::nav_sol,
-                            msg::nav_dop, msg::nav_timeutc, msg::nav_timegps, msg::nav_sat, msg::nav_cov,
-                            msg::nav_eoe}) {
+                            msg::nav_posecef, msg::nav_velecef, msg::nav_dop, msg::nav_timeutc, msg::nav_timegps,
+                            msg::nav_sat, msg::nav_cov, msg::nav_eoe}) {
     if (m == id) return true;
   }
   return false;
@@ -363,6 +387,8 @@ std::optional<std::string> nav_payload(MessageId id, const nmea::Fix& fix, const
   if (id == msg::nav_velned) return nav_velned(fix, extras);
   if (id == msg::nav_status) return nav_status(fix, extras);
   if (id == msg::nav_sol) return nav_sol(fix, extras);
+  if (id == msg::nav_posecef) return nav_posecef(fix);
+  if (id == msg::nav_velecef) return nav_velecef(fix, extras);
   if (id == msg::nav_dop) return nav_dop(fix);
   if (id == msg::nav_timeutc) return nav_timeutc(fix);
   if (id == msg::nav_timegps) return nav_timegps(fix);

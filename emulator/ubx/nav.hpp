@@ -49,6 +49,10 @@ inline constexpr std::uint32_t no_fix_speed_accuracy_mm_s = 20000;
 [[nodiscard]] std::string nav_status(const nmea::Fix& fix, const NavExtras& extras);
 /// NAV-SOL, 52 bytes (ECEF position and velocity; older M8 drivers read it).
 [[nodiscard]] std::string nav_sol(const nmea::Fix& fix, const NavExtras& extras);
+/// NAV-POSECEF, 20 bytes (NAV-SOL's ECEF position and pAcc; gpsd turns it on).
+[[nodiscard]] std::string nav_posecef(const nmea::Fix& fix);
+/// NAV-VELECEF, 20 bytes (NAV-SOL's ECEF velocity and sAcc; gpsd turns it on).
+[[nodiscard]] std::string nav_velecef(const nmea::Fix& fix, const NavExtras& extras);
 /// NAV-DOP, 18 bytes.
 [[nodiscard]] std::string nav_dop(const nmea::Fix& fix);
 /// NAV-TIMEUTC, 20 bytes.

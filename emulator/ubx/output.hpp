@@ -3,10 +3,9 @@
 // solution; none of a protocol the port does not output). A u-blox writes the epoch's NAV
 // messages first, then its NMEA sentences, and ends the epoch with NAV-EOE when that is on (the
 // recorded u-blox 8 and F9 streams of gpsd's regression logs; u-blox's interface description of
-// NAV-EOE): append_solution() writes the NAV messages by class, then id (NAV-POSLLH, NAV-STATUS,
-// NAV-DOP, NAV-SOL, NAV-PVT, NAV-VELNED, NAV-TIMEGPS, NAV-TIMEUTC, NAV-SAT, NAV-COV), polled
-// messages once more; the caller writes the NMEA sentences after them, then
-// append_end_of_epoch(). Pure.
+// NAV-EOE): append_solution() writes the NAV messages by class, then id (NAV-POSECEF, POSLLH,
+// STATUS, DOP, SOL, PVT, VELECEF, VELNED, TIMEGPS, TIMEUTC, SAT, COV), polled messages once more;
+// the caller writes the NMEA sentences after them, then append_end_of_epoch(). Pure.
 #pragma once
 
 #include <cstddef>

@@ -1,10 +1,10 @@
 // gpsemu as a u-blox (--protocol ubx) against the real gpsd, read-write (no -b), and ubxtool
 // (gpsd-clients) through that gpsd: gpsd recognises the u-blox driver from the UBX stream and
-// its MON-VER answer, reports 3-D fixes at the truth at 5 and 10 Hz with eph = NAV-PVT's hAcc,
-// and ubxtool's polls (MON-VER, CFG-RATE, CFG-NAV5), writes (CFG-NAV5 model, raw CFG-RATE) and
-// generation-9 VALGET/VALSET of CFG-RATE-MEAS are answered and take effect. With nmea+ubx, gpsd
-// read-only (-b, so it leaves NMEA on) reads both parts. gpsd or ubxtool missing is a failure,
-// not a skip. Waits are poll() with timeouts.
+// its MON-VER answer, reports 3-D fixes at the truth (also in ECEF, from NAV-POSECEF) at 5 and
+// 10 Hz with eph = NAV-PVT's hAcc, and ubxtool's polls (MON-VER, CFG-RATE, CFG-NAV5), writes
+// (CFG-NAV5 model, raw CFG-RATE) and generation-9 VALGET/VALSET of CFG-RATE-MEAS are answered
+// and take effect. With nmea+ubx, gpsd read-only (-b, so it leaves NMEA on) reads both parts.
+// gpsd or ubxtool missing is a failure, not a skip. Waits are poll() with timeouts.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include <GeographicLib/Geocentric.hpp>
 #include <fmt/format.h>
 
 #include "emulator/ubx/bytes.hpp"
@@ -131,10 +132,13 @@ bool tools_present() {
   return true;
 }
 
-/// Distinct mode-3 TPV times and the worst distance from the truth in degrees.
+/// Distinct mode-3 TPV times, the worst distance from the truth in degrees and, where gpsd had
+/// ECEF (NAV-POSECEF, which its driver turns on), in metres.
 struct Mode3 {
   std::set<std::int64_t> times;
   double worst_deg = 0.0;
+  double worst_ecef_m = 0.0;
+  int with_ecef = 0;
   /// The epochs of `period_ms` from the first mode-3 time to the last.
   [[nodiscard]] double epochs(int period_ms) const {
     return times.empty() ? 0.0 : static_cast<double>((*times.rbegin() - *times.begin()) / period_ms + 1);
@@ -146,6 +150,11 @@ Mode3 mode3_of(const std::vector<Tpv>& tpv) {
     if (r.mode != 3 || !r.time_of_day_ms) continue;
     m.times.insert(*r.time_of_day_ms);
     m.worst_deg = std::max({m.worst_deg, std::fabs(r.lat_deg - kOriginLat), std::fabs(r.lon_deg - kOriginLon)});
+    if (std::isnan(r.ecef_x_m)) continue;
+    double x = 0, y = 0, z = 0;  // the truth: the origin at 260 m, geoid separation 0
+    GeographicLib::Geocentric::WGS84().Forward(kOriginLat, kOriginLon, 260.0, x, y, z);
+    m.worst_ecef_m = std::max(m.worst_ecef_m, std::hypot(r.ecef_x_m - x, r.ecef_y_m - y, r.ecef_z_m - z));
+    ++m.with_ecef;
   }
   return m;
 }
@@ -182,11 +191,14 @@ void expect_mode3_at_the_truth(int rate_hz, const std::string& receiver) {
   const double epochs = m.epochs(period_ms);
   const double fraction = static_cast<double>(m.times.size()) / epochs;
   std::cout << fmt::format("gpsd (u-blox driver '{}', {}): mode 3 for {} of {} epochs at {} Hz since its first fix "
-                           "({:.2f}%; {} TPVs), worst distance from the truth {:.1e} deg\n",
-                           run.driver, receiver, m.times.size(), epochs, rate_hz, 100.0 * fraction, run.tpv.size(), m.worst_deg);
+                           "({:.2f}%; {} TPVs), worst distance from the truth {:.1e} deg, ECEF {:.3f} m ({} TPVs)\n",
+                           run.driver, receiver, m.times.size(), epochs, rate_hz, 100.0 * fraction, run.tpv.size(),
+                           m.worst_deg, m.worst_ecef_m, m.with_ecef);
   EXPECT_GE(epochs, 8.0 * rate_hz);
   EXPECT_GE(fraction, 0.99);
   EXPECT_LE(m.worst_deg, 2e-7) << "NAV-PVT carries 1e-7 deg";
+  EXPECT_GE(m.with_ecef, static_cast<int>(m.times.size()));
+  EXPECT_LE(m.worst_ecef_m, 0.01 * std::sqrt(3.0)) << "NAV-POSECEF carries cm";
   for (const std::int64_t t : m.times) EXPECT_EQ(t % period_ms, 0) << "a time off the " << rate_hz << " Hz grid";
 }
 

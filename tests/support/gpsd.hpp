@@ -75,6 +75,7 @@ struct Tpv {
   std::optional<std::int64_t> time_of_day_ms;  ///< ms since UTC midnight
   double lat_deg = NAN, lon_deg = NAN;
   double eph_m = NAN, epv_m = NAN;  ///< gpsd's horizontal and vertical position error estimates
+  double ecef_x_m = NAN, ecef_y_m = NAN, ecef_z_m = NAN;  ///< WGS84 earth-centred position
 };
 
 inline Tpv tpv_of(const nlohmann::json& j) {
@@ -86,6 +87,9 @@ inline Tpv tpv_of(const nlohmann::json& j) {
   r.lon_deg = number("lon");
   r.eph_m = number("eph");
   r.epv_m = number("epv");
+  r.ecef_x_m = number("ecefx");
+  r.ecef_y_m = number("ecefy");
+  r.ecef_z_m = number("ecefz");
   return r;
 }
 
