@@ -48,7 +48,7 @@ class LogStream {
   explicit LogStream(const std::filesystem::path& path);
   /// A log held in memory (tests, fuzzing): the same reader over `bytes`, which must outlive it.
   /// Never throws for its content.
-  explicit LogStream(std::string_view bytes, std::string name = "log");
+  LogStream(std::string_view bytes, std::string name);
   ~LogStream();
   LogStream(const LogStream&) = delete;
   LogStream& operator=(const LogStream&) = delete;

@@ -57,7 +57,7 @@ std::optional<nanoseconds> parse_time_of_day(std::string_view f) {
 }
 
 ReplayLog parse_replay_log(std::string_view bytes) {
-  LogStream stream(bytes);
+  LogStream stream(bytes, "log");
   ReplayLog log;
   for (LogEpoch e; stream.pop(&e);) log.epochs.push_back(std::move(e));
   log.counts = stream.counts();
