@@ -132,7 +132,7 @@ void Runner::log_banner() const {
     spdlog::info("{}receiver: {}GGA quality {} (noise x{}), {} of {} satellites used, HDOP {:.2f}; {} bytes an epoch at most{}",
                  who, ch.ubx_encoder() ? fmt::format("u-blox {}, ", ubx::model_info(s.ubx->start.model).name) : "",
                  static_cast<int>(s.receiver.quality), noise_scale(s.receiver.quality), g.satellites_used,
-                 g.satellites_in_view, g.hdop, epoch_bytes, ch.ubx_encoder() ? " (NMEA and UBX)" : "");
+                 g.satellites_in_view, g.hdop, epoch_bytes, ch.ubx_encoder() ? " (" + protocol_name(s) + ")" : "");
     sink_.log_opened(i, protocol_name(s));
   }
   if (pps_) pps_->log_opened();

@@ -55,7 +55,7 @@ class UbxGpsd {
                                   "--duration", fmt::format("{}", duration_s), "--log-level", "info"};
     argv.insert(argv.end(), args.begin(), args.end());
     gpsemu_.emplace(argv);
-    if (!gpsemu_->wait_for_stderr("NMEA on", seconds(20))) throw std::runtime_error("gpsemu did not start: " + gpsemu_->stderr_text());
+    if (!gpsemu_->wait_for_stderr("UBX on", seconds(20))) throw std::runtime_error("gpsemu did not start: " + gpsemu_->stderr_text());
     port_ = test::free_tcp_port();
     gpsd_.emplace(std::vector<std::string>{test::kGpsd, "-N", "-n", "-S", std::to_string(port_), fs::read_symlink(link).string()});
     sock_ = test::connect_gpsd(port_, seconds(10));
