@@ -325,7 +325,9 @@ std::string retime_epoch(const LogEpoch& epoch, UtcNs time) {
     int decimals = 0;
     bool dot = false;
     UtcNs rounded = time;
-    if (time_index && *time_index < fields.size() && !fields[*time_index].empty()) {
+    // Only a time the log held is rewritten: a malformed time field is sent as recorded (rewritten,
+    // "1." would grow to "120000." and could push the sentence over the parser's length limit).
+    if (s.time_of_day && time_index && *time_index < fields.size()) {
       const std::string& f = fields[*time_index];
       const auto point = f.find('.');
       dot = point != std::string::npos;

@@ -20,27 +20,17 @@ namespace {
 
 using namespace std::chrono;
 
-struct Result {
-  int rc = -1;
-  std::string out, err;
-};
+using test::Result;
 
-Result run(std::vector<std::string> args) {
-  args.insert(args.begin(), GPSEMU_BINARY);
-  test::Process p(args);
-  Result r;
-  r.rc = p.wait(seconds(20));
-  r.out = p.stdout_text();
-  r.err = p.stderr_text();
-  return r;
-}
+/// gpsemu ARGS, run to completion.
+test::Result run(const std::vector<std::string>& args) { return test::run({GPSEMU_BINARY}, args); }
 
 /// Exit status 2 and exactly one line on stderr, "gpsemu: " then text matching `what`.
 void expect_one_line_error(const std::vector<std::string>& args, const std::string& what) {
   const Result r = run(args);
   std::string shown;
   for (const auto& a : args) shown += a + " ";
-  EXPECT_EQ(r.rc, 2) << shown << "\n" << r.err;
+  EXPECT_EQ(r.status, 2) << shown << "\n" << r.err;
   EXPECT_TRUE(std::regex_match(r.err, std::regex("gpsemu: [^\n]*\n"))) << shown << ": not one line:\n" << r.err;
   EXPECT_TRUE(std::regex_search(r.err, std::regex(what))) << shown << ": " << r.err;
 }
@@ -77,7 +67,7 @@ TEST(CliConsistency, StartTimeNeedsTheUtcDesignatorAndRefusesOffsets) {
     std::vector<std::string> args = given;
     for (const char* a : {"--fast", "--duration", "1", "--output", "stdout", "--log-level", "warn"}) args.push_back(a);
     const Result r = run(args);
-    EXPECT_EQ(r.rc, 0) << r.err;
+    EXPECT_EQ(r.status, 0) << r.err;
     EXPECT_NE(r.out.find("$GPRMC,120000.00,A"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find(",010524,"), std::string::npos) << r.out;
   }
@@ -97,7 +87,7 @@ TEST(CliConsistency, ConfigMustBeARegularFileAndAFifoNeverBlocks) {
 
 TEST(CliConsistency, ReplayHelpListsTheOptionsAReplayReads) {
   const Result r = run({"replay", "--help"});
-  EXPECT_EQ(r.rc, 0);
+  EXPECT_EQ(r.status, 0);
   for (const char* flag : {"--speed K", "--loop", "--from WHEN", "--to WHEN", "--retime", "--output SPEC", "--tee FILE",
                            "--start-time ISO8601", "--duration S", "--fast", "Example: gpsemu replay"}) {
     EXPECT_NE(r.out.find(flag), std::string::npos) << flag << " missing from:\n" << r.out;
@@ -109,7 +99,7 @@ TEST(CliConsistency, EveryTalkerTheHelpNamesIsAcceptedAndUsed) {
   for (const std::string talker : {"GP", "GN", "GL", "GA", "BD"}) {
     EXPECT_TRUE(std::regex_search(help.out, std::regex("--talker ID[^\n]*\\b" + talker + "\\b"))) << talker;
     const Result r = run({"--talker", talker, "--fast", "--duration", "1", "--output", "stdout", "--log-level", "warn"});
-    EXPECT_EQ(r.rc, 0) << r.err;
+    EXPECT_EQ(r.status, 0) << r.err;
     EXPECT_NE(r.out.find("$" + talker + "GGA,"), std::string::npos) << talker << ": " << r.out;
   }
   expect_one_line_error({"--talker", "XX"}, "talker must be one of GP, GN, GL, GA, BD, got 'XX'");

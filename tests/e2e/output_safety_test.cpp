@@ -22,20 +22,9 @@ using test::write_file;
 const std::vector<std::string> kFast = {GPSEMU_BINARY, "--fast", "--start-time", "2024-05-01T12:00:00Z",
                                         "--duration", "2"};
 
-struct Result {
-  int status;
-  std::string err;
-  std::string out;
-};
-
-Result run(std::vector<std::string> argv, std::vector<std::string> more) {
-  argv.insert(argv.end(), more.begin(), more.end());
-  test::Process p(argv);
-  const int status = p.wait(20s);
-  return {status, p.stderr_text(), p.stdout_text()};
-}
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using test::contains;
+using test::Result;
+using test::run;
 
 TEST(OutputSafety, AFailedStartUpLeavesEveryPathAsItWas) {
   const fs::path dir = test::scratch_dir("outsafe", "failed");

@@ -2,8 +2,9 @@
 // when present; skipped otherwise: the folder is not part of the repository). Every epoch comes
 // out, in order, content unchanged (the output is exactly the log's valid sentences, found here
 // by a scan of our own), each epoch's spacing is the log's spacing / 10 (100 ms at 1 Hz). The
-// spacing figures are reported (mean, 95th percentile, worst, share within +-5 ms); the bound
-// asserted is generous because the machine running the tests may be shared and busy.
+// spacing figures are reported (mean, 95th percentile, worst, share within +-5 ms); asserted are the
+// median spacing error and the span of the arrivals (the machine running the tests may be shared
+// and busy: the worst spacing is a measurement, not a test).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -149,7 +150,14 @@ void replay_real_log(const std::string& name, std::size_t expected_epochs) {
       100.0 * static_cast<double>(within5) / static_cast<double>(abs_ms.size()), worst_schedule_ms, sender_side);
   std::printf("[ info ] %s\n", figures.c_str());
   ::testing::Test::RecordProperty("spacing", figures);
-  EXPECT_LT(worst, 25.0) << figures;
+  // Pacing, not timing precision (that is measured by tools/measure-timing, figures in
+  // docs/performance.md): the median spacing error is small, and the arrivals span the log's span
+  // / 10 (a replay sending everything at once, or at speed 1, fails both). The worst spacing is
+  // reported, not asserted: one late wake-up on a shared machine says nothing about the replay.
+  const double median = abs_ms[abs_ms.size() / 2];
+  EXPECT_LT(median, 5.0) << figures;
+  const double span_s = starts.back().second - starts.front().second;
+  EXPECT_NEAR(span_s, log_span_s / 10.0, 0.01 * log_span_s + 0.05) << figures;
 }
 
 TEST(ReplayRealLogs, QuectelL76kAtSpeed10EveryEpochUnchangedAndOnTime) { replay_real_log("quectel-l76k-dual.log", 130); }

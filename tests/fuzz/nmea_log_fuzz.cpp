@@ -7,8 +7,8 @@
 // Checks: every epoch holds sentences whose raw bytes are its bytes, each raw sentence starts with
 // '$' and parses back to the fields kept; the sentence count is StreamReader's; log times of
 // timed epochs only go back where a step back was counted; a retimed epoch is the same sentences
-// (types and field counts) with valid checksums, and its time fields are the new time's; the
-// calibration fixes are in strictly increasing time with finite, in-range positions; the series
+// (types and field counts) with valid checksums, its valid time fields are the new time's and its
+// empty or malformed ones are as recorded; the calibration fixes are in strictly increasing time with finite, in-range positions; the series
 // has one sample per grid epoch, NaN exactly for the missing ones.
 #include <algorithm>
 #include <chrono>
@@ -98,7 +98,9 @@ void check_replay(std::string_view bytes) {
       GPSEMU_FUZZ_CHECK(out[k].talker == before.talker && out[k].type == before.type &&
                         out[k].fields.size() == before.fields.size());
       const auto t = time_field_index(before);
-      if (t && *t < before.fields.size() && !before.fields[*t].empty()) {
+      if (t && *t < before.fields.size() && !epoch.sentences[k].time_of_day) {
+        GPSEMU_FUZZ_CHECK(out[k].fields[*t] == before.fields[*t]);  // empty or malformed: as recorded
+      } else if (t && *t < before.fields.size()) {
         // The new time of day, rounded to the decimals the field had.
         const auto tod = parse_time_of_day(out[k].fields[*t]);
         GPSEMU_FUZZ_CHECK(tod.has_value());

@@ -178,6 +178,16 @@ inline Result run(const std::vector<std::string>& argv, std::chrono::millisecond
   return {status, p.stdout_text(), p.stderr_text()};
 }
 
+/// Runs `argv` followed by `more` to completion (a fixed command line and what one test adds).
+inline Result run(std::vector<std::string> argv, const std::vector<std::string>& more,
+                  std::chrono::milliseconds timeout = std::chrono::seconds(60)) {
+  argv.insert(argv.end(), more.begin(), more.end());
+  return run(argv, timeout);
+}
+
+/// Whether `text` holds `part`.
+inline bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
 /// Runs `binary --fast --output stdout --log-level warn --start-time 2024-05-01T00:00:00Z ARGS` to
 /// completion (batch generation with a fixed start: deterministic NMEA on stdout).
 inline Result run_fast(const std::string& binary, const std::vector<std::string>& args) {

@@ -231,5 +231,27 @@ TEST(ReplayLog, RetimeLeavesEmptyFieldsEmpty) {
   EXPECT_EQ(retime_epoch(log.epochs[0], parse_iso8601_utc("2024-05-01T12:00:00Z")), nofix);
 }
 
+TEST(ReplayLog, RetimeSendsAMalformedTimeFieldAsRecorded) {
+  // Found by the nmea_log fuzz target: a malformed time field ("1.") was rewritten as a whole time
+  // ("120000."), which pushed a long sentence over the parser's length limit; the retimed epoch then
+  // lost a sentence. A malformed time stays as recorded; the good one beside it is retimed.
+  const std::string body = "GPGGA,1.,4304.35012,N,08924.75027,W,1,11,0.92,260.1,M,0.0,M,,";
+  const std::string bad = s(body + std::string(nmea::max_parse_chars - body.size() - 4, '9'));  // "$" "*hh": at the limit
+  ASSERT_TRUE(nmea::parse_sentence(bad.substr(0, bad.size() - 2)).ok()) << bad;
+  const ReplayLog log = parse_replay_log(gga("235951.004") + bad + s("GPGGA,235951.004.,03433942,N,,,1,,,,M,,M,,"));
+  EXPECT_EQ(log.counts.bad_time_fields, 2u);
+  std::string out;
+  std::size_t sentences = 0;
+  for (const LogEpoch& epoch : log.epochs) {
+    out += retime_epoch(epoch, parse_iso8601_utc("2024-05-01T12:00:00Z"));
+    sentences += epoch.sentences.size();
+  }
+  ASSERT_EQ(sentences, 3u);
+  EXPECT_TRUE(checksums_ok(out)) << out;
+  EXPECT_NE(out.find("$GPGGA,120000.000,"), std::string::npos) << out;
+  EXPECT_NE(out.find(bad), std::string::npos) << out;
+  EXPECT_NE(out.find("$GPGGA,235951.004.,03433942,N,"), std::string::npos) << out;
+}
+
 }  // namespace
 }  // namespace gpsemu::replay
