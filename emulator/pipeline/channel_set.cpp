@@ -39,11 +39,21 @@ std::string_view ChannelSet::produce(std::size_t i, UtcNs t) {
   Receiver& r = receivers_[i];
   Channel& ch = *r.channel;
   // What a u-blox client asked for since the last epoch: its answer is already written.
-  if (ch.ubx_encoder() && sink_) apply_ubx_effects(ch, sink_->outputs(i), r.schedule, r.line, t, sink_->who(i));
+  if (ch.ubx_encoder() && sink_) {
+    const auto period = r.schedule.period();
+    apply_ubx_effects(ch, sink_->outputs(i), r.schedule, r.line, t, sink_->who(i));
+    if (r.schedule.period() != period && finest_changed_) finest_changed_(finest_period());
+  }
   (void)ch.step(t);
   ++ch.stats().epochs_emitted;
   if (r.line.baud != 0) fit_epoch_to_line(ch, r.schedule.period(), r.line, sink_->who(i));
   return ch.bytes();
+}
+
+std::chrono::nanoseconds ChannelSet::finest_period() const {
+  auto finest = std::chrono::nanoseconds::max();
+  for (const Receiver& r : receivers_) finest = std::min(finest, r.schedule.period());
+  return finest;
 }
 
 void ChannelSet::list_inputs(std::vector<int>& fds, std::vector<std::size_t>& owners) const {

@@ -6,7 +6,9 @@
 // whatever the receivers' rates.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string_view>
@@ -30,6 +32,11 @@ class ChannelSet final : public EpochProducer {
   void add(std::unique_ptr<Channel> channel);
   /// The receivers' outputs, once the sink has them (u-blox baud changes, serial lines).
   void attach(const Sink& sink);
+  /// Called with the finest period of the receivers' schedules whenever a receiver's changes (the
+  /// clock's lateness follows it).
+  void on_finest_period(std::function<void(std::chrono::nanoseconds)> changed) { finest_changed_ = std::move(changed); }
+  /// The shortest time between a receiver's epochs now.
+  [[nodiscard]] std::chrono::nanoseconds finest_period() const;
 
   bool next_epoch(UtcNs& t) override;
   [[nodiscard]] bool active(std::size_t i) const override {
@@ -56,6 +63,7 @@ class ChannelSet final : public EpochProducer {
   UtcNs end_;  ///< the first time past the run
   std::vector<Receiver> receivers_;
   const Sink* sink_ = nullptr;
+  std::function<void(std::chrono::nanoseconds)> finest_changed_;
 };
 
 }  // namespace gpsemu

@@ -89,6 +89,8 @@ Runner::Runner(RunSettings settings, std::optional<RunnerIo> io)
   clock_ = make_epoch_clock(loop_.clock, *io_, fleet_time_ ? *fleet_time_ : *channels_->channel(0).source(),
                             timeline_.first_epoch(), timeline_.first_wall() + loop_.latency, timeline_.grid.nominal_period(),
                             timeline_.epoch_minus_wall, loop_.latency);
+  // An epoch is late (skipped) by the finest period any receiver runs at, not only --rate's.
+  channels_->on_finest_period([clock = clock_.get()](std::chrono::nanoseconds period) { clock->set_epoch_period(period); });
   // Everything that can fail is open: only now are the outputs' files truncated.
   sink_.commit();
   log_banner();

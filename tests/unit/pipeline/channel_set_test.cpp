@@ -74,14 +74,16 @@ struct Epoch {
   friend bool operator==(const Epoch&, const Epoch&) = default;
 };
 
-std::vector<Epoch> run(ChannelSet& set, std::size_t max_epochs) {
+/// Runs at most `max_epochs` epochs; receiver 0's bytes are appended to `first_bytes`.
+std::vector<Epoch> run(ChannelSet& set, std::size_t max_epochs, std::string& first_bytes) {
   std::vector<Epoch> epochs;
   UtcNs t{};
   while (epochs.size() < max_epochs && set.next_epoch(t)) {
     Epoch e{std::chrono::duration_cast<std::chrono::milliseconds>(t - kT0), {}};
     for (std::size_t i = 0; i < set.size(); ++i) {
       if (!set.active(i)) continue;
-      (void)set.produce(i, t);
+      const std::string_view bytes = set.produce(i, t);
+      if (i == 0) first_bytes += bytes;
       e.sending.push_back(i);
     }
     epochs.push_back(e);
@@ -103,8 +105,11 @@ TEST(ChannelSet, AUbloxAskingTwoHundredMillisecondsGetsItsOwnEpochsBesideAnNmeaR
   (void)sink.add(std::move(outputs));
   sink.attach_client_input(1, &set.channel(1));
   set.attach(sink);
+  std::vector<std::chrono::nanoseconds> finest;
+  set.on_finest_period([&](std::chrono::nanoseconds p) { finest.push_back(p); });
 
-  EXPECT_EQ(run(set, 1), (std::vector<Epoch>{{0ms, {0, 1}}}));
+  std::string nmea_bytes;
+  EXPECT_EQ(run(set, 1, nmea_bytes), (std::vector<Epoch>{{0ms, {0, 1}}}));
   client->input = cfg_rate(200);
   sink.service_all();
   EXPECT_NE(client->written.find(ubx::frame_bytes(ubx::msg::ack_ack, std::string("\x06\x08", 2))),
@@ -114,9 +119,19 @@ TEST(ChannelSet, AUbloxAskingTwoHundredMillisecondsGetsItsOwnEpochsBesideAnNmeaR
   const std::vector<Epoch> expected = {{1000ms, {0, 1}}, {1200ms, {1}}, {1400ms, {1}}, {1600ms, {1}},
                                        {1800ms, {1}},    {2000ms, {0, 1}}, {2200ms, {1}}, {2400ms, {1}},
                                        {2600ms, {1}},    {2800ms, {1}}};
-  EXPECT_EQ(run(set, 100), expected);
+  EXPECT_EQ(run(set, 100, nmea_bytes), expected);
   EXPECT_EQ(set.channel(0).stats().epochs_emitted, 3u);
   EXPECT_EQ(set.channel(1).stats().epochs_emitted, 11u);
+  EXPECT_EQ(finest, (std::vector<std::chrono::nanoseconds>{200ms})) << "the clock's lateness follows";
+
+  // The NMEA receiver wrote what it writes alone.
+  const std::unique_ptr<Channel> alone = channel(false);
+  std::string alone_bytes;
+  for (int k = 0; k < 3; ++k) {
+    (void)alone->step(kT0 + std::chrono::seconds(k));
+    alone_bytes += alone->bytes();
+  }
+  EXPECT_EQ(nmea_bytes, alone_bytes);
 }
 
 TEST(ReceiverSchedule, FollowsASolutionGridFromTheEpochAfterAndReturnsToTheRunGrid) {
