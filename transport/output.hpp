@@ -79,7 +79,8 @@ class Output {
   /// commits at its first write.
   virtual void commit() {}
 
-  [[nodiscard]] const OutputStats& stats() const { return stats_; }
+  /// Its counts (a backend that writes through another output gives that one's: TeeOutput).
+  [[nodiscard]] virtual const OutputStats& stats() const { return stats_; }
 
   /// True once the output can never take bytes again (the reader of a pipe closed it: EPIPE).
   [[nodiscard]] virtual bool gone() const { return false; }

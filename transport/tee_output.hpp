@@ -9,7 +9,9 @@
 // The send time is CLOCK_REALTIME (UTC, microseconds) when write_epoch() is called; the runner
 // and the replay add this output last, so it is stamped after the other outputs were written.
 // Writes like a file output (file_output.hpp): each epoch at once in real time, buffered in
-// large blocks with --fast.
+// large blocks with --fast. Its counts are the file output's: an epoch is written once the
+// operating system took all of its bytes (its "# sent" line included, counted in the bytes), and
+// an epoch whose write failed (ENOSPC, EIO, a pipe whose reader left) is counted as failed.
 #pragma once
 
 #include <chrono>
@@ -33,6 +35,8 @@ class TeeOutput final : public Output {
 
   [[nodiscard]] std::string describe() const override { return "tee " + path_; }
   void flush() override { file_.flush(); }
+  [[nodiscard]] const OutputStats& stats() const override { return file_.stats(); }
+  [[nodiscard]] bool gone() const override { return file_.gone(); }
   /// Truncates the file (FileOutput::commit()): until then an existing file is left as it was.
   void commit() override { file_.commit(); }
 

@@ -47,11 +47,13 @@ Subcommand add_replay_command(CLI::App& app) {
   sub->footer(options_footer());
   return {sub, [path](const Config& config, const std::atomic<bool>& stop) {
             using namespace replay;
-            ReplayLog log = read_replay_log(*path);
-            (void)check_replay_options(config.timeline, config.replay, log, *path);  // before any output is opened
+            auto log = std::make_unique<LogStream>(std::filesystem::path(*path));  // its first window: bad logs stop here
+            RangeCursor range = check_replay_options(config.timeline, config.replay, *log);  // before any output
             std::vector<std::unique_ptr<transport::Output>> outputs =
-                open_replay_outputs(config.receiver(), config.timeline, config.replay, log);
-            Replayer replayer(config.timeline, config.replay, std::move(log), *path, std::move(outputs));
+                open_replay_outputs(config.receiver(), config.timeline, config.replay, *log);
+            const auto budget = replay_line_budget_bytes(config.receiver(), config.timeline, config.replay, *log);
+            Replayer replayer(config.timeline, config.replay, std::move(log), std::move(range), std::move(outputs),
+                              nullptr, budget);
             // --realtime-priority, --lock-memory, --timer-slack: as for the emulator's loop.
             for (const std::string& line : posix::apply_realtime_settings(config.process.realtime)) spdlog::info("{}", line);
             return replayer.run(stop);

@@ -15,13 +15,14 @@
 // - The log's timeline: times of day in order, a day added when the time goes back by more than
 //   12 h (midnight rollover). A smaller step back is kept as recorded (sent right after the
 //   previous epoch) and counted. Epochs without a time are placed one nominal period (the median
-//   spacing of the timed epochs, 1 s when there is none) after the previous epoch, or before the
-//   first timed one.
+//   spacing of the first kPeriodSpacings spacings of timed epochs, 1 s when there is none) after
+//   the previous epoch, or before the first timed one.
+// The log is read as a stream with a bounded look-ahead (log_stream.hpp); parse_replay_log() runs
+// the same reader over a log in memory and keeps every epoch (tests, fuzzing).
 #pragma once
 
 #include <chrono>
 #include <cstdint>
-#include <filesystem>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -71,12 +72,8 @@ struct ReplayLog {
   std::chrono::nanoseconds period{std::chrono::seconds(1)};  ///< nominal epoch spacing
 };
 
-/// Cuts `bytes` (a whole log) into epochs.
+/// Cuts `bytes` (a whole log) into epochs: every epoch LogStream hands out, kept.
 [[nodiscard]] ReplayLog parse_replay_log(std::string_view bytes);
-
-/// Reads and parses a log file. Throws std::runtime_error naming the file when it cannot be read
-/// or holds no NMEA sentence (with what it skipped).
-[[nodiscard]] ReplayLog read_replay_log(const std::filesystem::path& path);
 
 /// Epochs first..last (both included) of a log.
 struct EpochRange {
@@ -84,9 +81,9 @@ struct EpochRange {
   std::size_t last = 0;
 };
 
-/// The epochs --from/--to select: a time of day is the first epoch at or after it (--from), the
-/// last at or before it (--to), both on the log's timeline (across midnight too); an index is
-/// that epoch. Throws std::invalid_argument naming the option when the range is empty or an
+/// The epochs --from/--to select (epoch_range.hpp's RangeCursor over the epochs): a time of day is
+/// the first epoch at or after it (--from), the last at or before it (--to), both on the log's
+/// timeline (across midnight too); an index is that epoch. Throws std::invalid_argument naming the option when the range is empty or an
 /// index is past the end.
 [[nodiscard]] EpochRange select_range(const ReplayLog& log, const std::optional<LogPosition>& from,
                                       const std::optional<LogPosition>& to);

@@ -8,9 +8,13 @@
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <regex>
 #include <string>
 
+#include <fmt/format.h>
+
+#include "nmea/sentences.hpp"
 #include "tests/support/nmea_check.hpp"
 #include "tests/support/process.hpp"
 #include "tests/support/read_deadline.hpp"
@@ -112,6 +116,42 @@ TEST(PortsCommandTest, ListsSerialPortsOrSaysThereAreNone) {
   const bool listed = r.out.rfind("DEVICE", 0) == 0 && r.out.find("VID:PID") != std::string::npos &&
                       r.out.find("SERIAL") != std::string::npos;
   EXPECT_TRUE(listed || r.out == "no serial ports found\n") << r.out;
+}
+
+// A replay checks the serial line against the widest epoch of its look-ahead window (1024
+// epochs and one 64 KiB read) at start-up; wider epochs further on are sent and counted, with one
+// warning.
+TEST_F(SerialEndToEndTest, AReplayCountsEpochsWiderThanTheLineBeyondItsLookAhead) {
+  auto sentence = [](const std::string& body) { return fmt::format("${}*{:02X}\r\n", body, nmea::checksum(body)); };
+  const auto log = dir_ / "wide_later.nmea";
+  {
+    std::ofstream out(log, std::ios::binary);
+    for (int i = 0; i < 2200; ++i) {  // 10 Hz from 12:00:00
+      const std::string t = fmt::format("12{:02}{:02}.{}0", i / 10 / 60, i / 10 % 60, i % 10);
+      out << sentence("GPGGA," + t + ",4304.35012,N,08924.75027,W,1,11,0.92,260.1,M,0.0,M,,");
+      if (i >= 2196) out << sentence("GPRMC," + t + ",A,4304.35012,N,08924.75027,W,0.000,,010524,,,A,V");
+    }
+  }
+  test::SocatPair pair(dir_ / "A", dir_ / "B");
+  const int far = test::open_raw(pair.b());
+  // 1000 epochs a second at 921600 baud: 82 bytes an epoch within the 90 % margin; a GGA is 75.
+  test::Process gpsemu({GPSEMU_BINARY, "replay", log.string(), "--speed", "100", "--output",
+                        "serial:" + pair.a().string() + "@921600"});
+  int status = -1;
+  const auto deadline = std::chrono::steady_clock::now() + 60s;
+  while (status < 0 && std::chrono::steady_clock::now() < deadline) {
+    (void)test::read_available(far, 50ms, 50ms);
+    status = gpsemu.wait(1ms);
+  }
+  ::close(far);
+  ASSERT_EQ(status, 0) << gpsemu.stderr_text();
+  EXPECT_NE(gpsemu.stderr_text().find("2200 epochs sent"), std::string::npos) << gpsemu.stderr_text();
+  EXPECT_NE(gpsemu.stderr_text().find("0 steps back"), std::string::npos) << gpsemu.stderr_text();
+  EXPECT_NE(gpsemu.stderr_text().find("4 epochs wider than the 82 bytes the slowest serial line carries"),
+            std::string::npos)
+      << gpsemu.stderr_text();
+  EXPECT_NE(gpsemu.stderr_text().find("epoch at 12:03:39.600 is 144 bytes: wider than the 82 bytes"), std::string::npos)
+      << gpsemu.stderr_text();
 }
 
 }  // namespace

@@ -2,11 +2,24 @@
 // over 1 MiB is refused before it is parsed; a huge value is not echoed back whole (quoted values
 // are cut to 80 characters and "..."); a replayed log whose one repeated time makes an epoch of
 // hundreds of thousands of sentences has that epoch skipped and counted, the others sent.
+// `gpsemu replay` streams its log: replaying a 150 MB log peaks under 64 MB of RSS (measured by
+// wait4()'s ru_maxrss of the real binary) and sends every epoch; a FIFO is streamed too (a log
+// bigger than the look-ahead window comes out whole), and --loop on one is refused.
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <filesystem>
 #include <fstream>
 #include <regex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <fmt/format.h>
@@ -20,19 +33,44 @@ namespace {
 
 using namespace std::chrono;
 
-struct Result {
-  int rc = -1;
-  std::string out, err;
-};
+using test::Result;
 
-Result run(std::vector<std::string> args) {
+/// gpsemu ARGS, run to completion.
+Result run(const std::vector<std::string>& args) { return test::run({GPSEMU_BINARY}, args, seconds(120)); }
+
+/// Runs gpsemu with `args`, standard output to /dev/null and standard error to `err_path`; the
+/// exit status and the peak resident set size (kB) of the process.
+std::pair<int, long> run_measured(std::vector<std::string> args, const std::filesystem::path& err_path) {
   args.insert(args.begin(), GPSEMU_BINARY);
-  test::Process p(args);
-  Result r;
-  r.rc = p.wait(seconds(120));
-  r.out = p.stdout_text();
-  r.err = p.stderr_text();
-  return r;
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&fa, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  pid_t pid = -1;
+  const int rc = posix_spawn(&pid, argv[0], &fa, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&fa);
+  if (rc != 0) return {-1, 0};
+  int status = 0;
+  rusage usage{};
+  if (::wait4(pid, &status, 0, &usage) != pid) return {-1, 0};
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, usage.ru_maxrss};
+}
+
+/// Writes `bytes` into the FIFO `path` from a thread (opening blocks until gpsemu opens it).
+std::thread feed_fifo(const std::filesystem::path& path, std::string bytes) {
+  return std::thread([path, bytes = std::move(bytes)] {
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+    if (fd < 0) return;
+    for (std::size_t done = 0; done < bytes.size();) {
+      const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+      if (n <= 0) break;  // the reader left (SIGPIPE is ignored)
+      done += static_cast<std::size_t>(n);
+    }
+    ::close(fd);
+  });
 }
 
 std::string gga(const std::string& time) {
@@ -44,26 +82,26 @@ TEST(MemoryBounds, AConfigFileOverOneMebibyteIsRefusedInOneShortLine) {
   const auto dir = test::scratch_dir("memory", "config_size");
   const auto big = test::write_file(dir / "big.toml", "# padding\n" + std::string(2 * 1024 * 1024, '#') + "\nrate = 5\n");
   const Result r = run({"--config", big.string(), "--fast", "--duration", "1"});
-  EXPECT_EQ(r.rc, 2);
+  EXPECT_EQ(r.status, 2);
   EXPECT_TRUE(std::regex_match(r.err, std::regex("gpsemu: config file .*big.toml: larger than 1 MiB \\([0-9]+ bytes\\); a "
                                                  "config file may have at most 1048576 bytes\n")))
       << r.err;
   // Just under the limit is a config file like any other.
   const auto ok = test::write_file(dir / "ok.toml", std::string(1024 * 1024 - 100, '#') + "\nrate = 5\n");
   const Result fine = run({"--config", ok.string(), "--fast", "--duration", "1", "--output", "stdout", "--log-level", "warn"});
-  EXPECT_EQ(fine.rc, 0) << fine.err;
+  EXPECT_EQ(fine.status, 0) << fine.err;
 }
 
 TEST(MemoryBounds, AHugeValueIsCutTo80CharactersInTheMessage) {
   const auto dir = test::scratch_dir("memory", "value");
   const auto file = test::write_file(dir / "value.toml", "seed = \"" + std::string(900000, 'y') + "\"\n");
   const Result r = run({"--config", file.string(), "--fast", "--duration", "1"});
-  EXPECT_EQ(r.rc, 2);
+  EXPECT_EQ(r.status, 2);
   EXPECT_TRUE(std::regex_match(r.err, std::regex("gpsemu: config file .*value.toml:1: key 'seed': seed expects a whole "
                                                  "number >= 0, got 'y{80}\\.\\.\\.'\n")))
       << r.err.substr(0, 400);
   const Result flag = run({"--noise", std::string(100000, 'p'), "--fast", "--duration", "1"});
-  EXPECT_EQ(flag.rc, 2);
+  EXPECT_EQ(flag.status, 2);
   EXPECT_LT(flag.err.size(), 300u) << flag.err.substr(0, 400);
   EXPECT_NE(flag.err.find("'" + std::string(80, 'p') + "...'"), std::string::npos) << flag.err.substr(0, 400);
 }
@@ -79,7 +117,7 @@ TEST(MemoryBounds, AnEpochOfOneRepeatedTimeWithHundredsOfThousandsOfSentencesIsS
     for (const char* t : {"120004.00", "120005.00"}) out << gga(t);
   }
   const Result r = run({"replay", log.string(), "--fast", "--output", "stdout"});
-  ASSERT_EQ(r.rc, 0) << r.err;
+  ASSERT_EQ(r.status, 0) << r.err;
   for (const char* t : {"120000.00", "120001.00", "120002.00", "120004.00", "120005.00"}) {
     EXPECT_NE(r.out.find(gga(t)), std::string::npos) << t;
   }
@@ -96,11 +134,58 @@ TEST(MemoryBounds, AnEpochOfOneRepeatedTimeWithHundredsOfThousandsOfSentencesIsS
     for (int i = 0; i < 2000; ++i) out << repeated;
   }
   const Result none = run({"replay", only.string(), "--fast", "--output", "stdout"});
-  EXPECT_EQ(none.rc, 2);
+  EXPECT_EQ(none.status, 2);
   EXPECT_TRUE(std::regex_match(none.err, std::regex("gpsemu: NMEA log '.*only.nmea' has no epoch to send: 1 oversized "
                                                     "epochs \\(2000 sentences\\) skipped; an epoch may have at most 1000 "
                                                     "sentences and 131072 bytes\n")))
       << none.err;
+}
+
+TEST(MemoryBounds, ReplayingA150MBLogPeaksUnder64MBAndSendsEveryEpoch) {
+  const auto dir = test::scratch_dir("memory", "replay_rss");
+  const auto log = dir / "big.nmea";
+  // 262 144 epochs of the emulator's default sentences at 1 Hz: about 150 MB.
+  constexpr int kEpochs = 262144;
+  ASSERT_EQ(run({"--fast", "--start-time", "2024-05-01T12:00:00Z", "--duration", std::to_string(kEpochs), "--output",
+                 "file:" + log.string(), "--log-level", "warn"}).status, 0);
+  ASSERT_GT(std::filesystem::file_size(log), 140'000'000u);
+  const auto err = dir / "replay.err";
+  const auto [rc, peak_kb] = run_measured({"replay", log.string(), "--fast", "--output", "stdout"}, err);
+  const std::string text = test::read_file(err);
+  std::filesystem::remove(log);
+  ASSERT_EQ(rc, 0) << text;
+  EXPECT_NE(text.find(fmt::format("{} epochs sent", kEpochs)), std::string::npos) << text;
+  EXPECT_NE(text.find(fmt::format("log: {} epochs", kEpochs)), std::string::npos) << text;
+  EXPECT_LT(peak_kb, 64 * 1024) << "peak RSS " << peak_kb << " kB: the log is not streamed";
+  std::printf("[ info ] replay --fast of a %d-epoch log: peak RSS %ld kB\n", kEpochs, peak_kb);
+}
+
+TEST(MemoryBounds, AFifoLogIsStreamedWholeAndLoopOnItIsRefused) {
+  ::signal(SIGPIPE, SIG_IGN);
+  const auto dir = test::scratch_dir("memory", "fifo");
+  const auto file = dir / "log.nmea";
+  // 4000 epochs, about 2.3 MB: more than the look-ahead window.
+  ASSERT_EQ(run({"--fast", "--start-time", "2024-05-01T12:00:00Z", "--duration", "4000", "--output",
+                 "file:" + file.string(), "--log-level", "warn"}).status, 0);
+  const std::string bytes = test::read_file(file);
+  const auto fifo = dir / "log.fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::thread writer = feed_fifo(fifo, bytes);
+  const Result r = run({"replay", fifo.string(), "--fast", "--output", "stdout"});
+  writer.join();
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(r.out == bytes) << "the FIFO's epochs, all of them, unchanged (" << r.out.size() << " of " << bytes.size()
+                              << " bytes)";
+  EXPECT_NE(r.err.find("log: 4000 epochs"), std::string::npos) << r.err;
+
+  // A FIFO can be read only once: --loop is refused at start-up.
+  writer = feed_fifo(fifo, gga("120000.00") + gga("120001.00"));
+  const Result loop = run({"replay", fifo.string(), "--loop", "--duration", "5", "--fast", "--output", "stdout"});
+  writer.join();
+  EXPECT_EQ(loop.status, 2);
+  EXPECT_TRUE(std::regex_match(loop.err, std::regex("gpsemu: --loop: NMEA log '.*log.fifo' is not a regular file: a "
+                                                    "pipe can be read only once\n")))
+      << loop.err;
 }
 
 }  // namespace

@@ -50,7 +50,7 @@ Replayed replay(const std::string& log_text, Config config, UtcNs start = parse_
   auto* out = recording.get();
   std::vector<std::unique_ptr<transport::Output>> outputs;
   outputs.push_back(std::move(recording));
-  Replayer r(config.timeline, config.replay, parse_replay_log(log_text), "test.nmea", std::move(outputs), io);
+  Replayer r(config.timeline, config.replay, std::make_unique<LogStream>(log_text, "test.nmea"), std::move(outputs), io);
   const std::atomic<bool> stop{false};
   EXPECT_EQ(r.run(stop), 0);
   return {out->epochs, io.sleeps, start, r.first_stamp(), r.stats()};
@@ -148,11 +148,11 @@ TEST(ReplayPacing, OtherClocksAndEmptyRangesAreRefusedNamingTheOption) {
   const std::string log = epoch("120000.00") + epoch("120001.00");
   Config config;
   config.timeline.clock = parse_clock_spec("scaled:2");
-  EXPECT_THROW((void)check_replay_options(config.timeline, config.replay, parse_replay_log(log), "x"), std::invalid_argument);
+  EXPECT_THROW((void)check_replay_options(config.timeline, config.replay, *std::make_unique<LogStream>(log, "x")), std::invalid_argument);
   config.timeline.clock = {};
   config.replay.from = parse_log_position("from", "5");
   try {
-    (void)check_replay_options(config.timeline, config.replay, parse_replay_log(log), "x");
+    (void)check_replay_options(config.timeline, config.replay, *std::make_unique<LogStream>(log, "x"));
     ADD_FAILURE() << "no exception";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("--from: epoch 5 is past the end: the log has 2 epochs"), std::string::npos)
