@@ -61,6 +61,8 @@ class Channel final : public transport::ClientInput {
   nmea::Fix step(UtcNs t, const std::optional<sources::Truth>& truth);
   /// The last epoch's bytes (every encoder's, in order).
   [[nodiscard]] const std::string& bytes() const { return bytes_; }
+  /// The same, to cut to what a serial line carries (ubx_effects.hpp).
+  [[nodiscard]] std::string& bytes() { return bytes_; }
 
   /// True from the first epoch its source has no truth for (sticky): nothing more is written.
   bool ended_at(UtcNs t) { return ended_ = ended_ || source_->ended_at(t); }

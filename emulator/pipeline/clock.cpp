@@ -73,11 +73,11 @@ bool RealtimeClock::late(UtcNs t) {
 
 ScaledClock::ScaledClock(ClockIo& io, double scale, UtcNs first_epoch, UtcNs first_wall,
                          std::chrono::nanoseconds epoch_period, bool skip_late)
-    : io_(io),
+    : EpochClock(epoch_period),
+      io_(io),
       scale_(scale),
       first_epoch_(first_epoch),
       first_wall_(first_wall),
-      period_(epoch_period),
       skip_late_(skip_late) {
   if (!(scale > 0.0) || scale > 1000.0) {
     throw std::invalid_argument(fmt::format("scaled clock: K must be > 0 and <= 1000, got {}", scale));
@@ -108,7 +108,7 @@ std::string ScaledClock::describe() const {
 
 LockstepClock::LockstepClock(ClockIo& io, const sources::PoseSource& source, std::chrono::nanoseconds epoch_period,
                              std::chrono::nanoseconds poll_interval)
-    : io_(io), source_(source), period_(epoch_period), poll_interval_(poll_interval) {}
+    : EpochClock(epoch_period), io_(io), source_(source), poll_interval_(poll_interval) {}
 
 EpochWait LockstepClock::wait_for(UtcNs t, const std::atomic<bool>& stop) {
   while (!stop.load()) {

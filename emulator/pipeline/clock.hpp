@@ -118,6 +118,14 @@ class EpochClock {
   [[nodiscard]] virtual std::string describe() const = 0;
   /// What the clock waits through; nullptr for a clock that never waits (fast).
   [[nodiscard]] virtual ClockIo* io() const { return nullptr; }
+  /// The time between epochs now: the finest of the receivers' schedules (a u-blox client may
+  /// ask for a faster one than --rate's); how late an epoch may be before it is skipped.
+  void set_epoch_period(std::chrono::nanoseconds period) { period_ = period; }
+
+ protected:
+  EpochClock() = default;
+  explicit EpochClock(std::chrono::nanoseconds epoch_period) : period_(epoch_period) {}
+  std::chrono::nanoseconds period_{0};
 };
 
 /// fast: every epoch is due at once.
@@ -135,7 +143,7 @@ class RealtimeClock final : public EpochClock {
  public:
   RealtimeClock(ClockIo& io, std::chrono::nanoseconds epoch_minus_wall, std::chrono::nanoseconds latency,
                 std::chrono::nanoseconds epoch_period)
-      : io_(io), shift_(epoch_minus_wall), latency_(latency), period_(epoch_period) {}
+      : EpochClock(epoch_period), io_(io), shift_(epoch_minus_wall), latency_(latency) {}
   [[nodiscard]] std::optional<UtcNs> deadline_of(UtcNs t) const override { return t - shift_ + latency_; }
   [[nodiscard]] bool late(UtcNs t) override;
   [[nodiscard]] std::string describe() const override { return {}; }
@@ -143,7 +151,7 @@ class RealtimeClock final : public EpochClock {
 
  private:
   ClockIo& io_;
-  std::chrono::nanoseconds shift_, latency_, period_;
+  std::chrono::nanoseconds shift_, latency_;
 };
 
 /// scaled:K. `first_epoch` leaves at wall time `first_wall` (its real-time deadline: latency
@@ -165,7 +173,6 @@ class ScaledClock final : public EpochClock {
   double scale_;
   UtcNs first_epoch_;
   UtcNs first_wall_;
-  std::chrono::nanoseconds period_;
   bool skip_late_;
 };
 
@@ -182,7 +189,6 @@ class LockstepClock final : public EpochClock {
  private:
   ClockIo& io_;
   const sources::PoseSource& source_;
-  std::chrono::nanoseconds period_;
   std::chrono::nanoseconds poll_interval_;
   bool started_ = false;  ///< an epoch has been due: from now on none is skipped
 };

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "emulator/pipeline/channel_set.hpp"
 #include "emulator/pipeline/epoch_loop.hpp"
 #include "emulator/pipeline/ubx_effects.hpp"
 #include "nmea/sentences.hpp"
@@ -42,57 +43,18 @@ bool with_pps(const LoopSettings& loop, const std::optional<RunnerIo>& io) {
   return loop.clock.kind != ClockKind::fast && (io ? io->pps != nullptr : loop.pps.spec.has_value());
 }
 
+/// What a receiver writes, for the start-up lines: "NMEA", or a u-blox port's "UBX" or "NMEA+UBX".
+std::string protocol_name(const ChannelSettings& s) {
+  if (!s.ubx) return "NMEA";
+  return s.ubx->start.sentences.empty() ? "UBX" : "NMEA+UBX";
+}
+
 RunSettings one_receiver(RunSettings settings) {
   if (settings.receivers.size() != 1) throw std::invalid_argument("a Runner given its outputs runs one receiver");
   return settings;
 }
 
 }  // namespace
-
-/// The emulator's producer: every receiver channel, epoch by epoch on the shared timeline.
-class ChannelSet final : public EpochProducer {
- public:
-  ChannelSet(const Timeline& timeline, std::optional<std::int64_t> epochs)
-      : timeline_(timeline), count_(epochs.value_or(std::numeric_limits<std::int64_t>::max())) {}
-
-  bool next_epoch(UtcNs& t) override {
-    if (k_ >= count_) return false;
-    t = timeline_.grid.time_of(timeline_.first_index + k_++);
-    bool all_ended = true;
-    for (const auto& ch : channels) all_ended = ch->ended_at(t) && all_ended;
-    return !all_ended;
-  }
-  [[nodiscard]] bool active(std::size_t i) const override { return !channels[i]->ended(); }
-  std::string_view produce(std::size_t i, UtcNs t) override {
-    Channel& ch = *channels[i];
-    // What a u-blox client asked for since the last epoch: its answer is already written.
-    if (ch.ubx_encoder() && sink) apply_ubx_effects(ch, sink->outputs(i), rate_hz, t, sink->who(i));
-    (void)ch.step(t);
-    ++ch.stats().epochs_emitted;
-    return ch.bytes();
-  }
-  void list_inputs(std::vector<int>& fds, std::vector<std::size_t>& owners) const override {
-    for (std::size_t i = 0; i < channels.size(); ++i) {
-      const int fd = channels[i]->source()->poll_fd();
-      if (fd < 0) continue;
-      fds.push_back(fd);
-      owners.push_back(i);
-    }
-  }
-  void service_input(std::size_t i) override { channels[i]->source()->service(); }
-  void service_inputs() override {
-    for (const auto& ch : channels) ch->source()->service();
-  }
-
-  std::vector<std::unique_ptr<Channel>> channels;  ///< not moved: a receiver refers to its frame
-  const Sink* sink = nullptr;  ///< the receivers' outputs (u-blox baud changes)
-  double rate_hz = 1.0;        ///< the loop's
-
- private:
-  const Timeline& timeline_;
-  std::int64_t count_;
-  std::int64_t k_ = 0;
-};
 
 Runner::Runner(const Config& config) : Runner(run_settings(config), std::nullopt) {}
 
@@ -106,7 +68,7 @@ Runner::Runner(RunSettings settings, std::optional<RunnerIo> io)
   for (const ReceiverSetup& r : settings.receivers) {
     auto ch = std::make_unique<Channel>(r.channel, timeline_.first_epoch());
     ch->set_source(r.make_source(ch->frame(), timeline_.first_epoch()));
-    channels_->channels.push_back(std::move(ch));
+    channels_->add(std::move(ch));
   }
   if (io) {
     sink_.add(std::move(io->outputs));
@@ -115,19 +77,20 @@ Runner::Runner(RunSettings settings, std::optional<RunnerIo> io)
     for (const ReceiverSetup& r : settings.receivers) (void)sink_.open(r.outputs);
     if (with_pps(loop_, io)) pps_line_ = open_pps(loop_.pps, sink_);
   }
-  for (std::size_t i = 0; i < sink_.receivers(); ++i) sink_.attach_client_input(i, channels_->channels[i].get());
-  channels_->sink = &sink_;
-  channels_->rate_hz = loop_.rate_hz;
+  for (std::size_t i = 0; i < sink_.receivers(); ++i) sink_.attach_client_input(i, &channels_->channel(i));
+  channels_->attach(sink_);
   if (pps_line_) pps_ = std::make_unique<PpsTimeline>(*pps_line_, loop_.pps.width, timeline_.epoch_minus_wall);
   io_ = make_loop_io(sink_, *channels_);
-  if (channels_->channels.size() > 1 && loop_.clock.kind == ClockKind::lockstep) {
+  if (channels_->size() > 1 && loop_.clock.kind == ClockKind::lockstep) {
     std::vector<const sources::PoseSource*> sources;
-    for (const auto& ch : channels_->channels) sources.push_back(ch->source());
+    for (std::size_t i = 0; i < channels_->size(); ++i) sources.push_back(channels_->channel(i).source());
     fleet_time_ = std::make_unique<FleetSimTime>(std::move(sources));
   }
-  clock_ = make_epoch_clock(loop_.clock, *io_, fleet_time_ ? *fleet_time_ : *channels_->channels.front()->source(),
+  clock_ = make_epoch_clock(loop_.clock, *io_, fleet_time_ ? *fleet_time_ : *channels_->channel(0).source(),
                             timeline_.first_epoch(), timeline_.first_wall() + loop_.latency, timeline_.grid.nominal_period(),
                             timeline_.epoch_minus_wall, loop_.latency);
+  // An epoch is late (skipped) by the finest period any receiver runs at, not only --rate's.
+  channels_->on_finest_period([clock = clock_.get()](std::chrono::nanoseconds period) { clock->set_epoch_period(period); });
   // Everything that can fail is open: only now are the outputs' files truncated.
   sink_.commit();
   log_banner();
@@ -135,22 +98,25 @@ Runner::Runner(RunSettings settings, std::optional<RunnerIo> io)
 
 Runner::~Runner() = default;
 
-const ReceiverStats& Runner::receiver_stats(std::size_t i) const { return channels_->channels.at(i)->stats(); }
+const ReceiverStats& Runner::receiver_stats(std::size_t i) const {
+  if (i >= channels_->size()) throw std::out_of_range("no such receiver");
+  return channels_->channel(i).stats();
+}
 
 void Runner::log_banner() const {
-  const auto& channels = channels_->channels;
-  const bool fleet = channels.size() > 1;
+  const std::size_t n = channels_->size();
+  const bool fleet = n > 1;
   const double latency_ms = std::chrono::duration<double, std::milli>(loop_.latency).count();
   const UtcNs first_epoch = timeline_.first_epoch();
   if (fleet) {
-    spdlog::info("{} receivers; {} Hz, latency {} ms; first epoch {}{}", channels.size(), loop_.rate_hz, latency_ms,
+    spdlog::info("{} receivers; {} Hz, latency {} ms; first epoch {}{}", n, loop_.rate_hz, latency_ms,
                  format_iso8601_utc(first_epoch),
-                 channels.size() >= kHelperWriterFrom && loop_.clock.kind == ClockKind::realtime
+                 n >= kHelperWriterFrom && loop_.clock.kind == ClockKind::realtime
                      ? "; two writer threads"
                      : "");
   }
-  for (std::size_t i = 0; i < channels.size(); ++i) {
-    const Channel& ch = *channels[i];
+  for (std::size_t i = 0; i < n; ++i) {
+    const Channel& ch = channels_->channel(i);
     const ChannelSettings& s = ch.settings();
     const std::string who = sink_.who(i);
     if (fleet) {
@@ -161,11 +127,15 @@ void Runner::log_banner() const {
                    noise::to_string(s.noise.model), loop_.rate_hz, latency_ms, format_iso8601_utc(first_epoch));
     }
     const Geometry& g = ch.receiver().geometry();
-    spdlog::info("{}receiver: GGA quality {} (noise x{}), {} of {} satellites used, HDOP {:.2f}; {} bytes an epoch at most",
-                 who, static_cast<int>(s.receiver.quality), noise_scale(s.receiver.quality), g.satellites_used,
-                 g.satellites_in_view, g.hdop,
-                 nmea::line_budget(s.format, g.satellites_in_view, g.satellites_used, loop_.rate_hz).bytes_per_epoch);
-    sink_.log_opened(i);
+    // The widest epoch of what the receiver writes: its NMEA sentences, or a u-blox's NMEA and UBX.
+    const std::size_t epoch_bytes =
+        ch.ubx_encoder() ? widest_ubx_epoch_bytes(ch)
+                         : nmea::line_budget(s.format, g.satellites_in_view, g.satellites_used, loop_.rate_hz).bytes_per_epoch;
+    spdlog::info("{}receiver: {}GGA quality {} (noise x{}), {} of {} satellites used, HDOP {:.2f}; {} bytes an epoch at most{}",
+                 who, ch.ubx_encoder() ? fmt::format("u-blox {}, ", ubx::model_info(s.ubx->start.model).name) : "",
+                 static_cast<int>(s.receiver.quality), noise_scale(s.receiver.quality), g.satellites_used,
+                 g.satellites_in_view, g.hdop, epoch_bytes, ch.ubx_encoder() ? " (" + protocol_name(s) + ")" : "");
+    sink_.log_opened(i, protocol_name(s));
   }
   if (pps_) pps_->log_opened();
 }
@@ -175,14 +145,14 @@ int Runner::run(const std::atomic<bool>& stop) {
   // In real time, PPS edges ride the epoch deadlines and a fleet computes ahead of them.
   const bool realtime = loop_.clock.kind == ClockKind::realtime;
   LoopOptions options;
-  if (realtime && channels_->channels.size() > 1) options.compute_ahead_within = loop_.latency;
+  if (realtime && channels_->size() > 1) options.compute_ahead_within = loop_.latency;
   if (pps_ && realtime) pps_->start(timeline_.first_wall());
   EpochLoop loop(*channels_, sink_, *clock_, options, realtime ? pps_.get() : nullptr);
   loop.run(stop);
   stats_.epochs_emitted = loop.stats().epochs_emitted;
   stats_.epochs_late_skipped = loop.stats().epochs_late_skipped;
   stats_.epochs_without_fix = 0;
-  for (const auto& ch : channels_->channels) stats_.epochs_without_fix += ch->stats().epochs_without_fix;
+  for (std::size_t i = 0; i < channels_->size(); ++i) stats_.epochs_without_fix += channels_->channel(i).stats().epochs_without_fix;
   stats_.wakeups = io_->wakeups();
   if (pps_) {
     stats_.pps_pulses = pps_->stats().pulses;
@@ -200,13 +170,14 @@ int Runner::run(const std::atomic<bool>& stop) {
 void Runner::log_summary() const {
   spdlog::info("{} epochs emitted ({} without fix), {} late epochs skipped; {} wake-ups", stats_.epochs_emitted,
                stats_.epochs_without_fix, stats_.epochs_late_skipped, stats_.wakeups);
-  const auto& channels = channels_->channels;
-  for (std::size_t i = 0; i < channels.size(); ++i) {
-    if (channels.size() > 1) {
-      spdlog::info("receiver {}: {} epochs ({} without fix)", i, channels[i]->stats().epochs_emitted,
-                   channels[i]->stats().epochs_without_fix);
-    }
+  const std::size_t n = channels_->size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const ReceiverStats& r = channels_->channel(i).stats();
+    if (n > 1) spdlog::info("receiver {}: {} epochs ({} without fix)", i, r.epochs_emitted, r.epochs_without_fix);
     sink_.log_summary(i);
+    if (const std::string drops = tx_drops_summary(channels_->line(i)); !drops.empty()) {
+      spdlog::warn("{}{}", sink_.who(i), drops);
+    }
   }
   if (pps_) pps_->log_summary();
 }

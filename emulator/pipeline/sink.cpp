@@ -92,8 +92,8 @@ transport::SerialOutput* Sink::first_serial() const {
 
 std::string Sink::who(std::size_t i) const { return receivers_.size() > 1 ? fmt::format("receiver {}: ", i) : ""; }
 
-void Sink::log_opened(std::size_t i) const {
-  for (const auto& out : receivers_.at(i)) spdlog::info("{}NMEA on {}", who(i), out->describe());
+void Sink::log_opened(std::size_t i, std::string_view protocol) const {
+  for (const auto& out : receivers_.at(i)) spdlog::info("{}{} on {}", who(i), protocol, out->describe());
 }
 
 void Sink::log_summary(std::size_t i) const {

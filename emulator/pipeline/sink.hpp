@@ -69,8 +69,8 @@ class Sink {
 
   /// "receiver 3: " when there are many receivers, else "".
   [[nodiscard]] std::string who(std::size_t i) const;
-  /// One "NMEA on ..." line an output of receiver i.
-  void log_opened(std::size_t i) const;
+  /// One "NMEA on ..." line an output of receiver i (`protocol`: what it writes).
+  void log_opened(std::size_t i, std::string_view protocol = "NMEA") const;
   /// One line an output of receiver i: epochs written, bytes, dropped, failed.
   void log_summary(std::size_t i) const;
 

@@ -2,21 +2,40 @@
 
 #include <chrono>
 #include <cmath>
-#include <stdexcept>
 #include <variant>
 
 #include <spdlog/spdlog.h>
 
 #include "emulator/pipeline/serial_line_check.hpp"
 #include "emulator/ubx/output.hpp"
+#include "emulator/ubx/solution_grid.hpp"
+#include "nmea/line_budget.hpp"
 #include "transport/serial_output.hpp"
 
 namespace gpsemu {
 namespace {
 
-void change_baud(const Channel& channel, const std::vector<std::unique_ptr<transport::Output>>& outputs,
-                 double loop_rate_hz, int baud_bps, const std::string& who) {
-  const ubx::ConfigMachine& machine = channel.ubx_encoder()->session().machine();
+/// Dropped messages are logged once, then at most this often.
+constexpr std::chrono::seconds kDropReportEvery{10};
+
+double ms(std::chrono::nanoseconds d) { return std::chrono::duration<double, std::milli>(d).count(); }
+
+/// Warns when the widest epoch no longer fits the line in one epoch period.
+void check_line(const Channel& channel, const ReceiverSchedule& schedule, const UbxLine& line, const std::string& who) {
+  if (line.baud == 0) return;
+  const std::size_t widest = widest_ubx_epoch_bytes(channel);
+  const std::size_t carried = ubx::line_bytes_per_period(line.baud, schedule.period());
+  if (widest <= carried) return;
+  const double rate_hz = 1e3 / ms(schedule.period());
+  const int fitting = nmea::smallest_standard_baud(nmea::line_budget(widest, rate_hz));
+  spdlog::warn("{}u-blox: the widest epoch ({} bytes) does not fit the line: {} baud carries {} bytes a {} ms epoch; "
+               "the TX buffer overflows and the messages that do not fit are dropped whole (counted in the summary){}",
+               who, widest, line.baud, carried, ms(schedule.period()),
+               fitting != 0 ? fmt::format("; {} baud would carry it", fitting) : std::string{});
+}
+
+void change_baud(const std::vector<std::unique_ptr<transport::Output>>& outputs, UbxLine& line, int baud_bps,
+                 const std::string& who) {
   for (const auto& out : outputs) {
     auto* serial = dynamic_cast<transport::SerialOutput*>(out.get());
     if (!serial) continue;
@@ -26,22 +45,24 @@ void change_baud(const Channel& channel, const std::vector<std::unique_ptr<trans
       continue;
     }
     spdlog::info("{}u-blox CFG-PRT: {} now at {} baud", who, serial->device(), baud_bps);
-    try {
-      transport::OutputSpec spec{.kind = transport::OutputKind::serial, .path = serial->device(), .baud_bps = baud_bps};
-      check_serial_line_budget(spec, widest_ubx_epoch_bytes(channel.settings().format, machine.settings(), machine.port()),
-                               loop_rate_hz);
-    } catch (const std::exception& e) {
-      spdlog::warn("{}u-blox CFG-PRT: {}", who, e.what());
-    }
   }
+  line.baud = ubx_line_of(outputs).baud;
 }
 
-void change_period(std::chrono::milliseconds period, double loop_rate_hz, const std::string& who) {
-  const auto loop_ms = std::llround(1000.0 / loop_rate_hz);
-  if (period.count() >= loop_ms && period.count() % loop_ms == 0) return;  // the session's grid thins the loop's
-  spdlog::warn("{}u-blox CFG-RATE: a solution every {} ms asked, but epochs come every {} ms (--rate {}): the "
-               "solutions stay on that grid; start with a --rate whose period divides {} ms",
-               who, period.count(), loop_ms, loop_rate_hz, period.count());
+void change_period(const Channel& channel, ReceiverSchedule& schedule, std::chrono::milliseconds asked, UtcNs t,
+                   const std::string& who) {
+  const ubx::Session& session = channel.ubx_encoder()->session();
+  const ubx::ConfigMachine& machine = session.machine();
+  const bool start_period = asked == channel.settings().ubx->start.measurement_period;
+  const ubx::SolutionGrid grid = ubx::solution_grid(machine.settings(), machine.model());
+  schedule.follow(start_period ? std::nullopt : std::optional<ubx::SolutionGrid>{grid}, t);
+  if (!start_period && grid.period != asked) {
+    spdlog::warn("{}u-blox CFG-RATE: a solution every {} ms asked (acknowledged, as the receiver does), but a {} "
+                 "navigates at most every {} ms: solutions every {} ms",
+                 who, asked.count(), ubx::model_info(machine.model()).name, grid.period.count(), grid.period.count());
+  } else {
+    spdlog::info("{}u-blox CFG-RATE: a solution every {} ms", who, schedule.period().count() / 1'000'000);
+  }
 }
 
 }  // namespace
@@ -56,20 +77,64 @@ std::size_t widest_ubx_epoch_bytes(const nmea::FormatOptions& format, const ubx:
   return nmea_bytes + ubx::widest_solution_ubx_bytes(settings, port);
 }
 
+std::size_t widest_ubx_epoch_bytes(const Channel& channel) {
+  const UbxEncoder* ubx = channel.ubx_encoder();
+  if (!ubx) return 0;
+  const ubx::ConfigMachine& machine = ubx->session().machine();
+  return widest_ubx_epoch_bytes(channel.settings().format, machine.settings(), machine.port());
+}
+
+UbxLine ubx_line_of(const std::vector<std::unique_ptr<transport::Output>>& outputs) {
+  UbxLine line;
+  for (const auto& out : outputs) {
+    const auto* serial = dynamic_cast<const transport::SerialOutput*>(out.get());
+    if (!serial) continue;
+    const auto baud = static_cast<std::uint32_t>(serial->baud_bps());
+    if (line.baud == 0 || baud < line.baud) line.baud = baud;
+  }
+  return line;
+}
+
 void apply_ubx_effects(Channel& channel, const std::vector<std::unique_ptr<transport::Output>>& outputs,
-                       double loop_rate_hz, UtcNs t, const std::string& who) {
+                       ReceiverSchedule& schedule, UbxLine& line, UtcNs t, const std::string& who) {
   UbxEncoder* ubx = channel.ubx_encoder();
   if (!ubx) return;
+  bool recheck = false;
   for (const ubx::Effect& effect : ubx->take_effects()) {
     if (const auto* rate = std::get_if<ubx::MeasurementPeriodChanged>(&effect)) {
-      change_period(rate->period, loop_rate_hz, who);
+      change_period(channel, schedule, rate->period, t, who);
+      recheck = true;
     } else if (const auto* baud = std::get_if<ubx::BaudChanged>(&effect)) {
-      change_baud(channel, outputs, loop_rate_hz, static_cast<int>(baud->baud), who);
+      change_baud(outputs, line, static_cast<int>(baud->baud), who);
+      recheck = true;
     } else if (std::holds_alternative<ubx::ColdStart>(effect)) {
       spdlog::info("{}u-blox CFG-RST: cold start", who);
       channel.cold_start(t);
     }
   }
+  if (recheck) check_line(channel, schedule, line, who);
+}
+
+void fit_epoch_to_line(Channel& channel, std::chrono::nanoseconds period, UbxLine& line, const std::string& who) {
+  if (line.baud == 0) return;
+  const ubx::TxDrops drops = ubx::fit_epoch_to_line(channel.bytes(), ubx::line_bytes_per_period(line.baud, period));
+  if (drops.messages == 0) return;
+  line.dropped.messages += drops.messages;
+  line.dropped.bytes += drops.bytes;
+  const auto now = std::chrono::steady_clock::now();
+  if (line.reported_messages != 0 && now - line.last_report < kDropReportEvery) return;
+  spdlog::warn("{}u-blox TX buffer overflow: {} message(s) ({} bytes) dropped so far: {} baud carries {} bytes a {} ms "
+               "epoch",
+               who, line.dropped.messages, line.dropped.bytes, line.baud, ubx::line_bytes_per_period(line.baud, period),
+               ms(period));
+  line.reported_messages = line.dropped.messages;
+  line.last_report = now;
+}
+
+std::string tx_drops_summary(const UbxLine& line) {
+  if (line.dropped.messages == 0) return {};
+  return fmt::format("u-blox TX buffer: {} messages ({} bytes) dropped, the line at {} baud could not carry them",
+                     line.dropped.messages, line.dropped.bytes, line.baud);
 }
 
 }  // namespace gpsemu

@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "emulator/ubx/output.hpp"
+#include "emulator/ubx/solution_grid.hpp"
 #include "nmea/sentences.hpp"
 
 namespace gpsemu::ubx {
@@ -24,14 +25,17 @@ void Session::client_wrote(std::string_view bytes) {
   }
 }
 
+bool Session::on_solution_grid(nmea::UtcTime t) const {
+  if (machine_.settings().output_period() == settings_.start.measurement_period) return true;
+  return solution_grid(machine_.settings(), machine_.model()).contains(t);
+}
+
 std::string Session::take_reply() { return std::exchange(reply_, std::string{}); }
 
 std::vector<Effect> Session::take_effects() { return std::exchange(effects_, std::vector<Effect>{}); }
 
 void Session::append_solution(const nmea::Fix& fix, std::string& out) {
-  const auto since_epoch = fix.time_utc.time_since_epoch();
-  const auto period = machine_.settings().output_period();
-  if (period.count() > 0 && since_epoch % period != std::chrono::milliseconds{0}) return;
+  if (!on_solution_grid(fix.time_utc)) return;
   if (!first_epoch_) first_epoch_ = fix.time_utc;
   NavExtras extras;
   extras.speed_sigma_mps = settings_.speed_sigma_mps;

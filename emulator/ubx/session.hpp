@@ -5,10 +5,10 @@
 // take_effects(), and each epoch's bytes (NAV messages, NMEA sentences, then NAV-EOE, as the
 // settings turn them on: output.hpp) through append_solution().
 //
-// The solutions lie on the client's measurement grid: an epoch whose UTC time is not a multiple
-// of the settings' output period writes nothing, so CFG-RATE slows the output down by itself
-// when the loop runs at least as fast as asked; a faster period needs the loop's clock changed
-// (the MeasurementPeriodChanged effect).
+// The solutions lie on the start grid (the epochs the session is stepped at: --rate's) until the
+// client asks for another period; then on the solution grid it asks for (solution_grid.hpp): an
+// epoch off that grid writes nothing. The emulator loop steps the session on that grid itself
+// (the MeasurementPeriodChanged effect); a caller stepping at a fixed rate gets it thinned.
 #pragma once
 
 #include <chrono>
@@ -43,6 +43,10 @@ class Session {
 
   /// Appends the epoch's bytes for `fix` to `out`: nothing off the measurement grid.
   void append_solution(const nmea::Fix& fix, std::string& out);
+
+  /// Whether a solution falls at `t`: any epoch while the period is the start one, else those on
+  /// the asked solution grid.
+  [[nodiscard]] bool on_solution_grid(nmea::UtcTime t) const;
 
   [[nodiscard]] const ConfigMachine& machine() const { return machine_; }
   [[nodiscard]] std::uint64_t solutions() const { return solutions_; }

@@ -58,7 +58,7 @@ class UbxGpsd {
     if (start.file_copy) argv.insert(argv.end(), {"--output", "file:" + copy_path().string()});
     argv.insert(argv.end(), args.begin(), args.end());
     gpsemu_.emplace(argv);
-    if (!gpsemu_->wait_for_stderr("NMEA on", seconds(20))) throw std::runtime_error("gpsemu did not start: " + gpsemu_->stderr_text());
+    if (!gpsemu_->wait_for_stderr("UBX on", seconds(20))) throw std::runtime_error("gpsemu did not start: " + gpsemu_->stderr_text());
     port_ = test::free_tcp_port();
     std::vector<std::string> gpsd{test::kGpsd, "-N", "-n", "-S", std::to_string(port_), fs::read_symlink(link).string()};
     if (start.gpsd_read_only) gpsd.insert(gpsd.begin() + 1, "-b");

@@ -76,7 +76,12 @@ TEST(UbxEffects, CfgPrtBaudIsAcknowledgedAtTheOldSpeedThenTheSerialLineChanges) 
   ASSERT_EQ(::tcgetattr(line->poll_fd(), &tio), 0);
   EXPECT_EQ(::cfgetospeed(&tio), B9600) << "the ACK goes out at the old speed";
 
-  apply_ubx_effects(channel, sink.outputs(i), 5.0, t0, "");
+  const EpochGrid grid(5.0);
+  ReceiverSchedule schedule(grid, grid.index_at_or_after(t0));
+  UbxLine ubx_line = ubx_line_of(sink.outputs(i));
+  EXPECT_EQ(ubx_line.baud, 9600u);
+  apply_ubx_effects(channel, sink.outputs(i), schedule, ubx_line, t0, "");
+  EXPECT_EQ(ubx_line.baud, 115200u);
   ASSERT_EQ(::tcgetattr(line->poll_fd(), &tio), 0);
   EXPECT_EQ(::cfgetospeed(&tio), B115200);
   EXPECT_EQ(::cfgetispeed(&tio), B115200);
@@ -100,7 +105,10 @@ TEST(UbxEffects, CfgRstColdStartRestartsTheReceiverAtTheEpoch) {
 
   channel.client_wrote(ubx::frame_bytes(ubx::msg::cfg_rst, std::string("\xff\xff\x02\x00", 4)));
   EXPECT_TRUE(channel.take_reply().empty()) << "a u-blox does not acknowledge CFG-RST";
-  apply_ubx_effects(channel, {}, 1.0, t0 + 4s, "");
+  const EpochGrid grid(1.0);
+  ReceiverSchedule schedule(grid, grid.index_at_or_after(t0));
+  UbxLine line;
+  apply_ubx_effects(channel, {}, schedule, line, t0 + 4s, "");
   EXPECT_FALSE(channel.step(t0 + 4s, sources::Truth{}).has_fix());
   EXPECT_FALSE(channel.step(t0 + 5s, sources::Truth{}).has_fix());
   EXPECT_TRUE(channel.step(t0 + 6s, sources::Truth{}).has_fix());

@@ -136,8 +136,9 @@ ConfigMachine machine_of(ReceiverModel model) {
   return ConfigMachine(start);
 }
 
-void expect_ardupilot_rates(const Settings& s) {
+void expect_ardupilot_rates(const Settings& s, ReceiverModel model) {
   EXPECT_EQ(s.output_period(), 200ms);
+  test::expect_solutions_every(s, model, 200ms);  // the receiver's epochs: 5 Hz on the second
   EXPECT_EQ(s.time_ref, 0);
   EXPECT_EQ(s.dyn_model(), 8);
   EXPECT_EQ(s.ports[1].baud, 115200u);
@@ -157,7 +158,7 @@ TEST(UbxArduPilotSequence, M8nIsConfiguredInOneRoundAndTheSecondRoundChangesNoth
   driver.configure_round(false);
   EXPECT_EQ(driver.version_step(), "00080000");  // STEP_VERSION: UBLOX_M8
   EXPECT_EQ(driver.writes(), 10);  // PVT, rate, STATUS, POSLLH, VELNED, TIMEGPS, NAV5, DOP, HW, HW2
-  expect_ardupilot_rates(m.settings());
+  expect_ardupilot_rates(m.settings(), m.model());
   ArduPilotDriver again(m);
   again.configure_round(false);
   EXPECT_EQ(again.writes(), 0);
@@ -170,7 +171,7 @@ TEST(UbxArduPilotSequence, F9pAnswersTheTmodeValgetAndTheClassicSteps) {
   driver.detection_blob();
   driver.configure_round(true);
   EXPECT_EQ(driver.version_step(), "00190000");  // STEP_VERSION: UBLOX_F9
-  expect_ardupilot_rates(m.settings());
+  expect_ardupilot_rates(m.settings(), m.model());
   EXPECT_EQ(m.stats().naks, 0u);
 }
 

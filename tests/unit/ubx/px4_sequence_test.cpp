@@ -121,6 +121,7 @@ TEST(UbxPx4Sequence, F9pAnswersTheValsetPathAndEndsUbxOnlyAt5HzAnd115200) {
 
   const Settings& s = m.settings();
   EXPECT_EQ(s.output_period(), 200ms);
+  test::expect_solutions_every(s, m.model(), 200ms);  // the receiver's epochs: 5 Hz on the second
   EXPECT_EQ(s.dyn_model(), 7);
   EXPECT_EQ(s.ports[1].baud, 115200u);
   EXPECT_EQ(s.ports[1].out_proto_mask & proto_nmea, 0);
@@ -170,6 +171,7 @@ TEST(UbxPx4Sequence, M8nNaksValsetAndAnswersTheClassicPathEndingAt5HzAnd115200) 
   }
   const Settings& s = m.settings();
   EXPECT_EQ(s.output_period(), 200ms);
+  test::expect_solutions_every(s, m.model(), 200ms);  // the receiver's epochs: 5 Hz on the second
   EXPECT_EQ(s.dyn_model(), 7);
   EXPECT_EQ(s.nav5[3], 2);
   EXPECT_EQ(s.ports[1].baud, 115200u);

@@ -2,15 +2,19 @@
 // byte string holds (the answers of the configuration machine).
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include <gtest/gtest.h>
+
 #include "emulator/ubx/bytes.hpp"
 #include "emulator/ubx/cfg_keys.hpp"
 #include "emulator/ubx/frame.hpp"
 #include "emulator/ubx/machine.hpp"
+#include "emulator/ubx/solution_grid.hpp"
 
 namespace gpsemu::ubx::test {
 
@@ -100,6 +104,18 @@ std::vector<T> effects_of(const std::vector<Effect>& effects) {
     if (const auto* t = std::get_if<T>(&e)) out.push_back(*t);
   }
   return out;
+}
+
+/// The epochs a receiver of `model` with settings `s` has (solution_grid.hpp): every `period`,
+/// from the top of the second on (so at 200 ms: .000 .200 .400 ...).
+inline void expect_solutions_every(const Settings& s, ReceiverModel model, std::chrono::milliseconds period) {
+  using namespace std::chrono;
+  const SolutionGrid grid = solution_grid(s, model);
+  EXPECT_EQ(grid.period, period);
+  const SolutionTime second = time_point_cast<nanoseconds>(sys_days{year{2026} / November / 24} + hours{12});
+  EXPECT_TRUE(grid.contains(second));
+  EXPECT_EQ(grid.next_after(second), second + period);
+  EXPECT_EQ(grid.next_after(second + period / 2), second + period);
 }
 
 }  // namespace gpsemu::ubx::test

@@ -1,0 +1,69 @@
+// The emulator's producer for the one epoch loop: every receiver channel of a run (one, or a
+// fleet), each on its own schedule (receiver_schedule.hpp: the run's grid, or the solution period
+// its u-blox client asked for). The loop's timeline is their merge: one epoch a distinct time,
+// and only the receivers due at that time send. A u-blox receiver on a serial line sends what the
+// line carries in its period (ubx_effects.hpp). The run ends at the time --duration gives,
+// whatever the receivers' rates.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+#include "emulator/pipeline/channel.hpp"
+#include "emulator/pipeline/epoch_loop.hpp"
+#include "emulator/pipeline/receiver_schedule.hpp"
+#include "emulator/pipeline/sink.hpp"
+#include "emulator/pipeline/timeline.hpp"
+#include "emulator/pipeline/ubx_effects.hpp"
+
+namespace gpsemu {
+
+class ChannelSet final : public EpochProducer {
+ public:
+  /// `epochs`: of the run's grid (--duration x --rate); empty: until stopped.
+  ChannelSet(const Timeline& timeline, std::optional<std::int64_t> epochs);
+
+  /// Adds a receiver, on the run's grid from its first epoch.
+  void add(std::unique_ptr<Channel> channel);
+  /// The receivers' outputs, once the sink has them (u-blox baud changes, serial lines).
+  void attach(const Sink& sink);
+  /// Called with the finest period of the receivers' schedules whenever a receiver's changes (the
+  /// clock's lateness follows it).
+  void on_finest_period(std::function<void(std::chrono::nanoseconds)> changed) { finest_changed_ = std::move(changed); }
+  /// The shortest time between a receiver's epochs now.
+  [[nodiscard]] std::chrono::nanoseconds finest_period() const;
+
+  bool next_epoch(UtcNs& t) override;
+  [[nodiscard]] bool active(std::size_t i) const override {
+    return receivers_[i].due && !receivers_[i].channel->ended();
+  }
+  std::string_view produce(std::size_t i, UtcNs t) override;
+  void list_inputs(std::vector<int>& fds, std::vector<std::size_t>& owners) const override;
+  void service_input(std::size_t i) override { receivers_[i].channel->source()->service(); }
+  void service_inputs() override;
+
+  [[nodiscard]] std::size_t size() const { return receivers_.size(); }
+  [[nodiscard]] Channel& channel(std::size_t i) const { return *receivers_[i].channel; }
+  [[nodiscard]] const UbxLine& line(std::size_t i) const { return receivers_[i].line; }
+
+ private:
+  struct Receiver {
+    std::unique_ptr<Channel> channel;  ///< not moved: a receiver refers to its frame
+    ReceiverSchedule schedule;
+    UbxLine line;
+    bool due = false;  ///< has an epoch at the time next_epoch() returned
+  };
+
+  const Timeline& timeline_;
+  UtcNs end_;  ///< the first time past the run
+  std::vector<Receiver> receivers_;
+  const Sink* sink_ = nullptr;
+  std::function<void(std::chrono::nanoseconds)> finest_changed_;
+};
+
+}  // namespace gpsemu
