@@ -2,8 +2,8 @@
 // (gpsd-clients) through that gpsd: gpsd recognises the u-blox driver from the UBX stream and
 // its MON-VER answer, reports 3-D fixes at the truth (also in ECEF, from NAV-POSECEF) at 5 and
 // 10 Hz with eph = NAV-PVT's hAcc, and ubxtool's polls (MON-VER, CFG-RATE, CFG-NAV5), writes
-// (CFG-NAV5 model, raw CFG-RATE) and generation-9 VALGET/VALSET of CFG-RATE-MEAS are answered
-// and take effect. With nmea+ubx, gpsd read-only (-b, so it leaves NMEA on) reads both parts.
+// (CFG-NAV5 model, raw CFG-RATE, also asking 10 Hz at --rate 1) and generation-9 VALGET/VALSET
+// of CFG-RATE-MEAS are answered and take effect. With nmea+ubx, gpsd read-only (-b, so it leaves NMEA on) reads both parts.
 // gpsd or ubxtool missing is a failure, not a skip. Waits are poll() with timeouts.
 #include <gtest/gtest.h>
 
@@ -315,6 +315,28 @@ TEST(UbxGpsd, RawCfgRateWriteIsAcknowledgedAndTheEpochRateFollows) {
   run.read_reports(seconds(5));
   // What gpsd sent while ubxtool ran is read too: the solutions on the 200 ms grid end there.
   expect_complete_run(trailing_run_on_grid(mode3_of(run.tpv).times, 400), 400, 10, "after CFG-RATE 400 ms");
+}
+
+// A driver asking for 10 Hz: gpsemu started at --rate 1, a raw CFG-RATE write of 100 ms through
+// gpsd is acknowledged and the receiver's epochs follow (the loop steps it on the new grid, from
+// its next epoch on the old one): TPV mode 3 for >= 99% of the 10 Hz epochs after that.
+TEST(UbxGpsd, CfgRateAskingTenHertzAtRateOneGivesMode3AtTenHertz) {
+  if (!tools_present()) return;
+  UbxGpsd run("ten_hz", {"--noise", "none", "--rate", "1", "--receiver", "ublox-m8n"}, 40.0);
+  ASSERT_TRUE(run.wait_for_ublox());
+  const std::string ack = run.ubxtool({"-c", "0x06,0x08,0x64,0x00,0x01,0x00,0x01,0x00", "-P", "18", "-w", "1"});
+  EXPECT_NE(ack.find("ACK to Class x06 (CFG) ID x08 (RATE)"), std::string::npos) << ack;
+  run.read_reports(milliseconds(1500));  // the switch happens at the next epoch of the 1 s grid
+  run.tpv.clear();
+  run.read_reports(seconds(6));
+  const Mode3 m = mode3_of(run.tpv);
+  ASSERT_GE(m.times.size(), 2u);
+  const double fraction = static_cast<double>(m.times.size()) / m.epochs(100);
+  std::cout << fmt::format("CFG-RATE 100 ms at --rate 1: mode 3 for {} of {} epochs at 10 Hz ({:.2f}%)\n",
+                           m.times.size(), m.epochs(100), 100.0 * fraction);
+  EXPECT_GE(m.epochs(100), 50.0);
+  EXPECT_GE(fraction, 0.99);
+  for (const std::int64_t t : m.times) EXPECT_EQ(t % 100, 0) << "a time off the 10 Hz grid";
 }
 
 /// CFG-RATE-MEAS of the RAM layer in ubxtool's VALGET decode, or -1.
