@@ -111,6 +111,13 @@ class UbxGpsd {
     return p.stdout_text();
   }
 
+  /// ubxtool through this gpsd, expecting its decode of the ACK of `acked` ("x08 (RATE)"): its output.
+  std::string ubxtool_acked(const std::vector<std::string>& args, const std::string& acked) {
+    std::string out = ubxtool(args);
+    EXPECT_NE(out.find("ACK to Class x06 (CFG) ID " + acked), std::string::npos) << out;
+    return out;
+  }
+
   [[nodiscard]] fs::path copy_path() const { return dir_ / "copy.ubx"; }
 
   std::string driver;
@@ -285,20 +292,17 @@ TEST(UbxGpsd, UbxtoolThroughGpsdPollsMonVerCfgRateAndCfgNav5) {
   EXPECT_NE(mon_ver.find("MOD=ZED-F9P"), std::string::npos) << mon_ver;
   EXPECT_NE(mon_ver.find("PROTVER=27.31"), std::string::npos) << mon_ver;
   EXPECT_NE(mon_ver.find("use option \"-P 27.31\""), std::string::npos) << mon_ver;
-  const std::string rate = run.ubxtool({"-p", "CFG-RATE", "-P", "27.31", "-w", "1"});
+  const std::string rate = run.ubxtool_acked({"-p", "CFG-RATE", "-P", "27.31", "-w", "1"}, "x08 (RATE)");
   EXPECT_NE(rate.find("measRate 200 navRate 1"), std::string::npos) << rate;
-  EXPECT_NE(rate.find("ACK to Class x06 (CFG) ID x08 (RATE)"), std::string::npos) << rate;
 
   ubx::StartSettings f9p;
   f9p.model = ubx::ReceiverModel::ublox_f9p;
   const std::string start_nav5 = ubx::start_settings(f9p).nav5;
   const std::pair<int, int> expected{static_cast<std::uint8_t>(start_nav5[2]), static_cast<std::uint8_t>(start_nav5[3])};
-  const std::string nav5 = run.ubxtool({"-p", "CFG-NAV5", "-P", "27.31", "-w", "1"});
+  const std::string nav5 = run.ubxtool_acked({"-p", "CFG-NAV5", "-P", "27.31", "-w", "1"}, "x24 (NAV5)");
   EXPECT_EQ(nav5_of(nav5), expected) << nav5;
   EXPECT_EQ(expected, (std::pair<int, int>{0, 3})) << "a u-blox starts portable, auto 2-D/3-D";
-  EXPECT_NE(nav5.find("ACK to Class x06 (CFG) ID x24 (NAV5)"), std::string::npos) << nav5;
-  const std::string model = run.ubxtool({"-p", "MODEL,4", "-P", "27.31", "-w", "1"});  // automotive
-  EXPECT_NE(model.find("ACK to Class x06 (CFG) ID x24 (NAV5)"), std::string::npos) << model;
+  run.ubxtool_acked({"-p", "MODEL,4", "-P", "27.31", "-w", "1"}, "x24 (NAV5)");  // automotive
   const std::string after = run.ubxtool({"-p", "CFG-NAV5", "-P", "27.31", "-w", "1"});
   EXPECT_EQ(nav5_of(after), (std::pair<int, int>{4, expected.second})) << after;
 }
@@ -309,8 +313,7 @@ TEST(UbxGpsd, RawCfgRateWriteIsAcknowledgedAndTheEpochRateFollows) {
   if (!tools_present()) return;
   UbxGpsd run("rate", {"--noise", "none", "--rate", "5", "--receiver", "ublox-m8n"}, 30.0);
   ASSERT_TRUE(run.wait_for_ublox());
-  const std::string ack = run.ubxtool({"-c", "0x06,0x08,0x90,0x01,0x01,0x00,0x01,0x00", "-P", "18", "-w", "1"});
-  EXPECT_NE(ack.find("ACK to Class x06 (CFG) ID x08 (RATE)"), std::string::npos) << ack;
+  run.ubxtool_acked({"-c", "0x06,0x08,0x90,0x01,0x01,0x00,0x01,0x00", "-P", "18", "-w", "1"}, "x08 (RATE)");
   run.tpv.clear();
   run.read_reports(seconds(5));
   // What gpsd sent while ubxtool ran is read too: the solutions on the 200 ms grid end there.
@@ -324,8 +327,7 @@ TEST(UbxGpsd, CfgRateAskingTenHertzAtRateOneGivesMode3AtTenHertz) {
   if (!tools_present()) return;
   UbxGpsd run("ten_hz", {"--noise", "none", "--rate", "1", "--receiver", "ublox-m8n"}, 40.0);
   ASSERT_TRUE(run.wait_for_ublox());
-  const std::string ack = run.ubxtool({"-c", "0x06,0x08,0x64,0x00,0x01,0x00,0x01,0x00", "-P", "18", "-w", "1"});
-  EXPECT_NE(ack.find("ACK to Class x06 (CFG) ID x08 (RATE)"), std::string::npos) << ack;
+  run.ubxtool_acked({"-c", "0x06,0x08,0x64,0x00,0x01,0x00,0x01,0x00", "-P", "18", "-w", "1"}, "x08 (RATE)");
   run.read_reports(milliseconds(1500));  // the switch happens at the next epoch of the 1 s grid
   run.tpv.clear();
   run.read_reports(seconds(6));
@@ -355,15 +357,13 @@ TEST(UbxGpsd, UbxtoolValgetAndValsetOfRateMeasOnAnF9p) {
   if (!tools_present()) return;
   UbxGpsd run("valset", {"--noise", "none", "--rate", "10", "--receiver", "ublox-f9p"}, 40.0);
   ASSERT_TRUE(run.wait_for_ublox());
-  const std::string before = run.ubxtool({"-g", "CFG-RATE-MEAS,0", "-P", "27.31", "-w", "1"});
+  const std::string before = run.ubxtool_acked({"-g", "CFG-RATE-MEAS,0", "-P", "27.31", "-w", "1"}, "x8b (VALGET)");
   EXPECT_EQ(rate_meas_in_ram(before), 100) << before;
-  EXPECT_NE(before.find("ACK to Class x06 (CFG) ID x8b (VALGET)"), std::string::npos) << before;
   run.tpv.clear();
   run.read_reports(seconds(3));
   expect_complete_run(trailing_run_on_grid(mode3_of(run.tpv).times, 100), 100, 25, "before VALSET, 100 ms");
 
-  const std::string set = run.ubxtool({"-z", "CFG-RATE-MEAS,200", "-P", "27.31", "-w", "1"});
-  EXPECT_NE(set.find("ACK to Class x06 (CFG) ID x8a (VALSET)"), std::string::npos) << set;
+  run.ubxtool_acked({"-z", "CFG-RATE-MEAS,200", "-P", "27.31", "-w", "1"}, "x8a (VALSET)");
   run.tpv.clear();
   run.read_reports(seconds(5));
   const auto after = trailing_run_on_grid(mode3_of(run.tpv).times, 200);
