@@ -3,13 +3,19 @@
 // follows (iTOW on the new grid, the count per second too), 50 ms on an M8N gives its fastest
 // 10 Hz, 1000 ms brings 1 Hz back; on a serial line (socat pty pair) switched to 9600 baud at
 // 10 Hz, the TX buffer drops whole messages only and the summary counts them. The start-up lines
-// say what a u-blox receiver writes and its widest epoch with the UBX bytes.
+// say what a u-blox receiver writes and its widest epoch with the UBX bytes. In a fleet (a config
+// file's [[receiver]] tables), CFG-RATE 200 ms speeds up the u-blox on its pty alone: its NAV-PVT
+// come 5 a second while the NMEA receiver beside it keeps one GGA each whole second, and the
+// summary's per-receiver lines count what each wrote.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
+#include <optional>
 #include <regex>
 #include <string>
 #include <vector>
@@ -18,6 +24,7 @@
 
 #include "emulator/ubx/bytes.hpp"
 #include "emulator/ubx/frame.hpp"
+#include "tests/support/nmea_check.hpp"
 #include "tests/support/process.hpp"
 #include "tests/support/read_deadline.hpp"
 #include "tests/support/scratch.hpp"
@@ -56,15 +63,18 @@ struct Heard {
   std::vector<ubx::Frame> frames;
   std::uint64_t sentences = 0;
 
+  void feed(std::string_view bytes) {
+    for (auto& m : reader.feed(bytes)) {
+      if (auto* f = std::get_if<ubx::Frame>(&m)) {
+        frames.push_back(std::move(*f));
+      } else {
+        ++sentences;
+      }
+    }
+  }
   void read(int fd, milliseconds how_long) {
     (void)test::read_with_deadline(fd, {how_long}, [&](std::string_view bytes) {
-      for (auto& m : reader.feed(bytes)) {
-        if (auto* f = std::get_if<ubx::Frame>(&m)) {
-          frames.push_back(std::move(*f));
-        } else {
-          ++sentences;
-        }
-      }
+      feed(bytes);
       return false;
     });
   }
@@ -181,6 +191,99 @@ TEST(UbxRate, ABaudTooSlowForTheEpochDropsWholeMessagesAndTheSummaryCountsThem) 
       << log;
   EXPECT_GT(std::stoul(dropped[1]), 20u) << "NAV-PVT (100 bytes) never fits 96 bytes: dropped every epoch";
   ::close(fd);
+}
+
+/// The first number `pattern` captures in `log`, or nothing.
+std::optional<std::uint64_t> number_in(const std::string& log, const std::string& pattern) {
+  std::smatch m;
+  if (!std::regex_search(log, m, std::regex(pattern))) return std::nullopt;
+  return std::stoull(m[1]);
+}
+
+/// Milliseconds of the day of an NMEA time field "hhmmss.ss".
+std::int64_t nmea_ms_of_day(const std::string& t) {
+  return (std::stoll(t.substr(0, 2)) * 3600 + std::stoll(t.substr(2, 2)) * 60) * 1000 +
+         std::llround(std::stod(t.substr(4)) * 1000);
+}
+
+TEST(UbxRate, InAFleetCfgRateSpeedsUpTheUbloxAloneAndTheSummaryCountsEachReceiver) {
+  const auto dir = test::scratch_dir("ubx_rate", "fleet");
+  const auto link = dir / "gps0", ubx_copy = dir / "gps0.ubx", nmea = dir / "gps1.nmea";
+  constexpr int duration_s = 8;
+  // Receiver 0 a u-blox M8N on a pty (and a file copy of what it writes), receiver 1 NMEA at 1 Hz.
+  const auto config = test::write_file(dir / "fleet.toml", fmt::format(R"(rate = 1
+duration = {}
+noise = "none"
+log-level = "info"
+[[receiver]]
+protocol = "ubx"
+receiver = "ublox-m8n"
+output = ["pty:{}", "file:{}"]
+[[receiver]]
+output = "file:{}"
+)",
+                                                                          duration_s, link.string(), ubx_copy.string(),
+                                                                          nmea.string()));
+  test::Process gpsemu({GPSEMU_BINARY, "--config", config.string()});
+  ASSERT_TRUE(gpsemu.wait_for_stderr("receiver 1: NMEA on", seconds(20))) << gpsemu.stderr_text();
+  EXPECT_NE(gpsemu.stderr_text().find("receiver 0: UBX on"), std::string::npos) << gpsemu.stderr_text();
+  const int fd = test::open_raw(link);
+  Heard heard;
+  heard.read(fd, milliseconds(2300));
+  ASSERT_GE(heard.pvt_itow().size(), 2u) << "1 Hz before the change";
+  expect_rate(fd, heard, 200, 200, milliseconds(3600), 6);  // ACK-ACK, 200 ms apart, on the grid, 5 a second
+  ::close(fd);
+  ASSERT_EQ(gpsemu.wait(seconds(10)), 0);
+  const std::string log = gpsemu.stderr_text();
+
+  // Receiver 0: every NAV-PVT it wrote is in the file copy; the summary counts them, byte for byte.
+  const std::string ubx_bytes = test::read_file(ubx_copy);
+  Heard copy;
+  copy.feed(ubx_bytes);
+  const std::vector<std::uint32_t> itow = copy.pvt_itow();
+  ASSERT_GE(itow.size(), 2u);
+  // 1 Hz until the change, then 200 ms apart to the end of the run (the last second of --duration).
+  std::size_t fast = 0;
+  for (std::size_t k = 1; k < itow.size(); ++k) {
+    const std::uint32_t step = itow[k] - itow[k - 1];
+    EXPECT_EQ(step, fast > 0 || step == 200 ? 200u : 1000u) << "solution " << k;
+    fast += step == 200 ? 1 : 0;
+  }
+  EXPECT_GE(fast, 5u * (duration_s - 4)) << "5 a second from the change to the end";
+  EXPECT_EQ(itow.back() - itow.front(), duration_s * 1000u - 200u) << "the u-blox runs as long as the fleet";
+  const std::vector<std::uint32_t> on_pty = heard.pvt_itow(*heard.after_ack(ubx::msg::cfg_rate, 0));
+  for (const std::uint32_t t : on_pty) EXPECT_TRUE(std::binary_search(itow.begin(), itow.end(), t)) << t;
+  EXPECT_EQ(number_in(log, R"(receiver 0: (\d+) epochs \(0 without fix\))"), itow.size()) << log;
+  EXPECT_EQ(number_in(log, "receiver 0: file " + ubx_copy.string() + R"(: (\d+) epochs written)"), itow.size()) << log;
+  EXPECT_EQ(number_in(log, "receiver 0: file " + ubx_copy.string() + R"(: \d+ epochs written \((\d+) bytes\))"),
+            ubx_bytes.size())
+      << log;
+  // The pty got the same epochs, and the ACK-ACK's 10 bytes besides.
+  EXPECT_EQ(number_in(log, R"(receiver 0: /dev/pts/\d+ \(link [^)]*\): (\d+) epochs written)"), itow.size()) << log;
+  EXPECT_EQ(number_in(log, R"(receiver 0: /dev/pts/\d+ \(link [^)]*\): \d+ epochs written \((\d+) bytes\))"),
+            ubx_bytes.size() + 10)
+      << log;
+
+  // Receiver 1: one GGA every whole second, none missing or repeated, as many as the summary says.
+  const std::string nmea_text = test::read_file(nmea);
+  const test::SplitResult split = test::split_sentences(nmea_text);
+  EXPECT_EQ(split.invalid, 0u);
+  std::vector<std::int64_t> gga_ms;
+  for (const auto& s : split.sentences) {
+    if (test::sentence_type(s) == "GGA") gga_ms.push_back(nmea_ms_of_day(test::time_field(s)));
+  }
+  ASSERT_EQ(gga_ms.size(), static_cast<std::size_t>(duration_s)) << nmea_text;
+  for (std::size_t k = 0; k < gga_ms.size(); ++k) {
+    EXPECT_EQ(gga_ms[k] % 1000, 0) << "GGA " << k << " on the whole second";
+    if (k > 0) {
+      EXPECT_EQ((gga_ms[k] - gga_ms[k - 1] + 86'400'000) % 86'400'000, 1000) << "GGA " << k;
+    }
+  }
+  EXPECT_EQ(number_in(log, R"(receiver 1: (\d+) epochs \(0 without fix\))"), gga_ms.size()) << log;
+  EXPECT_EQ(number_in(log, "receiver 1: file " + nmea.string() + R"(: (\d+) epochs written)"), gga_ms.size()) << log;
+  EXPECT_EQ(number_in(log, "receiver 1: file " + nmea.string() + R"(: \d+ epochs written \((\d+) bytes\))"),
+            nmea_text.size())
+      << log;
 }
 
 }  // namespace
