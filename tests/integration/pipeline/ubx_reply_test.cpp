@@ -18,20 +18,14 @@
 #include "emulator/ubx/bytes.hpp"
 #include "tests/support/read_deadline.hpp"
 #include "transport/pty_output.hpp"
+#include "tests/support/ubx_frames.hpp"
 
 namespace gpsemu {
 namespace {
 
-using namespace std::chrono_literals;
+using ubx::test::frames_in;
 
-std::vector<ubx::Frame> frames_in(std::string_view bytes) {
-  ubx::FrameReader reader;
-  std::vector<ubx::Frame> out;
-  for (auto& m : reader.feed(bytes)) {
-    if (auto* f = std::get_if<ubx::Frame>(&m)) out.push_back(std::move(*f));
-  }
-  return out;
-}
+using namespace std::chrono_literals;
 
 TEST(UbxReply, PollAndAckComeBackThroughThePtyBeforeAnyEpoch) {
   ChannelSettings settings;

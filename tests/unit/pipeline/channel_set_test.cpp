@@ -13,9 +13,12 @@
 #include "emulator/pipeline/channel_set.hpp"
 #include "emulator/ubx/bytes.hpp"
 #include "emulator/ubx/frame.hpp"
+#include "tests/support/talking_output.hpp"
 
 namespace gpsemu {
 namespace {
+
+using test::TalkingOutput;
 
 using namespace std::chrono_literals;
 
@@ -25,24 +28,6 @@ class StillSource final : public sources::PoseSource {
  public:
   std::optional<sources::Truth> truth_at(UtcNs) override { return sources::Truth{}; }
   [[nodiscard]] std::string describe() const override { return "still"; }
-};
-
-/// An output whose client writes `input` at the next service(); it keeps what is written.
-class TalkingOutput final : public transport::Output {
- public:
-  void service() override {
-    client_wrote(input);
-    input.clear();
-  }
-  [[nodiscard]] std::string describe() const override { return "talking"; }
-  std::string input;
-  std::string written;
-
- protected:
-  transport::WriteStatus write_bytes(std::string_view bytes, std::string&) override {
-    written += bytes;
-    return transport::WriteStatus::ok;
-  }
 };
 
 std::unique_ptr<Channel> channel(bool ublox) {

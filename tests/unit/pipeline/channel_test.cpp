@@ -10,9 +10,12 @@
 #include "emulator/pipeline/channel.hpp"
 #include "emulator/pipeline/epoch_text.hpp"
 #include "emulator/pipeline/sink.hpp"
+#include "tests/support/talking_output.hpp"
 
 namespace gpsemu {
 namespace {
+
+using test::TalkingOutput;
 
 const UtcNs kT0 = parse_iso8601_utc("2024-05-01T12:00:00Z");
 
@@ -24,20 +27,6 @@ class TagEncoder final : public Encoder {
   }
   void client_wrote(std::string_view bytes) override { heard += bytes; }
   std::string heard;
-};
-
-/// An output whose client writes `input` at the next service().
-class TalkingOutput final : public transport::Output {
- public:
-  void service() override {
-    client_wrote(input);
-    input.clear();
-  }
-  [[nodiscard]] std::string describe() const override { return "talking"; }
-  std::string input;
-
- protected:
-  transport::WriteStatus write_bytes(std::string_view, std::string&) override { return transport::WriteStatus::ok; }
 };
 
 ChannelSettings settings() {

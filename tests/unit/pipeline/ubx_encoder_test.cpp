@@ -11,38 +11,16 @@
 #include "emulator/pipeline/sink.hpp"
 #include "emulator/pipeline/ubx_encoder.hpp"
 #include "emulator/ubx/bytes.hpp"
+#include "tests/support/ubx_frames.hpp"
+#include "tests/support/talking_output.hpp"
 
 namespace gpsemu {
 namespace {
 
+using test::TalkingOutput;
+using ubx::test::frames_in;
+
 const UtcNs kT0 = parse_iso8601_utc("2024-05-01T12:00:00Z");
-
-/// An output whose client writes `input` at the next service(); records what it is sent.
-class TalkingOutput final : public transport::Output {
- public:
-  void service() override {
-    client_wrote(input);
-    input.clear();
-  }
-  [[nodiscard]] std::string describe() const override { return "talking"; }
-  std::string input;
-  std::vector<std::string> sent;
-
- protected:
-  transport::WriteStatus write_bytes(std::string_view bytes, std::string&) override {
-    sent.emplace_back(bytes);
-    return transport::WriteStatus::ok;
-  }
-};
-
-std::vector<ubx::Frame> frames_in(std::string_view bytes) {
-  ubx::FrameReader reader;
-  std::vector<ubx::Frame> out;
-  for (auto& m : reader.feed(bytes)) {
-    if (auto* f = std::get_if<ubx::Frame>(&m)) out.push_back(std::move(*f));
-  }
-  return out;
-}
 
 TEST(UbxEncoder, PollIsAnsweredOnTheOutputBeforeAnyEpoch) {
   ChannelSettings settings;

@@ -10,7 +10,7 @@
 #include "emulator/ubx/frame.hpp"
 #include "emulator/ubx/pubx.hpp"
 #include "nmea/sentences.hpp"
-#include "tests/unit/ubx/ubx_test_support.hpp"
+#include "tests/support/ubx_frames.hpp"
 
 namespace gpsemu::ubx {
 namespace {

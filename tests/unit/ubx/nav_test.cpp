@@ -9,7 +9,7 @@
 
 #include "emulator/ubx/bytes.hpp"
 #include "emulator/ubx/nav.hpp"
-#include "tests/unit/ubx/ubx_test_support.hpp"
+#include "tests/support/ubx_frames.hpp"
 
 namespace gpsemu::ubx {
 namespace {

@@ -6,7 +6,7 @@
 #include "emulator/ubx/machine.hpp"
 #include "emulator/ubx/output.hpp"
 #include "nmea/sentences.hpp"
-#include "tests/unit/ubx/ubx_test_support.hpp"
+#include "tests/support/ubx_frames.hpp"
 
 namespace gpsemu::ubx {
 namespace {

@@ -10,7 +10,7 @@
 
 #include "emulator/ubx/cfg_keys.hpp"
 #include "emulator/ubx/machine.hpp"
-#include "tests/unit/ubx/ubx_test_support.hpp"
+#include "tests/support/ubx_frames.hpp"
 
 namespace gpsemu::ubx {
 namespace {

@@ -1,5 +1,5 @@
-// Shared by the UBX unit tests: hex <-> bytes, frames from class/id/payload, and the frames a
-// byte string holds (the answers of the configuration machine).
+// Shared by the UBX tests (tests/unit/ubx, the pipeline tests): hex <-> bytes, frames from
+// class/id/payload, the frames a byte string holds, and the answers of the configuration machine.
 #pragma once
 
 #include <chrono>
