@@ -5,6 +5,8 @@
 #include <cmath>
 #include <numbers>
 
+#include <GeographicLib/Geocentric.hpp>
+
 #include "emulator/ubx/bytes.hpp"
 
 namespace gpsemu::ubx {
@@ -100,6 +102,17 @@ UtcFields utc_fields(nmea::UtcTime t) {
           static_cast<std::int32_t>(hms.subseconds().count() * 1'000'000)};
 }
 
+/// lon, lat (1e-7 deg), height above the ellipsoid and above mean sea level (mm), hAcc, vAcc (mm):
+/// the position block NAV-PVT and NAV-POSLLH share.
+void put_llh_position(std::string& p, const nmea::Fix& fix) {
+  put_i4(p, fix.has_fix() ? round_i32(fix.lon_deg * 1e7) : 0);
+  put_i4(p, fix.has_fix() ? round_i32(fix.lat_deg * 1e7) : 0);
+  put_i4(p, fix.has_fix() ? round_i32((fix.alt_msl_m + fix.geoid_sep_m) * 1000.0) : 0);
+  put_i4(p, fix.has_fix() ? round_i32(fix.alt_msl_m * 1000.0) : 0);
+  put_u4(p, h_acc_mm(fix));
+  put_u4(p, v_acc_mm(fix));
+}
+
 /// Year (2 bytes), month, day, hour, minute, second: the date-time block NAV-PVT and NAV-TIMEUTC share.
 void put_date_time(std::string& p, const UtcFields& utc) {
   put_u2(p, static_cast<std::uint32_t>(utc.year));
@@ -115,17 +128,11 @@ struct Ecef {
   double x_m = 0.0, y_m = 0.0, z_m = 0.0;
 };
 Ecef ecef_of(const nmea::Fix& fix) {
-  constexpr double a_m = 6378137.0;
-  constexpr double f = 1.0 / 298.257223563;
-  constexpr double e2 = f * (2.0 - f);
-  const double lat = fix.lat_deg * kDegToRad;
-  const double lon = fix.lon_deg * kDegToRad;
-  const double h_m = fix.alt_msl_m + fix.geoid_sep_m;
-  const double n_m = a_m / std::sqrt(1.0 - e2 * std::sin(lat) * std::sin(lat));
-  return {(n_m + h_m) * std::cos(lat) * std::cos(lon), (n_m + h_m) * std::cos(lat) * std::sin(lon),
-          (n_m * (1.0 - e2) + h_m) * std::sin(lat)};
+  Ecef e;
+  GeographicLib::Geocentric::WGS84().Forward(fix.lat_deg, fix.lon_deg, fix.alt_msl_m + fix.geoid_sep_m, e.x_m, e.y_m,
+                                             e.z_m);
+  return e;
 }
-
 }  // namespace
 
 GpsTime gps_time(nmea::UtcTime utc) {
@@ -152,12 +159,7 @@ std::string nav_pvt(const nmea::Fix& fix, const NavExtras& extras) {
   put_u1(p, (s.fix_ok ? 0x01u : 0u) | (s.differential ? 0x02u : 0u) | (static_cast<unsigned>(s.carrier) << 6));
   put_u1(p, 0xE0);  // flags2: confirmedAvai, confirmedDate, confirmedTime
   put_u1(p, static_cast<std::uint32_t>(fix.has_fix() ? fix.satellites_used : 0));
-  put_i4(p, fix.has_fix() ? round_i32(fix.lon_deg * 1e7) : 0);
-  put_i4(p, fix.has_fix() ? round_i32(fix.lat_deg * 1e7) : 0);
-  put_i4(p, fix.has_fix() ? round_i32((fix.alt_msl_m + fix.geoid_sep_m) * 1000.0) : 0);
-  put_i4(p, fix.has_fix() ? round_i32(fix.alt_msl_m * 1000.0) : 0);
-  put_u4(p, h_acc_mm(fix));
-  put_u4(p, v_acc_mm(fix));
+  put_llh_position(p, fix);
   put_i4(p, round_i32(v.north_mps * 1000.0));
   put_i4(p, round_i32(v.east_mps * 1000.0));
   put_i4(p, round_i32(v.down_mps * 1000.0));
@@ -177,12 +179,7 @@ std::string nav_pvt(const nmea::Fix& fix, const NavExtras& extras) {
 std::string nav_posllh(const nmea::Fix& fix) {
   std::string p;
   put_u4(p, tow_ms(fix));
-  put_i4(p, fix.has_fix() ? round_i32(fix.lon_deg * 1e7) : 0);
-  put_i4(p, fix.has_fix() ? round_i32(fix.lat_deg * 1e7) : 0);
-  put_i4(p, fix.has_fix() ? round_i32((fix.alt_msl_m + fix.geoid_sep_m) * 1000.0) : 0);
-  put_i4(p, fix.has_fix() ? round_i32(fix.alt_msl_m * 1000.0) : 0);
-  put_u4(p, h_acc_mm(fix));
-  put_u4(p, v_acc_mm(fix));
+  put_llh_position(p, fix);
   return p;
 }
 
