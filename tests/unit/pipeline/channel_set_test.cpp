@@ -83,11 +83,7 @@ TEST(ChannelSet, AUbloxAskingTwoHundredMillisecondsGetsItsOwnEpochsBesideAnNmeaR
   set.add(channel(true));
   Sink sink;
   (void)sink.add({});
-  std::vector<std::unique_ptr<transport::Output>> outputs;
-  auto talking = std::make_unique<TalkingOutput>();
-  TalkingOutput* client = talking.get();
-  outputs.push_back(std::move(talking));
-  (void)sink.add(std::move(outputs));
+  TalkingOutput* client = test::add_talking_output(sink).client;
   sink.attach_client_input(1, &set.channel(1));
   set.attach(sink);
   std::vector<std::chrono::nanoseconds> finest;

@@ -55,11 +55,7 @@ TEST(Channel, WhatAClientWritesReachesEveryEncoderThroughTheSink) {
   TagEncoder* heard = tag.get();
   channel.add_encoder(std::move(tag));
   Sink sink;
-  std::vector<std::unique_ptr<transport::Output>> outputs;
-  auto talking = std::make_unique<TalkingOutput>();
-  TalkingOutput* client = talking.get();
-  outputs.push_back(std::move(talking));
-  const std::size_t i = sink.add(std::move(outputs));
+  const auto [client, i] = test::add_talking_output(sink);
   sink.service_all();  // no channel attached yet: dropped
   client->input = "dropped";
   sink.service_all();

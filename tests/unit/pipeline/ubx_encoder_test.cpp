@@ -32,11 +32,7 @@ TEST(UbxEncoder, PollIsAnsweredOnTheOutputBeforeAnyEpoch) {
   channel.add_encoder(std::make_unique<UbxEncoder>(ubx_settings));
 
   Sink sink;
-  std::vector<std::unique_ptr<transport::Output>> outputs;
-  auto talking = std::make_unique<TalkingOutput>();
-  TalkingOutput* client = talking.get();
-  outputs.push_back(std::move(talking));
-  const std::size_t i = sink.add(std::move(outputs));
+  const auto [client, i] = test::add_talking_output(sink);
   sink.attach_client_input(i, &channel);
 
   client->input = ubx::frame_bytes(ubx::msg::mon_ver, "") + ubx::frame_bytes(ubx::msg::cfg_msg, std::string("\x01\x07\x01", 3));
