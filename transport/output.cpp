@@ -5,6 +5,10 @@
 namespace gpsemu::transport {
 
 WriteStatus Output::write_epoch(std::string_view bytes) {
+  if (bytes.empty()) {
+    ++stats_.epochs_empty;
+    return WriteStatus::ok;
+  }
   std::string error_text;
   const WriteStatus status = write_bytes(bytes, error_text);
   switch (status) {
@@ -50,7 +54,7 @@ void Output::answer_clients() {
   std::string error_text;
   if (write_bytes(reply_, error_text) == WriteStatus::ok) {
     ++stats_.replies_written;
-    if (!count_when_sent_) stats_.bytes_written += reply_.size();  // else counted when sent
+    stats_.reply_bytes_written += reply_.size();
   }
   reply_.clear();
 }

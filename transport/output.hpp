@@ -11,7 +11,15 @@
 #include <string>
 #include <string_view>
 
+#include "transport/posix/fd.hpp"
+
 namespace gpsemu::transport {
+
+/// What one service() call of an output reads from a client and hands to its ClientInput at
+/// most: 64 KiB, and no read started after 2 ms. The rest waits in the kernel for the next turn
+/// of the loop, which checks its timer between turns: a burst of 20 000 configuration frames
+/// delays no epoch and no signal by more than about one budget.
+inline constexpr posix::InputBudget client_input_budget{.bytes = 64 * 1024, .time = std::chrono::milliseconds(2)};
 
 enum class WriteStatus {
   ok,       ///< the whole epoch was handed to the operating system (a buffering backend: kept for it)
@@ -23,8 +31,10 @@ struct OutputStats {
   std::uint64_t epochs_written = 0;
   std::uint64_t epochs_dropped = 0;
   std::uint64_t epochs_failed = 0;
-  std::uint64_t bytes_written = 0;
-  std::uint64_t replies_written = 0;  ///< answers to a client written between epochs
+  std::uint64_t bytes_written = 0;       ///< epochs' bytes the operating system took
+  std::uint64_t epochs_empty = 0;        ///< epochs with nothing to send (a u-blox with every message off)
+  std::uint64_t replies_written = 0;     ///< answers to a client written between epochs
+  std::uint64_t reply_bytes_written = 0; ///< their bytes (apart from the epochs')
 };
 
 /// Where the bytes a client wrote to an output go (pipeline/channel.hpp: the receiver's encoders).
@@ -45,7 +55,8 @@ class Output {
   Output(const Output&) = delete;
   Output& operator=(const Output&) = delete;
 
-  /// Writes one epoch (all its sentences) in one go. Never blocks for long; counts the result.
+  /// Writes one epoch (all its sentences) in one go. Never blocks for long; counts the result (an
+  /// empty epoch is not written, and counted as empty).
   WriteStatus write_epoch(std::string_view bytes);
 
   /// Non-blocking housekeeping between epochs: read client input (handed to the ClientInput, or

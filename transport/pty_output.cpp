@@ -25,7 +25,6 @@ namespace {
   throw std::runtime_error(fmt::format("pty output: {}: {}", what, posix::errno_text(errno)));
 }
 
-constexpr std::size_t kMaxInputBytesPerService = 1 << 20;  ///< bounds one service() call
 
 /// The byte of a pty that a gpsemu serving `link` locks on its own slave descriptor (an open file
 /// description lock: any process can test it, and it goes with its holder however that ends).
@@ -223,7 +222,7 @@ void PtyOutput::service() {
   // Clients write to the receiver (gpsd probes with kilobytes of configuration strings): read it
   // without ever blocking, so the client never stalls on a full pty, and hand it to the client
   // input (the receiver's encoders; NMEA drops it).
-  const posix::Drained input = posix::drain_input(master_fd_, kMaxInputBytesPerService,
+  const posix::Drained input = posix::drain_input(master_fd_, client_input_budget,
                                                   [this](std::string_view bytes) { client_wrote(bytes); });
   pty_stats_.input_bytes_discarded += input.bytes;
   if (input.end == posix::Drained::End::failed) {

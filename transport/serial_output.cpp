@@ -18,7 +18,6 @@ namespace gpsemu::transport {
 
 namespace {
 
-constexpr std::size_t kMaxInputBytesPerService = 1 << 20;  ///< bounds one service() call (bytes)
 constexpr int kFlushWaitMs = 1000;                         ///< flush(): longest wait for the line (ms)
 
 speed_t speed_for(int baud_bps) {
@@ -266,7 +265,7 @@ void SerialOutput::service() {
     return;
   }
   const posix::Drained input =
-      posix::drain_input(fd_, kMaxInputBytesPerService, [this](std::string_view bytes) { client_wrote(bytes); });
+      posix::drain_input(fd_, client_input_budget, [this](std::string_view bytes) { client_wrote(bytes); });
   serial_stats_.input_bytes_discarded += input.bytes;
   if (input.end != posix::Drained::End::empty) {
     // End of file on a tty, or EIO: the device hung up (unplugged, the pty's other side closed).

@@ -12,7 +12,6 @@ namespace gpsemu::transport {
 namespace {
 
 constexpr int kMaxEventsPerService = 64;               ///< bounds one service() call
-constexpr std::size_t kMaxInputPerClient = 64 * 1024;  ///< bytes read and dropped per client per call
 
 }  // namespace
 
@@ -101,7 +100,7 @@ void TcpOutput::handle(const posix::TcpServerEvent& event) {
   }
   bool closed = false;
   if (event.readable) {
-    const posix::Drained input = posix::drain_input(server_.client_fd(event.slot), kMaxInputPerClient,
+    const posix::Drained input = posix::drain_input(server_.client_fd(event.slot), client_input_budget,
                                                       [this](std::string_view bytes) { client_wrote(bytes); });
     tcp_stats_.input_bytes_discarded += input.bytes;
     closed = input.end != posix::Drained::End::empty;  // 0: the client closed; otherwise reset

@@ -1,6 +1,6 @@
 // gpsemu: a GPS receiver emulator. Parses the command line and config file, sets up logging and
 // signals, and runs the main loop. Exit status: 0 done, 1 every output gone (the reader of the pipe
-// left), 2 bad configuration or start-up failure.
+// left), 2 bad configuration or start-up failure, 3 no output took any epoch (every write failed).
 #include <algorithm>
 #include <csignal>
 #include <cstdio>

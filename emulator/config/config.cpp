@@ -47,6 +47,31 @@ std::vector<std::string> toml_to_strings(const toml::node& node, const std::stri
   return out;
 }
 
+/// Whether `option` takes text (an output spec, a file, a name): a TOML number or boolean for it is
+/// a mistake, refused even when the command line gives the option too (`output = 5` is never
+/// silently replaced by --output).
+bool takes_text(const OptionDef& option) {
+  static const std::set<std::string, std::less<>> text{"SPEC", "FILE", "CLOCK", "KIND", "LEVEL", "MODEL"};
+  return text.contains(option.value_name);
+}
+
+/// Refuses a number, boolean or date for a text option (in a list too).
+void check_text_type(const OptionDef& option, const toml::node& node) {
+  if (!takes_text(option)) return;
+  const auto check = [&](const toml::node& n) {
+    if (n.is_string()) return;
+    const char* type = n.is_integer() ? "an integer" : n.is_floating_point() ? "a number" : n.is_boolean() ? "a boolean"
+                                                                                                          : "not a string";
+    throw std::invalid_argument(fmt::format("expected a string ({}), got {}{}", option.value_name, type,
+                                            n.is_table() ? "" : fmt::format(" ({})", toml_to_strings(n, option.name).front())));
+  };
+  if (const auto* arr = node.as_array()) {
+    for (const auto& item : *arr) check(item);
+  } else {
+    check(node);
+  }
+}
+
 /// The file's `[[receiver]]` tables: every key known and allowed per receiver, every value valid.
 std::vector<ReceiverTable> parse_receiver_tables(const std::string& file, const toml::node& node) {
   const int line = static_cast<int>(node.source().begin.line);
@@ -73,6 +98,7 @@ std::vector<ReceiverTable> parse_receiver_tables(const std::string& file, const 
                                       "long flag names, see gpsemu --help)", file, key_line, name));
       }
       try {
+        check_text_type(*option, value);
         std::vector<std::string> values = toml_to_strings(value, name);
         option->apply(scratch, values);
         table.keys.push_back({name, key_line, std::move(values)});
@@ -141,8 +167,9 @@ Config build(const toml::table* file, const std::string& file_name, const RawOpt
         throw ConfigError(fmt::format("config file {}:{}: unknown key '{}' (keys are the long flag names, "
                                       "see gpsemu --help)", file_name, line, name));
       }
-      if (given_on_command_line.count(name)) continue;  // the command line wins
       try {
+        check_text_type(*option, node);
+        if (given_on_command_line.count(name)) continue;  // the command line wins
         option->apply(config, toml_to_strings(node, name));
       } catch (const std::exception& e) {
         throw ConfigError(config_values::shorten_quoted(

@@ -6,7 +6,8 @@ namespace gpsemu {
 
 ChannelSet::ChannelSet(const Timeline& timeline, std::optional<std::int64_t> epochs)
     : timeline_(timeline),
-      end_(epochs ? timeline.grid.time_of(timeline.first_index + *epochs) : UtcNs::max()) {}
+      end_(epochs ? timeline.grid.time_of(timeline.first_index + *epochs) : UtcNs::max()),
+      last_(epochs && *epochs > 0 ? timeline.grid.time_of(timeline.first_index + *epochs - 1) : UtcNs::max()) {}
 
 void ChannelSet::add(std::unique_ptr<Channel> channel) {
   receivers_.push_back({std::move(channel), ReceiverSchedule(timeline_.grid, timeline_.first_index), {}, false});
@@ -25,7 +26,19 @@ bool ChannelSet::next_epoch(UtcNs& t) {
   for (const Receiver& r : receivers_) {
     if (!r.channel->ended()) t = std::min(t, r.schedule.next());
   }
-  if (t >= end_) return false;
+  if (t >= end_) {
+    // No receiver has an epoch left in the run: wait idle for its last time on the grid, ports
+    // open, unless an epoch was already there.
+    const bool running = std::any_of(receivers_.begin(), receivers_.end(),
+                                     [](const Receiver& r) { return !r.channel->ended(); });
+    if (!running || last_ == UtcNs::max() || latest_ >= last_) return false;
+    t = latest_ = last_;
+    any_due_ = false;
+    for (Receiver& r : receivers_) r.due = false;
+    return true;
+  }
+  latest_ = t;
+  any_due_ = true;
   bool all_ended = true;
   for (Receiver& r : receivers_) {
     r.due = r.schedule.next() == t;

@@ -3,7 +3,9 @@
 // its u-blox client asked for). The loop's timeline is their merge: one epoch a distinct time,
 // and only the receivers due at that time send. A u-blox receiver on a serial line sends what the
 // line carries in its period (ubx_effects.hpp). The run ends at the time --duration gives,
-// whatever the receivers' rates.
+// whatever the receivers' rates: when no receiver has an epoch left before the end (a u-blox
+// client asked for one solution per 100 minutes), the last time of the run's grid is an idle
+// epoch, no receiver due, so the loop keeps the ports open and answering until then.
 #pragma once
 
 #include <chrono>
@@ -39,6 +41,7 @@ class ChannelSet final : public EpochProducer {
   [[nodiscard]] std::chrono::nanoseconds finest_period() const;
 
   bool next_epoch(UtcNs& t) override;
+  [[nodiscard]] bool any_due() const override { return any_due_; }
   [[nodiscard]] bool active(std::size_t i) const override {
     return receivers_[i].due && !receivers_[i].channel->ended();
   }
@@ -61,6 +64,9 @@ class ChannelSet final : public EpochProducer {
 
   const Timeline& timeline_;
   UtcNs end_;  ///< the first time past the run
+  UtcNs last_;  ///< the run's last epoch on its grid (--duration), or max
+  UtcNs latest_{UtcNs::min()};  ///< the latest time next_epoch() returned
+  bool any_due_ = true;  ///< a receiver has an epoch at that time
   std::vector<Receiver> receivers_;
   const Sink* sink_ = nullptr;
   std::function<void(std::chrono::nanoseconds)> finest_changed_;

@@ -64,7 +64,7 @@ bool RealtimeClock::late(UtcNs t) {
   const UtcNs deadline = t - shift_ + latency_;
   const auto behind = io_.now() - deadline;
   if (behind <= period_) return false;
-  spdlog::warn("epoch {} skipped: {} ms late", format_iso8601_utc(t),
+  transport::log_limited(skip_log_, spdlog::level::warn, "epoch {} skipped: {} ms late", format_iso8601_utc(t),
                std::chrono::duration_cast<std::chrono::milliseconds>(behind).count());
   return true;
 }
@@ -95,7 +95,8 @@ bool ScaledClock::late(UtcNs t) {
   const auto behind = io_.now() - *deadline_of(t);
   const auto wall_period = std::chrono::nanoseconds{std::llround(static_cast<double>(period_.count()) / scale_)};
   if (behind <= std::max<std::chrono::nanoseconds>(wall_period, std::chrono::milliseconds(20))) return false;
-  spdlog::warn("epoch {} skipped: {:.0f} ms late on the scaled clock", format_iso8601_utc(t), seconds(behind) * 1e3);
+  transport::log_limited(skip_log_, spdlog::level::warn, "epoch {} skipped: {:.0f} ms late on the scaled clock",
+                         format_iso8601_utc(t), seconds(behind) * 1e3);
   return true;
 }
 

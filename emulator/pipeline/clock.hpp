@@ -31,6 +31,7 @@
 
 #include "emulator/sources/pose_source.hpp"
 #include "emulator/model/time.hpp"
+#include "transport/log_limit.hpp"
 #include "transport/posix/wait.hpp"
 
 namespace gpsemu {
@@ -126,6 +127,7 @@ class EpochClock {
   EpochClock() = default;
   explicit EpochClock(std::chrono::nanoseconds epoch_period) : period_(epoch_period) {}
   std::chrono::nanoseconds period_{0};
+  transport::LogLimit skip_log_{5};  ///< "epoch ... skipped" lines: at most 5 a second
 };
 
 /// fast: every epoch is due at once.

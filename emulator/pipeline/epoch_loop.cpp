@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include <spdlog/spdlog.h>
+
 namespace gpsemu {
 namespace {
 
@@ -56,6 +58,7 @@ void EpochLoop::run(const std::atomic<bool>& stop) {
     UtcNs t{};
     if (!producer_.next_epoch(t)) break;
     if (!io) {
+      if (!producer_.any_due()) continue;
       // Fast: nothing waits and nothing is polled; service client input and new clients now and then.
       if ((stats_.epochs_emitted & 0x3ff) == 0) {
         sink_.service_all();
@@ -67,6 +70,10 @@ void EpochLoop::run(const std::atomic<bool>& stop) {
       // instant too: the NMEA of second S follows pulse S). A fleet drives them in run_ahead().
       if (pps_ && !ahead) pps_->run_until(*deadline, *io, stop);
       if (stop.load()) break;
+      if (!producer_.any_due()) {  // an idle epoch: the ports answer until its time, nothing is sent
+        io->sleep_until(*deadline, stop);
+        continue;
+      }
       if (clock_.late(t)) {
         ++stats_.epochs_late_skipped;
         continue;
@@ -90,6 +97,7 @@ void EpochLoop::run(const std::atomic<bool>& stop) {
       // Not on the wall clock (lockstep): the clock waits, servicing input meanwhile.
       const EpochWait wait = clock_.wait_for(t, stop);
       if (wait == EpochWait::stopped) break;
+      if (!producer_.any_due()) continue;
       if (wait == EpochWait::skip) {
         ++stats_.epochs_late_skipped;
         continue;
@@ -103,6 +111,18 @@ void EpochLoop::run(const std::atomic<bool>& stop) {
   if (helper_) helper_->wait_done();
   if (pps_ && io) pps_->finish(*io, stop);
   sink_.flush();
+}
+
+int EpochLoop::exit_status() const {
+  if (stats_.outputs_gone) {
+    spdlog::error("every output is gone (the reader of the pipe closed it): stopped");
+    return kExitOutputsGone;
+  }
+  if (stats_.epochs_emitted != 0 && sink_.none_took_any()) {
+    spdlog::error("no output took any epoch (every write failed): exit status {}", kExitNothingWritten);
+    return kExitNothingWritten;
+  }
+  return 0;
 }
 
 void EpochLoop::send(UtcNs t) {

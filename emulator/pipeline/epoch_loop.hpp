@@ -34,6 +34,9 @@ class EpochProducer {
   /// Sets `t` to the next epoch's time on the clock's timeline; false when there is none left.
   /// (A bool and an out-parameter, not an optional: this runs a million times a second.)
   [[nodiscard]] virtual bool next_epoch(UtcNs& t) = 0;
+  /// False when no receiver has an epoch at the time next_epoch() returned: the loop waits for it
+  /// (the ports stay open, serviced) and sends and counts nothing.
+  [[nodiscard]] virtual bool any_due() const { return true; }
   /// False for a receiver with nothing more to send (its source ended).
   [[nodiscard]] virtual bool active(std::size_t /*i*/) const { return true; }
   /// Receiver i's bytes for epoch `t` (the epoch next_epoch() returned); valid until the next call
@@ -44,6 +47,12 @@ class EpochProducer {
   virtual void service_input(std::size_t /*owner*/) {}
   virtual void service_inputs() {}
 };
+
+/// Exit status of a run that stopped because every output is gone (a pipe's reader left).
+inline constexpr int kExitOutputsGone = 1;
+/// Exit status of a run in which no output took any epoch (every write failed: /dev/full, a full
+/// disk); 0 is a run done, 2 a start-up failure.
+inline constexpr int kExitNothingWritten = 3;
 
 struct LoopOptions {
   /// A fleet in real time: compute each epoch ahead of its deadline, at most this long before
@@ -78,6 +87,8 @@ class EpochLoop {
   void run(const std::atomic<bool>& stop);
 
   [[nodiscard]] const LoopStats& stats() const { return stats_; }
+  /// After run(): 0, kExitOutputsGone or kExitNothingWritten, with an error line for either.
+  [[nodiscard]] int exit_status() const;
 
  private:
   /// The fleet's epoch in real time: compute ahead, write at the deadline. False when stopped.

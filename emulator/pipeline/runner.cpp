@@ -160,11 +160,7 @@ int Runner::run(const std::atomic<bool>& stop) {
     stats_.pps_worst_edge_delay = pps_->stats().worst_edge_delay;
   }
   log_summary();
-  if (loop.stats().outputs_gone) {
-    spdlog::error("every output is gone (the reader of the pipe closed it): stopped");
-    return 1;
-  }
-  return 0;
+  return loop.exit_status();
 }
 
 void Runner::log_summary() const {
@@ -175,11 +171,17 @@ void Runner::log_summary() const {
     const ReceiverStats& r = channels_->channel(i).stats();
     if (n > 1) spdlog::info("receiver {}: {} epochs ({} without fix)", i, r.epochs_emitted, r.epochs_without_fix);
     sink_.log_summary(i);
+    if (const std::string input = client_input_summary(channels_->channel(i)); !input.empty()) {
+      spdlog::info("{}{}", sink_.who(i), input);
+    }
     if (const std::string drops = tx_drops_summary(channels_->line(i)); !drops.empty()) {
       spdlog::warn("{}{}", sink_.who(i), drops);
     }
   }
   if (pps_) pps_->log_summary();
+  if (const std::uint64_t suppressed = transport::log_lines_suppressed(); suppressed != 0) {
+    spdlog::info("{} repeated log lines suppressed (at most a few a second of each kind are written)", suppressed);
+  }
 }
 
 }  // namespace gpsemu

@@ -48,6 +48,17 @@ void Sink::service_all() {
   }
 }
 
+bool Sink::none_took_any() const {
+  bool failed = false;
+  for (const auto& outputs : receivers_) {
+    for (const auto& out : outputs) {
+      if (out->stats().epochs_written != 0) return false;
+      failed = failed || out->stats().epochs_failed != 0;
+    }
+  }
+  return failed;
+}
+
 bool Sink::all_gone() const {
   bool any = false;
   for (const auto& outputs : receivers_) {
@@ -99,8 +110,12 @@ void Sink::log_opened(std::size_t i, std::string_view protocol) const {
 void Sink::log_summary(std::size_t i) const {
   for (const auto& out : receivers_.at(i)) {
     const auto& s = out->stats();
-    spdlog::info("{}{}: {} epochs written ({} bytes), {} dropped, {} failed", who(i), out->describe(),
-                 s.epochs_written, s.bytes_written, s.epochs_dropped, s.epochs_failed);
+    spdlog::info("{}{}: {} epochs written ({} bytes), {} dropped, {} failed{}{}", who(i), out->describe(),
+                 s.epochs_written, s.bytes_written, s.epochs_dropped, s.epochs_failed,
+                 s.epochs_empty != 0 ? fmt::format(", {} with nothing to send", s.epochs_empty) : "",
+                 s.replies_written != 0
+                     ? fmt::format("; {} replies to the client ({} bytes)", s.replies_written, s.reply_bytes_written)
+                     : "");
   }
 }
 

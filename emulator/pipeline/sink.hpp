@@ -55,6 +55,10 @@ class Sink {
   }
   /// Services every output (between epochs when nothing is polled: --fast).
   void service_all();
+  /// True when no output of any receiver took an epoch and some epochs failed (every output could
+  /// not be written: a full disk, /dev/full). Epochs dropped for want of a client (a TCP server
+  /// nobody connected to) are no failure.
+  [[nodiscard]] bool none_took_any() const;
   /// True when every output of every receiver is gone for good (each a pipe whose reader left).
   [[nodiscard]] bool all_gone() const;
   void flush();

@@ -21,14 +21,14 @@ constexpr std::chrono::seconds kDropReportEvery{10};
 double ms(std::chrono::nanoseconds d) { return std::chrono::duration<double, std::milli>(d).count(); }
 
 /// Warns when the widest epoch no longer fits the line in one epoch period.
-void check_line(const Channel& channel, const ReceiverSchedule& schedule, const UbxLine& line, const std::string& who) {
+void check_line(const Channel& channel, const ReceiverSchedule& schedule, UbxLine& line, const std::string& who) {
   if (line.baud == 0) return;
   const std::size_t widest = widest_ubx_epoch_bytes(channel);
   const std::size_t carried = ubx::line_bytes_per_period(line.baud, schedule.period());
   if (widest <= carried) return;
   const double rate_hz = 1e3 / ms(schedule.period());
   const int fitting = nmea::smallest_standard_baud(nmea::line_budget(widest, rate_hz));
-  spdlog::warn("{}u-blox: the widest epoch ({} bytes) does not fit the line: {} baud carries {} bytes a {} ms epoch; "
+  transport::log_limited(line.effect_log, spdlog::level::warn, "{}u-blox: the widest epoch ({} bytes) does not fit the line: {} baud carries {} bytes a {} ms epoch; "
                "the TX buffer overflows and the messages that do not fit are dropped whole (counted in the summary){}",
                who, widest, line.baud, carried, ms(schedule.period()),
                fitting != 0 ? fmt::format("; {} baud would carry it", fitting) : std::string{});
@@ -41,27 +41,29 @@ void change_baud(const std::vector<std::unique_ptr<transport::Output>>& outputs,
     if (!serial) continue;
     std::string error_text;
     if (!serial->set_baud(baud_bps, error_text)) {
-      spdlog::warn("{}u-blox CFG-PRT: {}", who, error_text);
+      transport::log_limited(line.effect_log, spdlog::level::warn, "{}u-blox CFG-PRT: {}", who, error_text);
       continue;
     }
-    spdlog::info("{}u-blox CFG-PRT: {} now at {} baud", who, serial->device(), baud_bps);
+    transport::log_limited(line.effect_log, spdlog::level::info, "{}u-blox CFG-PRT: {} now at {} baud", who,
+                           serial->device(), baud_bps);
   }
   line.baud = ubx_line_of(outputs).baud;
 }
 
 void change_period(const Channel& channel, ReceiverSchedule& schedule, std::chrono::milliseconds asked, UtcNs t,
-                   const std::string& who) {
+                   transport::LogLimit& log, const std::string& who) {
   const ubx::Session& session = channel.ubx_encoder()->session();
   const ubx::ConfigMachine& machine = session.machine();
   const bool start_period = asked == channel.settings().ubx->start.measurement_period;
   const ubx::SolutionGrid grid = ubx::solution_grid(machine.settings(), machine.model());
   schedule.follow(start_period ? std::nullopt : std::optional<ubx::SolutionGrid>{grid}, t);
   if (!start_period && grid.period != asked) {
-    spdlog::warn("{}u-blox CFG-RATE: a solution every {} ms asked (acknowledged, as the receiver does), but a {} "
+    transport::log_limited(log, spdlog::level::warn, "{}u-blox CFG-RATE: a solution every {} ms asked (acknowledged, as the receiver does), but a {} "
                  "navigates at most every {} ms: solutions every {} ms",
                  who, asked.count(), ubx::model_info(machine.model()).name, grid.period.count(), grid.period.count());
   } else {
-    spdlog::info("{}u-blox CFG-RATE: a solution every {} ms", who, schedule.period().count() / 1'000'000);
+    transport::log_limited(log, spdlog::level::info, "{}u-blox CFG-RATE: a solution every {} ms", who,
+                           schedule.period().count() / 1'000'000);
   }
 }
 
@@ -102,13 +104,13 @@ void apply_ubx_effects(Channel& channel, const std::vector<std::unique_ptr<trans
   bool recheck = false;
   for (const ubx::Effect& effect : ubx->take_effects()) {
     if (const auto* rate = std::get_if<ubx::MeasurementPeriodChanged>(&effect)) {
-      change_period(channel, schedule, rate->period, t, who);
+      change_period(channel, schedule, rate->period, t, line.effect_log, who);
       recheck = true;
     } else if (const auto* baud = std::get_if<ubx::BaudChanged>(&effect)) {
       change_baud(outputs, line, static_cast<int>(baud->baud), who);
       recheck = true;
     } else if (std::holds_alternative<ubx::ColdStart>(effect)) {
-      spdlog::info("{}u-blox CFG-RST: cold start", who);
+      transport::log_limited(line.effect_log, spdlog::level::info, "{}u-blox CFG-RST: cold start", who);
       channel.cold_start(t);
     }
   }
@@ -129,6 +131,20 @@ void fit_epoch_to_line(Channel& channel, std::chrono::nanoseconds period, UbxLin
                ms(period));
   line.reported_messages = line.dropped.messages;
   line.last_report = now;
+}
+
+std::string client_input_summary(const Channel& channel) {
+  const UbxEncoder* ubx = channel.ubx_encoder();
+  if (!ubx) return {};
+  const ubx::FrameStats& in = ubx->session().machine().reader_stats();
+  const ubx::MachineStats& answered = ubx->session().machine().stats();
+  const ubx::SessionStats& folded = ubx->session().stats();
+  return fmt::format("u-blox client input: {} UBX frames, {} bad ({} bad checksum, {} too long), {} NMEA sentences "
+                     "({} bad), {} garbage bytes; {} ACK, {} NAK, {} ignored; {} NAV polls folded into one answer, "
+                     "{} effects superseded by a newer one",
+                     in.frames_ok, in.bad_checksum + in.too_long, in.bad_checksum, in.too_long, in.sentences_ok,
+                     in.bad_sentences, in.garbage_bytes, answered.acks, answered.naks, answered.ignored,
+                     folded.polls_merged, folded.effects_superseded);
 }
 
 std::string tx_drops_summary(const UbxLine& line) {

@@ -13,6 +13,9 @@
 //   buffer overflows, and counted (logged once, then at most every 10 s). A pty or socket has no
 //   line limit (a u-blox on USB);
 // - a cold start: the receiver model starts again at the epoch (its --cold-start phases replay).
+// The lines saying so (rate, baud, cold start, the line check) are rate-limited per receiver
+// (transport/log_limit.hpp): a client toggling CFG-RATE or flooding CFG-RST writes a few lines a
+// second, with the count of those suppressed.
 #pragma once
 
 #include <chrono>
@@ -28,6 +31,7 @@
 #include "emulator/ubx/settings.hpp"
 #include "emulator/ubx/tx_budget.hpp"
 #include "nmea/fix.hpp"
+#include "transport/log_limit.hpp"
 #include "transport/output.hpp"
 
 namespace gpsemu {
@@ -45,6 +49,7 @@ struct UbxLine {
   ubx::TxDrops dropped;    ///< messages (and bytes) the line could not carry
   std::uint64_t reported_messages = 0;  ///< dropped messages already logged
   std::chrono::steady_clock::time_point last_report{};
+  transport::LogLimit effect_log{5};  ///< the effect lines of this receiver: at most 5 a second
 };
 
 /// The line of a receiver with `outputs`.
@@ -59,6 +64,11 @@ void apply_ubx_effects(Channel& channel, const std::vector<std::unique_ptr<trans
 /// Cuts `channel`'s epoch bytes to what `line` carries in `period` (whole messages), counts and
 /// logs what was dropped. Nothing without a serial line.
 void fit_epoch_to_line(Channel& channel, std::chrono::nanoseconds period, UbxLine& line, const std::string& who);
+
+/// One summary line of what the client of `channel`'s u-blox wrote and what it was answered
+/// (empty for an NMEA channel): frames, bad frames, sentences, ACK, NAK, polls folded into one
+/// answer, effects a newer one replaced.
+[[nodiscard]] std::string client_input_summary(const Channel& channel);
 
 /// One summary line of what `line` dropped (empty when nothing was).
 [[nodiscard]] std::string tx_drops_summary(const UbxLine& line);

@@ -8,13 +8,11 @@ void UbxEncoder::client_wrote(std::string_view bytes) {
   session_.client_wrote(bytes);
   const ubx::FrameStats& stats = session_.machine().reader_stats();
   const std::uint64_t bad = stats.bad_checksum + stats.too_long;
-  if (bad == bad_frames_reported_) return;
-  const auto now = std::chrono::steady_clock::now();
-  if (now - last_report_ < std::chrono::seconds(1)) return;
+  if (bad == bad_frames_reported_ || !bad_frame_log_.admit(transport::LogLimit::Clock::now())) return;
+  (void)bad_frame_log_.take_suppressed();  // the line counts the frames themselves
   spdlog::warn("u-blox: {} bad UBX frame(s) from the client ({} bad checksum, {} too long in all)",
                bad - bad_frames_reported_, stats.bad_checksum, stats.too_long);
   bad_frames_reported_ = bad;
-  last_report_ = now;
 }
 
 }  // namespace gpsemu

@@ -14,6 +14,7 @@
 
 #include "emulator/pipeline/encoder.hpp"
 #include "emulator/ubx/session.hpp"
+#include "transport/log_limit.hpp"
 
 namespace gpsemu {
 
@@ -32,7 +33,7 @@ class UbxEncoder final : public Encoder {
  private:
   ubx::Session session_;
   std::uint64_t bad_frames_reported_ = 0;
-  std::chrono::steady_clock::time_point last_report_{};
+  transport::LogLimit bad_frame_log_{1};
 };
 
 }  // namespace gpsemu

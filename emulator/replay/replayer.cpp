@@ -243,11 +243,7 @@ int Replayer::run(const std::atomic<bool>& stop) {
   stats_.worst_delay = loop.stats().worst_delay;
   stats_.total_delay = loop.stats().total_delay;
   log_summary();
-  if (loop.stats().outputs_gone) {
-    spdlog::error("every output is gone (the reader of the pipe closed it): stopped");
-    return 1;
-  }
-  return 0;
+  return loop.exit_status();
 }
 
 void Replayer::log_summary() const {

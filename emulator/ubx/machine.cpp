@@ -1,7 +1,7 @@
 // The u-blox configuration state machine (see machine.hpp).
 #include "emulator/ubx/machine.hpp"
 
-#include <set>
+#include <utility>
 
 #include "emulator/ubx/bytes.hpp"
 #include "emulator/ubx/cfg_keys.hpp"
@@ -56,7 +56,7 @@ void ConfigMachine::ack(MessageId id, bool ok, Answer& answer) {
 }
 
 void ConfigMachine::handle_sentence(const nmea::Sentence& sentence, Answer& answer) {
-  const Settings before = settings_;
+  const Snapshot before = snapshot();
   if (const auto cmd40 = parse_pubx40(sentence)) {
     (void)apply_pubx40(settings_, *cmd40);
   } else if (const auto cmd41 = parse_pubx41(sentence)) {
@@ -105,7 +105,7 @@ void ConfigMachine::handle_frame(const Frame& frame, Answer& answer) {
     ack(id, true, answer);
     return;
   }
-  const Settings before = settings_;
+  const Snapshot before = snapshot();
   const bool ok = apply_cfg(frame);
   ack(id, ok, answer);
   if (ok) diff(before, answer);
@@ -200,31 +200,51 @@ void ConfigMachine::answer_valget(const Frame& frame, Answer& answer) {
   ack(frame.id, true, answer);
 }
 
-void ConfigMachine::diff(const Settings& before, Answer& answer) const {
+ConfigMachine::Snapshot ConfigMachine::snapshot() const {
+  Snapshot s;
+  s.period = settings_.output_period();
+  s.port = settings_.ports[static_cast<std::size_t>(start_.port)];
+  s.rates.reserve(settings_.rates.size());
+  for (const auto& [id, rates] : settings_.rates) s.rates.emplace_back(id, rates[static_cast<std::size_t>(start_.port)]);
+  return s;
+}
+
+void ConfigMachine::diff(const Snapshot& before, Answer& answer) const {
   const Port port = start_.port;
-  if (before.output_period() != settings_.output_period()) {
+  if (before.period != settings_.output_period()) {
     answer.effects.emplace_back(MeasurementPeriodChanged{settings_.output_period()});
   }
-  std::set<MessageId> ids;
-  for (const auto& [id, rates] : before.rates) ids.insert(id);
-  for (const auto& [id, rates] : settings_.rates) ids.insert(id);
-  for (const MessageId id : ids) {
-    const std::uint8_t old_rate = before.rate(id, port);
-    const std::uint8_t new_rate = settings_.rate(id, port);
-    if (old_rate == new_rate) continue;
+  const auto changed = [&](MessageId id, std::uint8_t old_rate, std::uint8_t new_rate) {
+    if (old_rate == new_rate) return;
     if (const auto type = sentence_of(id)) {
       if ((old_rate != 0) != (new_rate != 0)) answer.effects.emplace_back(NmeaSentenceChanged{*type, new_rate != 0});
     } else {
       answer.effects.emplace_back(MessageRateChanged{id, new_rate});
     }
+  };
+  // Both lists are sorted by id: one merge, each id once.
+  auto was = before.rates.begin();
+  auto now = settings_.rates.begin();
+  while (was != before.rates.end() || now != settings_.rates.end()) {
+    if (now == settings_.rates.end() || (was != before.rates.end() && was->first < now->first)) {
+      changed(was->first, was->second, 0);
+      ++was;
+    } else if (was == before.rates.end() || now->first < was->first) {
+      changed(now->first, 0, now->second[static_cast<std::size_t>(port)]);
+      ++now;
+    } else {
+      changed(now->first, was->second, now->second[static_cast<std::size_t>(port)]);
+      ++was;
+      ++now;
+    }
   }
-  const PortSettings& was = before.ports[static_cast<std::size_t>(port)];
-  const PortSettings& now = settings_.ports[static_cast<std::size_t>(port)];
-  if (was.out_proto_mask != now.out_proto_mask) {
+  const PortSettings& was_port = before.port;
+  const PortSettings& now_port = settings_.ports[static_cast<std::size_t>(port)];
+  if (was_port.out_proto_mask != now_port.out_proto_mask) {
     answer.effects.emplace_back(
-        OutputProtocolsChanged{(now.out_proto_mask & proto_ubx) != 0, (now.out_proto_mask & proto_nmea) != 0});
+        OutputProtocolsChanged{(now_port.out_proto_mask & proto_ubx) != 0, (now_port.out_proto_mask & proto_nmea) != 0});
   }
-  if (was.baud != now.baud && now.baud != 0) answer.effects.emplace_back(BaudChanged{now.baud});
+  if (was_port.baud != now_port.baud && now_port.baud != 0) answer.effects.emplace_back(BaudChanged{now_port.baud});
 }
 
 }  // namespace gpsemu::ubx

@@ -88,8 +88,16 @@ class ConfigMachine {
   void answer_valget(const Frame& frame, Answer& answer);
   [[nodiscard]] bool apply_valset(std::string_view payload);
   void ack(MessageId id, bool ok, Answer& answer);
+  /// What diff() compares: the period, the client port's settings and its message rates (not a
+  /// copy of the whole settings a write: a burst of CFG writes stays cheap).
+  struct Snapshot {
+    std::chrono::milliseconds period{};
+    PortSettings port;
+    std::vector<std::pair<MessageId, std::uint8_t>> rates;  ///< by id, every listed message's rate
+  };
+  [[nodiscard]] Snapshot snapshot() const;
   /// Appends the effects of the change from `before` to the current settings.
-  void diff(const Settings& before, Answer& answer) const;
+  void diff(const Snapshot& before, Answer& answer) const;
 
   StartSettings start_;
   Settings settings_;

@@ -1,6 +1,7 @@
 // One u-blox port (see session.hpp).
 #include "emulator/ubx/session.hpp"
 
+#include <algorithm>
 #include <utility>
 
 #include "emulator/ubx/output.hpp"
@@ -16,9 +17,21 @@ void Session::client_wrote(std::string_view bytes) {
   reply_ += answer.bytes;
   for (Effect& effect : answer.effects) {
     if (const auto* poll = std::get_if<PollOnce>(&effect)) {
-      polled_.push_back(poll->id);
+      // One answer a kind, as a u-blox answers a NAV poll with its next solution.
+      if (std::find(polled_.begin(), polled_.end(), poll->id) == polled_.end()) {
+        polled_.push_back(poll->id);
+      } else {
+        ++stats_.polls_merged;
+      }
     } else if (std::holds_alternative<MeasurementPeriodChanged>(effect) || std::holds_alternative<BaudChanged>(effect) ||
                std::holds_alternative<ColdStart>(effect)) {
+      // The newest of a kind wins: what the receiver applies at its next epoch is the last setting.
+      const auto same = std::find_if(effects_.begin(), effects_.end(),
+                                     [&](const Effect& e) { return e.index() == effect.index(); });
+      if (same != effects_.end()) {
+        effects_.erase(same);
+        ++stats_.effects_superseded;
+      }
       effects_.push_back(std::move(effect));
     }
     // Rates, sentences and protocols are in the settings append_solution() reads.

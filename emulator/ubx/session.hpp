@@ -5,6 +5,12 @@
 // take_effects(), and each epoch's bytes (NAV messages, NMEA sentences, then NAV-EOE, as the
 // settings turn them on: output.hpp) through append_solution().
 //
+// What waits for the next solution is bounded, as on a u-blox: a NAV poll waits once per message
+// kind (a second poll of a kind already waiting gets the same one answer, counted), and of the
+// effects (period, baud, cold start) the newest of each kind wins (the older ones are counted as
+// superseded), so a client polling or reconfiguring a receiver whose next solution is hours away
+// holds a few bytes, not a queue that grows with what it writes.
+//
 // The solutions lie on the start grid (the epochs the session is stepped at: --rate's) until the
 // client asks for another period; then on the solution grid it asks for (solution_grid.hpp): an
 // epoch off that grid writes nothing. The emulator loop steps the session on that grid itself
@@ -30,6 +36,12 @@ struct SessionSettings {
   double speed_sigma_mps = 0.0;  ///< 1-sigma speed error reported as sAcc (metres per second)
 };
 
+/// What the session folded while it waited for a solution (the summary reports it).
+struct SessionStats {
+  std::uint64_t polls_merged = 0;        ///< NAV polls of a kind already waiting: answered once
+  std::uint64_t effects_superseded = 0;  ///< period, baud or cold-start effects a newer one replaced
+};
+
 class Session {
  public:
   explicit Session(SessionSettings settings);
@@ -50,13 +62,18 @@ class Session {
 
   [[nodiscard]] const ConfigMachine& machine() const { return machine_; }
   [[nodiscard]] std::uint64_t solutions() const { return solutions_; }
+  [[nodiscard]] const SessionStats& stats() const { return stats_; }
+  /// NAV polls and effects waiting for the next solution (at most one a kind of each).
+  [[nodiscard]] std::size_t polls_waiting() const { return polled_.size(); }
+  [[nodiscard]] std::size_t effects_waiting() const { return effects_.size(); }
 
  private:
   SessionSettings settings_;
   ConfigMachine machine_;
   std::string reply_;
   std::vector<Effect> effects_;
-  std::vector<MessageId> polled_;
+  std::vector<MessageId> polled_;  ///< one a kind
+  SessionStats stats_;
   std::uint64_t solutions_ = 0;
   std::optional<nmea::UtcTime> first_epoch_;
   std::optional<std::chrono::milliseconds> time_to_first_fix_;

@@ -258,10 +258,12 @@ output = "file:{}"
   EXPECT_EQ(number_in(log, "receiver 0: file " + ubx_copy.string() + R"(: \d+ epochs written \((\d+) bytes\))"),
             ubx_bytes.size())
       << log;
-  // The pty got the same epochs, and the ACK-ACK's 10 bytes besides.
+  // The pty got the same epochs; the ACK-ACK's 10 bytes are counted apart, as a reply.
   EXPECT_EQ(number_in(log, R"(receiver 0: /dev/pts/\d+ \(link [^)]*\): (\d+) epochs written)"), itow.size()) << log;
   EXPECT_EQ(number_in(log, R"(receiver 0: /dev/pts/\d+ \(link [^)]*\): \d+ epochs written \((\d+) bytes\))"),
-            ubx_bytes.size() + 10)
+            ubx_bytes.size())
+      << log;
+  EXPECT_EQ(number_in(log, R"(receiver 0: /dev/pts/\d+ \(link [^)]*\): .*; 1 replies to the client \((\d+) bytes\))"), 10u)
       << log;
 
   // Receiver 1: one GGA every whole second, none missing or repeated, as many as the summary says.

@@ -2,6 +2,7 @@
 // descriptor has: the input clients write to an output (gpsd's probes), bounded per call.
 #pragma once
 
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -44,13 +45,27 @@ struct Drained {
   };
   std::uint64_t bytes = 0;  ///< bytes read and discarded
   End end = End::empty;
+  bool limited = false;  ///< stopped by the byte or time budget: more may be waiting in the kernel
   int error = 0;
 };
 
-/// Reads what the non-blocking `fd` has, at most about `limit_bytes` (bounds one call), handing
-/// each chunk to `consume` (an output's client input: transport/output.hpp) or, without one,
-/// discarding it; never blocks.
-[[nodiscard]] Drained drain_input(int fd, std::size_t limit_bytes,
+/// What one call of drain_input() may do: read at most `bytes` (about: whole reads), and start no
+/// read after `time` has passed since the call began. What is left stays in the kernel for the
+/// next call, so a client's burst never holds the loop up for more than about one budget.
+struct InputBudget {
+  std::size_t bytes = 1 << 20;
+  std::chrono::nanoseconds time = std::chrono::nanoseconds::max();
+};
+
+/// Reads what the non-blocking `fd` has, within `budget`, handing each chunk to `consume` (an
+/// output's client input: transport/output.hpp; reads of at most 1 KiB then, so the time budget
+/// is checked between small pieces of work) or, without one, discarding it; never blocks.
+[[nodiscard]] Drained drain_input(int fd, InputBudget budget,
                                   const std::function<void(std::string_view)>& consume = {});
+/// The same with a byte budget alone.
+[[nodiscard]] inline Drained drain_input(int fd, std::size_t limit_bytes,
+                                         const std::function<void(std::string_view)>& consume = {}) {
+  return drain_input(fd, InputBudget{.bytes = limit_bytes}, consume);
+}
 
 }  // namespace gpsemu::posix

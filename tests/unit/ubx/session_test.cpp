@@ -129,3 +129,53 @@ TEST(UbxSession, StatusCountsTimeToFirstFix) {
 
 }  // namespace
 }  // namespace gpsemu::ubx
+
+namespace gpsemu::ubx {
+namespace {
+
+std::string cfg_rate_frame(std::uint16_t meas_ms, std::uint16_t nav_rate) {
+  std::string p;
+  put_u2(p, meas_ms);
+  put_u2(p, nav_rate);
+  put_u2(p, 1);
+  return frame_bytes(msg::cfg_rate, p);
+}
+
+// Issue 22, point 2: after CFG-RATE 65535 ms x 127 the next solution is 2.3 hours away; 100 000
+// NAV-PVT polls and CFG-RST/CFG-RATE writes meanwhile must not pile up (a u-blox answers a poll
+// kind once with its next solution, and applies the last setting).
+TEST(UbxSession, PollsAndEffectsWaitingForASolutionAreBoundedAndCounted) {
+  Session session(f9p_nmea_only());
+  session.client_wrote(cfg_rate_frame(65535, 127));
+  std::string polls;
+  for (int k = 0; k < 1000; ++k) polls += frame_bytes(msg::nav_pvt, "") + frame_bytes(msg::nav_dop, "");
+  for (int round = 0; round < 50; ++round) session.client_wrote(polls);
+  for (int k = 0; k < 1000; ++k) {
+    session.client_wrote(frame_bytes(msg::cfg_rst, test::unhex("ffff 0200")));
+    session.client_wrote(cfg_rate_frame(k % 2 == 0 ? 200 : 500, 1));
+  }
+  (void)session.take_reply();
+  EXPECT_EQ(session.polls_waiting(), 2u);  // NAV-PVT and NAV-DOP, once each
+  EXPECT_EQ(session.stats().polls_merged, 100'000u - 2u);
+  EXPECT_EQ(session.effects_waiting(), 2u);  // one period, one cold start
+  EXPECT_EQ(session.stats().effects_superseded, 2000u + 1u - 2u);
+  const auto effects = session.take_effects();
+  ASSERT_EQ(effects.size(), 2u);
+  // The newest of each kind, in the order the newest arrived: the last CFG-RST, then the last rate.
+  EXPECT_TRUE(std::holds_alternative<ColdStart>(effects[0]));
+  EXPECT_EQ(std::get<MeasurementPeriodChanged>(effects[1]).period, milliseconds{500});
+  // The next solution answers each polled kind once.
+  std::string out;
+  session.append_solution(fix_at(hours{12}), out);
+  std::size_t pvt = 0, dop = 0;
+  for (const Frame& f : frames_in(out)) {
+    pvt += f.id == msg::nav_pvt ? 1 : 0;
+    dop += f.id == msg::nav_dop ? 1 : 0;
+  }
+  EXPECT_EQ(pvt, 1u);
+  EXPECT_EQ(dop, 1u);
+  EXPECT_EQ(session.polls_waiting(), 0u);
+}
+
+}  // namespace
+}  // namespace gpsemu::ubx
