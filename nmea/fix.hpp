@@ -87,6 +87,9 @@ struct FormatOptions {
   int time_decimals = 2;      ///< decimals of seconds in hhmmss.ss, 0..3
   NmeaVersion version = NmeaVersion::v4_1;
   SentenceSet sentences = SentenceSet::ublox_default();  ///< sentence types of each epoch
+  /// GSV also lists each satellite's second signal (a dual-band receiver: L2 C, L2 OF, E5b, B2I)
+  /// as its own group with the NMEA 4.1 signal ID (4.1 only).
+  bool gsv_second_signal = false;
 };
 
 }  // namespace gpsemu::nmea
