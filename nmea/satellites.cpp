@@ -4,6 +4,7 @@
 // default epoch's instructions).
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <string>
 #include <string_view>
@@ -52,8 +53,44 @@ void close_sentence_at(std::string& out, std::size_t start) {
 
 }  // namespace
 
-void append_gsa(const Fix& fix, const FormatOptions& options, std::string& out) {
-  const std::string_view system_id = options.version == NmeaVersion::v4_1 ? ",1" : "";
+namespace {
+
+/// The NMEA 4.1 systems in output order: talker, GSA system ID, first and second signal IDs.
+struct NmeaSystem {
+  std::string_view talker;
+  char system_id;
+  char signal_1;
+  char signal_2;  // 0: no second signal (SBAS)
+};
+constexpr std::array<NmeaSystem, 5> nmea_systems{{
+    {"GP", '1', '1', '6'},  // GPS (and SBAS, signal 1 only): L1 C/A, L2 CL
+    {"GL", '2', '1', '3'},  // GLONASS: L1 OF, L2 OF
+    {"GA", '3', '7', '2'},  // Galileo: E1, E5b
+    {"GB", '4', '1', 'B'},  // BeiDou: B1I, B2I
+    {"GQ", '5', '1', '6'},  // QZSS: L1 C/A, L2 CL
+}};
+
+std::size_t nmea_system_index(GnssSystem s) {
+  switch (s) {
+    case GnssSystem::gps:
+    case GnssSystem::sbas: return 0;
+    case GnssSystem::glonass: return 1;
+    case GnssSystem::galileo: return 2;
+    case GnssSystem::beidou: return 3;
+    case GnssSystem::qzss: return 4;
+  }
+  return 0;
+}
+
+/// Which NMEA systems have satellites in view (bit i: nmea_systems[i]).
+unsigned systems_in_view(const Fix& fix) {
+  unsigned bits = 0;
+  const int n = in_view_count(fix);
+  for (int i = 0; i < n; ++i) bits |= 1u << nmea_system_index(fix.satellites[static_cast<std::size_t>(i)].system);
+  return bits;
+}
+
+void append_gsa_of(const Fix& fix, const FormatOptions& options, std::string_view talker, int system, std::string& out) {
   const int type = gsa_fix_type(fix);
   std::array<int, max_satellites> prns{};
   int used = 0;
@@ -61,12 +98,14 @@ void append_gsa(const Fix& fix, const FormatOptions& options, std::string& out) 
     const int n = in_view_count(fix);
     for (int i = 0; i < n; ++i) {
       const SatelliteInView& sat = fix.satellites[static_cast<std::size_t>(i)];
-      if (sat.used) prns[static_cast<std::size_t>(used++)] = std::clamp(sat.prn, 0, 99);
+      if (sat.used && (system < 0 || nmea_system_index(sat.system) == static_cast<std::size_t>(system))) {
+        prns[static_cast<std::size_t>(used++)] = std::clamp(sat.prn, 0, 99);
+      }
     }
   }
   // 12 PRN slots a sentence; one sentence even with none.
   for (int first = 0; first == 0 || first < used; first += gsa_slots) {
-    const std::size_t start = open_sentence(out, options.talker, "GSA,A,");
+    const std::size_t start = open_sentence(out, talker, "GSA,A,");
     text::append_uint(out, static_cast<std::uint64_t>(type));
     for (int slot = 0; slot < gsa_slots; ++slot) {
       out += ',';
@@ -82,31 +121,37 @@ void append_gsa(const Fix& fix, const FormatOptions& options, std::string& out) 
     } else {
       out += "99.99,99.99,99.99";
     }
-    out += system_id;
+    if (options.version == NmeaVersion::v4_1) {
+      out += ',';
+      out += system < 0 ? '1' : nmea_systems[static_cast<std::size_t>(system)].system_id;
+    }
     close_sentence_at(out, start);
   }
 }
 
-void append_gsv(const Fix& fix, const FormatOptions& options, std::string& out) {
-  const std::string_view talker = options.talker == "GN" ? std::string_view("GP") : std::string_view(options.talker);
-  const std::string_view signal_id = options.version == NmeaVersion::v4_1 ? ",1" : "";
-  const int n = in_view_count(fix);
-  if (n == 0) {
-    const std::size_t start = open_sentence(out, talker, "GSV,1,1,00");
-    out += signal_id;
-    close_sentence_at(out, start);
-    return;
+/// One GSV group: the satellites of NMEA system `system` on signal 1 or 2.
+void append_gsv_group(const Fix& fix, const FormatOptions& options, std::size_t system, bool second_signal, std::string& out) {
+  const NmeaSystem& sys = nmea_systems[system];
+  const int n_all = in_view_count(fix);
+  std::array<std::uint8_t, max_satellites> index{};
+  int n = 0;
+  for (int i = 0; i < n_all; ++i) {
+    const SatelliteInView& sat = fix.satellites[static_cast<std::size_t>(i)];
+    if (nmea_system_index(sat.system) != system) continue;
+    if (second_signal && sat.system == GnssSystem::sbas) continue;
+    index[static_cast<std::size_t>(n++)] = static_cast<std::uint8_t>(i);
   }
+  if (n == 0) return;
   const int total = (n + gsv_per_sentence - 1) / gsv_per_sentence;
   for (int k = 0; k < total; ++k) {
-    const std::size_t start = open_sentence(out, talker, "GSV,");
+    const std::size_t start = open_sentence(out, sys.talker, "GSV,");
     text::append_uint(out, static_cast<std::uint64_t>(total));
     out += ',';
     text::append_uint(out, static_cast<std::uint64_t>(k + 1));
     out += ',';
     text::append_uint(out, static_cast<std::uint64_t>(n), 2);
-    for (int i = k * gsv_per_sentence; i < std::min(n, (k + 1) * gsv_per_sentence); ++i) {
-      const SatelliteInView& sat = fix.satellites[static_cast<std::size_t>(i)];
+    for (int j = k * gsv_per_sentence; j < std::min(n, (k + 1) * gsv_per_sentence); ++j) {
+      const SatelliteInView& sat = fix.satellites[index[static_cast<std::size_t>(j)]];
       out += ',';
       text::append_uint(out, static_cast<std::uint64_t>(std::clamp(sat.prn, 0, 99)), 2);
       out += ',';
@@ -114,10 +159,45 @@ void append_gsv(const Fix& fix, const FormatOptions& options, std::string& out) 
       out += ',';
       text::append_uint(out, static_cast<std::uint64_t>(((sat.azimuth_deg % 360) + 360) % 360), 3);
       out += ',';
-      if (sat.snr_dbhz) text::append_uint(out, static_cast<std::uint64_t>(std::clamp(*sat.snr_dbhz, 0, 99)), 2);
+      // The second signal is a few dB weaker than the first (L2/E5b/B2I against L1/E1/B1I).
+      if (sat.snr_dbhz) text::append_uint(out, static_cast<std::uint64_t>(std::clamp(*sat.snr_dbhz - (second_signal ? 3 : 0), 0, 99)), 2);
     }
-    out += signal_id;
+    if (options.version == NmeaVersion::v4_1) {
+      out += ',';
+      out += second_signal ? sys.signal_2 : sys.signal_1;
+    }
     close_sentence_at(out, start);
+  }
+}
+
+}  // namespace
+
+void append_gsa(const Fix& fix, const FormatOptions& options, std::string& out) {
+  // One GSA per system in view (u-blox's multi-GNSS output, talker GN); a single one otherwise.
+  const unsigned bits = systems_in_view(fix);
+  if (std::popcount(bits) <= 1) {
+    const int system = bits == 0 ? -1 : std::countr_zero(bits);
+    append_gsa_of(fix, options, options.talker, system, out);
+    return;
+  }
+  for (std::size_t i = 0; i < nmea_systems.size(); ++i) {
+    if (bits & (1u << i)) append_gsa_of(fix, options, options.talker, static_cast<int>(i), out);
+  }
+}
+
+void append_gsv(const Fix& fix, const FormatOptions& options, std::string& out) {
+  const unsigned bits = systems_in_view(fix);
+  if (bits == 0) {
+    const std::size_t start = open_sentence(out, options.talker == "GN" ? std::string_view("GP") : std::string_view(options.talker), "GSV,1,1,00");
+    if (options.version == NmeaVersion::v4_1) out += ",1";
+    close_sentence_at(out, start);
+    return;
+  }
+  const bool second = options.gsv_second_signal && options.version == NmeaVersion::v4_1;
+  for (std::size_t i = 0; i < nmea_systems.size(); ++i) {
+    if (!(bits & (1u << i))) continue;
+    append_gsv_group(fix, options, i, false, out);
+    if (second) append_gsv_group(fix, options, i, true, out);
   }
 }
 

@@ -287,12 +287,27 @@ std::vector<OptionDef> make_option_table() {
   }
   // Receiver and sentences
   scope = OptionScope::receiver;
-  add("satellites", "N", "satellites used in a 3-D fix, 4..32 (default: round((3/HDOP)^2) in 5..16; "
-      "in view: used + 2 + used/4)",
-      [](ConfigDraft& d, V v) { d.receiver.settings.model.satellites_used = static_cast<int>(parse_number("satellites", v.back(), 4, 32)); });
-  add("hdop", "X", "HDOP reported with a fix, 0.5..50 (default: the noise's horizontal sigma / 0.4 m, "
-      "in 0.5..20)",
+  add("satellites", "N", "at most N satellites used in a fix, 4..64 (default: every one above the elevation mask "
+      "and the C/N0 threshold, within the model's channels)",
+      [](ConfigDraft& d, V v) { d.receiver.settings.model.satellites_used = static_cast<int>(parse_number("satellites", v.back(), 4, 64)); });
+  add("hdop", "X", "HDOP reported with a fix, 0.5..50; VDOP and PDOP scale alike (default: from the geometry of "
+      "the satellites used)",
       [](ConfigDraft& d, V v) { d.receiver.settings.model.hdop = parse_number("hdop", v.back(), 0.5, 50.0); });
+  add("ephemeris", "FILE", "RINEX 2/3 navigation file: the true sky of its date (default: the embedded sky, real "
+      "orbits of 2020-12-01 at the same sidereal time; docs/sky.md)",
+      [](ConfigDraft& d, V v) { d.receiver.settings.ephemeris = v.back(); });
+  add("elevation-mask", "DEG", "satellites below this elevation are tracked but not used, 0..60 degrees "
+      "(default: the model's, 5)",
+      [](ConfigDraft& d, V v) { d.receiver.settings.model.elevation_mask_deg = parse_number("elevation-mask", v.back(), 0.0, 60.0); });
+  add("sky-mask", "SPEC", "obstructions: urban-canyon | open | FROM-TO:ELEV[,...] azimuth sectors (degrees true) "
+      "and the elevation below which nothing is received there (default open)",
+      [](ConfigDraft& d, V v) { d.receiver.settings.model.sky_mask = parse_sky_mask(v.back()); });
+  add("uere", "M", "user equivalent range error of an autonomous fix, metres, 0.05..50: reported accuracy = "
+      "DOP x UERE x the fix quality's scale (default: the model's; calibrate writes it)",
+      [](ConfigDraft& d, V v) { d.receiver.settings.model.uere_m = parse_number("uere", v.back(), 0.05, 50.0); });
+  add("noise-scales-with-dop", "", "the emulated error grows with HDOP/1.0 horizontally and VDOP/1.5 vertically "
+      "(default off)",
+      [](ConfigDraft& d, V v) { d.receiver.settings.model.noise_scales_with_dop = parse_bool("noise-scales-with-dop", v.back()); });
   add("fix-quality", "Q", "fix quality: gps | dgps | rtk-float | rtk-fixed; scales the noise by 1, 0.4, 0.1, "
       "0.01 (default gps)",
       [](ConfigDraft& d, V v) { d.receiver.settings.model.quality = parse_fix_quality(v.back()); });
@@ -330,10 +345,15 @@ std::vector<OptionDef> make_option_table() {
         const std::string m = parse_choice("receiver", v.back(), {"ublox-m8n", "ublox-m9n", "ublox-f9p", "generic"});
         d.receiver.settings.ublox_model = *ubx::receiver_model_from_name(m);
       });
-  add("geoid-separation", "M", "geoid separation in GGA, metres (default 0)",
+  add("geoid-separation", "M", "geoid separation in GGA, metres (default: the EGM96 geoid at the origin)",
       [](ConfigDraft& d, V v) { d.receiver.settings.model.geoid_sep_m = parse_number("geoid-separation", v.back(), -120.0, 120.0); });
-  add("talker", "ID", "NMEA talker ID: GP (GPS) | GN (several systems) | GL (GLONASS) | GA (Galileo) | BD (BeiDou) (default GP)",
-      [](ConfigDraft& d, V v) { d.receiver.settings.format.talker = parse_choice("talker", v.back(), {"GP", "GN", "GL", "GA", "BD"}); });
+  add("talker", "ID", "NMEA talker ID of GGA, RMC and the others: GP (GPS) | GN (several systems) | GL (GLONASS) | "
+      "GA (Galileo) | BD (BeiDou) (default: GN when the model tracks several systems, as u-blox does; GSV always "
+      "has each system's own)",
+      [](ConfigDraft& d, V v) {
+        d.receiver.settings.format.talker = parse_choice("talker", v.back(), {"GP", "GN", "GL", "GA", "BD"});
+        d.receiver.settings.talker_given = true;
+      });
   add("nmea-version", "V", "NMEA version: 2.3 or 4.1 (default 4.1)",
       [](ConfigDraft& d, V v) {
         d.receiver.settings.format.version = parse_choice("nmea-version", v.back(), {"2.3", "4.1"}) == "2.3" ? nmea::NmeaVersion::v2_3

@@ -63,6 +63,8 @@ struct ReceiverSettings {
   ReceiverOptions model;                       ///< receiver model: fix quality, satellites, HDOP, cold start, outages
   nmea::FormatOptions format;                  ///< sentences, talker, NMEA version, resolution, time decimals
   bool sentences_given = false;                ///< --sentences was given (ubx: no NMEA unless it was)
+  bool talker_given = false;                   ///< --talker was given (else GN for a multi-system model)
+  std::optional<std::string> ephemeris;        ///< --ephemeris: RINEX navigation file of the sky
   Protocol protocol = Protocol::nmea;          ///< --protocol
   ubx::ReceiverModel ublox_model = ubx::ReceiverModel::generic;  ///< --receiver (MON-VER, configuration interface)
   std::vector<transport::OutputSpec> outputs;  ///< where NMEA goes (parsed --output specs)

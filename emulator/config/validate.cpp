@@ -5,6 +5,9 @@
 
 #include <fmt/format.h>
 
+#include "emulator/model/sky/orbits.hpp"
+#include "emulator/model/sky/profile.hpp"
+
 #include "emulator/config/config_options.hpp"
 
 namespace gpsemu {
@@ -92,6 +95,17 @@ ReceiverSettings resolve_receiver(const ReceiverDraft& draft, const TimelineSett
   if (draft.cgrw_east) r.noise.cgrw.east = *draft.cgrw_east;
   if (draft.cgrw_north) r.noise.cgrw.north = *draft.cgrw_north;
   if (draft.cgrw_up) r.noise.cgrw.up = *draft.cgrw_up;
+  // The sky of the receiver model (docs/sky.md); a multi-system model's NMEA talker is GN.
+  r.model.profile = sky::profile_of(r.ublox_model);
+  if (!r.talker_given && r.model.profile.systems.count() > 1) r.format.talker = "GN";
+  r.format.gsv_second_signal = r.model.profile.dual_band;
+  if (r.ephemeris) {
+    try {
+      r.model.orbits = sky::Orbits::from_rinex_nav(*r.ephemeris);
+    } catch (const std::exception& e) {
+      throw ConfigError(e.what());
+    }
+  }
   if (r.format.time_decimals < 3 && timeline.rate_hz > std::pow(10.0, r.format.time_decimals)) {
     throw ConfigError(fmt::format(
         "rate {} Hz needs more than {} time decimals: successive epochs would repeat a time "

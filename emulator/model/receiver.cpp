@@ -8,9 +8,25 @@
 namespace gpsemu {
 namespace {
 
-constexpr double kVdopPerHdop = 1.5;
 constexpr double kSigmaSampleRateHz = 1.0;
 constexpr int kSigmaSamples = 3 * 3600;
+
+SkyOptions sky_options(const ReceiverOptions& o) {
+  SkyOptions s;
+  s.orbits = o.orbits;
+  s.profile = o.profile;
+  if (o.elevation_mask_deg) s.profile.elevation_mask_deg = *o.elevation_mask_deg;
+  s.obstruction = o.sky_mask;
+  s.max_used = o.satellites_used;
+  s.seed = o.sky_seed;
+  return s;
+}
+
+double geoid_at(const LocalFrame& frame, const ReceiverOptions& o) {
+  return o.geoid_sep_m ? *o.geoid_sep_m : sky::geoid_separation_m(frame.origin().lat_deg, frame.origin().lon_deg);
+}
+
+Geodetic ellipsoidal(const Geodetic& msl, double geoid_sep_m) { return {msl.lat_deg, msl.lon_deg, msl.alt_m + geoid_sep_m}; }
 
 }  // namespace
 
@@ -24,18 +40,16 @@ double noise_scale(nmea::FixQuality quality) {
 }
 
 Geometry resolve_geometry(const ReceiverOptions& options) {
+  using S = nmea::GnssSystem;
+  const sky::SystemSet& sys = options.profile.systems;
+  int n = 14 * sys.contains(S::gps) + 12 * sys.contains(S::glonass) + 12 * sys.contains(S::galileo) +
+          18 * sys.contains(S::beidou) + 5 * sys.contains(S::qzss) + 4 * sys.contains(S::sbas);
+  if (options.profile.dual_band) n *= 2;
   Geometry g;
-  const double sigma_h_m = std::hypot(options.noise_sigma_m.east_m, options.noise_sigma_m.north_m);
-  g.hdop = options.hdop ? *options.hdop : std::clamp(sigma_h_m / kUereM, kMinDerivedHdop, kMaxDerivedHdop);
-  if (options.satellites_used) {
-    g.satellites_used = std::clamp(*options.satellites_used, 1, static_cast<int>(nmea::max_satellites));
-  } else {
-    const double n = std::round(std::pow(kHdopSqrtSatellites / g.hdop, 2.0));
-    g.satellites_used = static_cast<int>(std::clamp(n, double{kMinDerivedSatellites}, double{kMaxDerivedSatellites}));
-  }
-  g.satellites_in_view =
-      std::min(static_cast<int>(nmea::max_satellites), g.satellites_used + 2 + g.satellites_used / 4);
-  g.vdop = kVdopPerHdop * g.hdop;
+  g.satellites_in_view = std::min(n, static_cast<int>(nmea::max_satellites));
+  g.satellites_used = options.satellites_used ? std::min(*options.satellites_used, g.satellites_in_view) : g.satellites_in_view;
+  g.hdop = options.hdop.value_or(1.0);
+  g.vdop = 1.5 * g.hdop;
   g.pdop = std::hypot(g.hdop, g.vdop);
   return g;
 }
@@ -68,9 +82,17 @@ Receiver::Receiver(const LocalFrame& frame, const ReceiverOptions& options,
       options_(options),
       noise_(std::move(noise)),
       first_epoch_(first_epoch),
-      geometry_(resolve_geometry(options)),
-      sky_(options.sky_seed, geometry_.satellites_in_view),
-      noise_sigma_h_m_(std::hypot(options.noise_sigma_m.east_m, options.noise_sigma_m.north_m)) {}
+      sky_(sky_options(options), ellipsoidal(frame.origin(), geoid_at(frame, options))),
+      geoid_sep_m_(geoid_at(frame, options)),
+      uere_m_(options.uere_m.value_or(options.profile.uere_m)) {
+  nmea::Fix scratch;
+  const SkyState s = sky_.fill(first_epoch, {}, scratch);
+  geometry_.satellites_in_view = s.listed;
+  geometry_.satellites_used = s.used;
+  geometry_.hdop = s.dops.hdop;
+  geometry_.vdop = s.dops.vdop;
+  geometry_.pdop = s.dops.pdop;
+}
 
 nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) {
   nmea::Fix fix;
@@ -83,34 +105,37 @@ nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) 
   const ReceiverPhase phase = phase_at(options_, since_s);
   if (phase == ReceiverPhase::outage) return fix;  // nothing in view
 
-  const int in_view = sky_.in_view();
-  int acquired = in_view;
-  if (phase == ReceiverPhase::acquiring) {
-    acquired = static_cast<int>(std::floor(in_view * since_s / options_.cold_start_s));
-  }
-  const bool fixing = truth && (phase == ReceiverPhase::two_d || phase == ReceiverPhase::three_d);
+  Sky::Tracking tracking;
+  if (phase == ReceiverPhase::acquiring) tracking.acquired_fraction = since_s / options_.cold_start_s;
   const bool two_d = phase == ReceiverPhase::two_d;
-  const int used = !fixing ? 0 : two_d ? std::min(kTwoDSatellites, in_view) : geometry_.satellites_used;
-  int satellites_used = 0;
-  if (options_.satellite_details) {
-    sky_.fill(since_s, acquired, used, fix);
-    for (int i = 0; i < fix.satellites_in_view; ++i) satellites_used += fix.satellites[static_cast<std::size_t>(i)].used;
-  } else {
-    // The counts Sky::fill gives: the first `acquired` of the acquisition order are listed, and
-    // the `used` highest of them (distinct ranks) are used.
-    fix.satellites_in_view = std::clamp(acquired, 0, in_view);
-    for (int i = 0; i < fix.satellites_in_view; ++i) fix.satellites[static_cast<std::size_t>(i)].used = i < used;
-    satellites_used = std::clamp(used, 0, fix.satellites_in_view);
-  }
-  if (!fixing) return fix;
+  tracking.solving = truth && (two_d || phase == ReceiverPhase::three_d);
+  if (two_d) tracking.max_used = kTwoDSatellites;
+  const SkyState sky = sky_.fill(t, tracking, fix);
+  if (!tracking.solving) return fix;
+  // A 3-D fix needs the geometry to determine position and clocks; a 2-D start holds the height.
+  if (!two_d && !sky.dops.valid()) return fix;
+  if (two_d && sky.used < kTwoDSatellites) return fix;
 
-  // A 2-D fix from 3 satellites has a poorer geometry: HDOP as for 3 satellites, and the
-  // horizontal noise grows by the same factor.
-  const double hdop = two_d ? std::max(geometry_.hdop, kHdopSqrtSatellites / std::sqrt(double{kTwoDSatellites}))
-                            : geometry_.hdop;
+  double hdop = sky.dops.valid() ? sky.dops.hdop : 0.0, vdop = sky.dops.vdop, pdop = sky.dops.pdop;
+  if (two_d) {
+    // Three satellites and the held height: a poor horizontal geometry.
+    hdop = std::max(hdop, 2.5);
+    vdop = 1.5 * hdop;
+    pdop = std::hypot(hdop, vdop);
+  }
+  if (options_.hdop && !two_d) {
+    const double k = *options_.hdop / std::max(hdop, 1e-9);
+    hdop *= k;
+    vdop *= k;
+    pdop *= k;
+  }
   const double scale = noise_scale(options_.quality);
-  const double h_scale = scale * hdop / geometry_.hdop;
-  const Enu error{h_scale * raw_error.east_m, h_scale * raw_error.north_m, scale * raw_error.up_m};
+  double h_scale = scale, v_scale = scale;
+  if (options_.noise_scales_with_dop) {
+    h_scale *= hdop / kReferenceHdop;
+    v_scale *= vdop / kReferenceVdop;
+  }
+  const Enu error{h_scale * raw_error.east_m, h_scale * raw_error.north_m, v_scale * raw_error.up_m};
 
   const Geodetic position = frame_.to_geodetic(truth->position_m + error);
   fix.quality = options_.quality;
@@ -118,7 +143,7 @@ nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) 
   fix.lat_deg = position.lat_deg;
   fix.lon_deg = position.lon_deg;
   fix.alt_msl_m = position.alt_m;
-  fix.geoid_sep_m = options_.geoid_sep_m;
+  fix.geoid_sep_m = geoid_sep_m_;
   const double ve = truth->velocity_mps.east_m;
   const double vn = truth->velocity_mps.north_m;
   fix.speed_mps = std::hypot(ve, vn);
@@ -128,16 +153,19 @@ nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) 
     last_course_deg_ = course;
   }
   fix.course_deg_true = last_course_deg_;
-  fix.satellites_used = satellites_used;
+  fix.satellites_used = sky.used;
   fix.hdop = hdop;
-  fix.vdop = kVdopPerHdop * hdop;
-  // In 3-D, hdop is geometry_.hdop and the same arithmetic gave geometry_.pdop.
-  fix.pdop = two_d ? std::hypot(fix.hdop, fix.vdop) : geometry_.pdop;
-  const Enu& sigma = options_.noise_sigma_m;
-  fix.sigma_lat_m = h_scale * sigma.north_m;
-  fix.sigma_lon_m = h_scale * sigma.east_m;
-  fix.sigma_alt_m = scale * sigma.up_m;
-  fix.range_rms_m = h_scale * noise_sigma_h_m_ / hdop;
+  fix.vdop = vdop;
+  fix.pdop = pdop;
+  fix.tdop = sky.dops.tdop;
+  fix.gdop = std::hypot(pdop, fix.tdop);
+  // Reported accuracy: DOP x UERE x scale, never below the quality's floor.
+  const double floor_m = sky::accuracy_floor_m(options_.quality);
+  const double sigma_axis_m = std::max(floor_m, hdop * uere_m_ * scale / std::numbers::sqrt2);
+  fix.sigma_lat_m = sigma_axis_m;
+  fix.sigma_lon_m = sigma_axis_m;
+  fix.sigma_alt_m = std::max(1.5 * floor_m, vdop * uere_m_ * scale);
+  fix.range_rms_m = std::max(floor_m, uere_m_ * scale);
   return fix;
 }
 

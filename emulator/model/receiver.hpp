@@ -4,14 +4,17 @@
 // scheduled outages (tunnels), fix quality (gps, dgps, RTK float/fixed) with correspondingly
 // smaller noise. Pure and deterministic given the seeds.
 //
-// How satellites, HDOP and GST relate to the noise (documented in the README section too):
-//   sigma_h = hypot(sigma_east, sigma_north) of the noise model's output (estimate_noise_sigma_m)
-//   HDOP    = sigma_h / kUereM, clamped to [kMinDerivedHdop, kMaxDerivedHdop]   (unless --hdop)
-//   used    = round((kHdopSqrtSatellites / HDOP)^2), clamped to [5, 16]          (unless --satellites)
-//   in view = min(32, used + 2 + used / 4);   VDOP = 1.5 HDOP;   PDOP = hypot(HDOP, VDOP)
-//   GST: sigma lat/lon/alt = scale x sigma north/east/up; rms = scale x sigma_h / HDOP
-// where scale = noise_scale(quality): DOPs describe the geometry and do not change with the fix
-// quality; the corrections (DGPS, RTK) shrink the range errors, hence the position noise.
+// How satellites, DOP and the accuracy relate (docs/sky.md, docs/noise-and-calibration.md):
+//   the sky (sky.hpp) gives the satellites of the model's systems from real orbits; used = above
+//   the elevation mask, not obstructed, C/N0 over the threshold, within the channels; DOPs from
+//   the used ones' geometry (one clock per system)
+//   reported accuracy: sigma_h = HDOP x UERE x scale, sigma_v = VDOP x UERE x scale, never below
+//   the quality's floor (sky::accuracy_floor_m), also with --noise none; GST's per-axis sigmas are
+//   sigma_h / sqrt 2, its RMS UERE x scale
+//   the emulated error is the noise model's, x scale; with noise_scales_with_dop also x HDOP /
+//   kReferenceHdop horizontally and x VDOP / kReferenceVdop vertically
+// where scale = noise_scale(quality) and UERE the model's (sky::profile_of) unless uere_m is set
+// (calibrate writes it: the log's sigma / its median HDOP).
 #pragma once
 
 #include <cstdint>
@@ -23,20 +26,19 @@
 #include "emulator/model/geo.hpp"
 #include "emulator/model/noise/noise_model.hpp"
 #include "emulator/model/sky.hpp"
+#include "emulator/model/sky/profile.hpp"
 #include "emulator/sources/pose_source.hpp"
 #include "emulator/model/time.hpp"
 #include "nmea/fix.hpp"
 
 namespace gpsemu {
 
-/// User equivalent range error of an autonomous fix in the HDOP relation above (metres).
+/// The range error per unit of HDOP that `gpsemu judge` assumes for a logged receiver that states only
+/// its HDOP (metres): its filter's measurement sigma is median HDOP x this / sqrt 2.
 inline constexpr double kUereM = 0.4;
-inline constexpr double kMinDerivedHdop = 0.5;
-inline constexpr double kMaxDerivedHdop = 20.0;
-/// HDOP ~ kHdopSqrtSatellites / sqrt(satellites used): 12 satellites give 0.87, 8 give 1.06.
-inline constexpr double kHdopSqrtSatellites = 3.0;
-inline constexpr int kMinDerivedSatellites = 5;
-inline constexpr int kMaxDerivedSatellites = 16;
+/// The geometry at which the emulated error equals the noise model's (noise_scales_with_dop).
+inline constexpr double kReferenceHdop = 1.0;
+inline constexpr double kReferenceVdop = 1.5;
 /// Satellites used in the 2-D phase of a cold start.
 inline constexpr int kTwoDSatellites = 3;
 
@@ -52,9 +54,11 @@ struct Outage {
 };
 
 struct ReceiverOptions {
-  double geoid_sep_m = 0.0;   ///< geoid separation written in GGA (metres); altitudes are MSL
-  std::optional<int> satellites_used;  ///< satellites used in a 3-D fix; empty: derived from HDOP
-  std::optional<double> hdop;          ///< HDOP of a 3-D fix; empty: derived from noise_sigma_m
+  /// Geoid separation written in GGA (metres); empty: the EGM96 geoid at the origin (RTKLIB
+  /// geoidh). Altitudes are MSL either way.
+  std::optional<double> geoid_sep_m;
+  std::optional<int> satellites_used;  ///< --satellites: at most this many used
+  std::optional<double> hdop;          ///< --hdop: report this HDOP (VDOP, PDOP scaled alike)
   /// 1-sigma (RMS) error per axis of the noise model's output before the quality scale (metres);
   /// the pipeline sets it with estimate_noise_sigma_m (receiver_config.hpp).
   Enu noise_sigma_m{};
@@ -64,18 +68,25 @@ struct ReceiverOptions {
   std::vector<Outage> outages;   ///< no satellites, no fix, during each
   std::uint64_t sky_seed = 1;    ///< seed of the satellite sky (the run's --seed)
   double course_min_speed_mps = 0.05;  ///< below this speed the last course is held
-  /// Fill each satellite's PRN, elevation, azimuth and SNR (GSA, GSV). When false (no sentence of
-  /// the set lists satellites) only the counts are meaningful: fix.satellites_in_view and which
-  /// entries are `used`; the sky's per-satellite trigonometry, most of an epoch's cost, is skipped.
+  /// Kept for the pipeline's settings; the sky is always computed (its counts and DOPs are needed).
   bool satellite_details = true;
+  /// The receiver model's sky: systems, channels, mask, C/N0 threshold, UERE (sky::profile_of).
+  sky::ReceiverProfile profile = sky::profile_of(ubx::ReceiverModel::generic);
+  std::optional<double> elevation_mask_deg;  ///< --elevation-mask; empty: the model's
+  std::vector<SkyMaskSector> sky_mask;       ///< --sky-mask
+  std::optional<double> uere_m;              ///< UERE of an autonomous fix (metres); empty: the model's
+  bool noise_scales_with_dop = false;        ///< --noise-scales-with-dop
+  std::shared_ptr<const sky::Orbits> orbits; ///< --ephemeris; empty: the embedded default sky
 };
 
-/// The satellite geometry a receiver reports with a 3-D fix (see the relations above).
+/// The most satellites a receiver lists and uses (the line budget's worst case) and a typical DOP.
 struct Geometry {
   int satellites_used = 0;
   int satellites_in_view = 0;
   double hdop = 0.0, vdop = 0.0, pdop = 0.0;
 };
+/// Worst case of the model's systems: GPS 14, GLONASS 12, Galileo 12, BeiDou 18, QZSS 5, SBAS 4
+/// in view at once (twice for a dual-band model's GSV), capped at nmea::max_satellites.
 [[nodiscard]] Geometry resolve_geometry(const ReceiverOptions& options);
 
 /// RMS per axis of `config`'s noise model (seeded with `seed`) sampled at 1 Hz over 3 hours
@@ -107,6 +118,7 @@ class Receiver {
     last_course_deg_.reset();
   }
 
+  /// The geometry at the first epoch: satellites listed and used, DOPs.
   [[nodiscard]] const Geometry& geometry() const { return geometry_; }
 
  private:
@@ -114,9 +126,10 @@ class Receiver {
   ReceiverOptions options_;
   std::unique_ptr<noise::NoiseModel> noise_;
   UtcNs first_epoch_;
-  Geometry geometry_;
   Sky sky_;
-  double noise_sigma_h_m_;  ///< hypot(east, north) of options_.noise_sigma_m (metres)
+  Geometry geometry_;
+  double geoid_sep_m_;
+  double uere_m_;
   std::optional<double> last_course_deg_;
 };
 

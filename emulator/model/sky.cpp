@@ -1,92 +1,265 @@
 #include "emulator/model/sky.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
+#include <string>
 
 #include "emulator/model/noise/rng.hpp"
 
 namespace gpsemu {
 namespace {
 
+constexpr double kNodeS = 60.0;          // orbit nodes a minute apart (cubic: well under a metre)
+constexpr std::uint64_t kSkyStream = 0x736b79;  // "sky": the noise models use streams 0..2
 constexpr double kPi = std::numbers::pi;
-constexpr double kGolden = 0.6180339887498949;  // low-discrepancy spread of base elevations
-constexpr double kSnrWobblePeriodS = 600.0;
 
-double elevation_deg(double el0, double amp, double period_s, double phase, double t_s) {
-  return el0 + amp * std::sin(2.0 * kPi * t_s / period_s + phase);
+/// System order of NMEA output (GP, GL, GA, GB, GQ; SBAS with GPS).
+int system_rank(nmea::GnssSystem s) {
+  switch (s) {
+    case nmea::GnssSystem::gps: return 0;
+    case nmea::GnssSystem::sbas: return 1;
+    case nmea::GnssSystem::glonass: return 2;
+    case nmea::GnssSystem::galileo: return 3;
+    case nmea::GnssSystem::beidou: return 4;
+    case nmea::GnssSystem::qzss: return 5;
+  }
+  return 6;
+}
+
+/// NMEA 4.1 satellite ID of a satellite (u-blox's numbering in NMEA 4.1 mode): GPS 1-32, SBAS
+/// 33-64 (PRN - 87), GLONASS 65-96 (slot + 64), Galileo 1-36, BeiDou 1-63, QZSS 1-10.
+int nmea_id(const sky::SatelliteId& id) {
+  switch (id.system) {
+    case nmea::GnssSystem::sbas: return id.sv_id - 87;
+    case nmea::GnssSystem::glonass: return id.sv_id + 64;
+    default: return id.sv_id;
+  }
+}
+
+double parse_degrees(std::string_view text, std::string_view what) {
+  double v = 0.0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc{} || end != text.data() + text.size() || !std::isfinite(v)) {
+    throw std::invalid_argument("sky-mask: '" + std::string(text) + "' is not a number of degrees (" + std::string(what) + ")");
+  }
+  return v;
+}
+
+/// Linear interpolation of an azimuth across north.
+float lerp_azimuth(float a0, float a1, float f) {
+  float d = a1 - a0;
+  if (d > 180.0f) d -= 360.0f;
+  if (d < -180.0f) d += 360.0f;
+  float a = a0 + f * d;
+  if (a < 0.0f) a += 360.0f;
+  if (a >= 360.0f) a -= 360.0f;
+  return a;
 }
 
 }  // namespace
 
-Sky::Sky(std::uint64_t seed, int in_view)
-    : in_view_(std::clamp(in_view, 1, static_cast<int>(nmea::max_satellites))) {
-  noise::Rng rng(seed, kSkyStream);
-  // PRNs: a Fisher-Yates shuffle of 1..32; the first in_view are in view.
-  std::array<int, nmea::max_satellites> prns{};
-  for (std::size_t i = 0; i < prns.size(); ++i) prns[i] = static_cast<int>(i) + 1;
-  for (std::size_t i = prns.size() - 1; i > 0; --i) {
-    const auto j = static_cast<std::size_t>(rng.uniform() * static_cast<double>(i + 1));
-    std::swap(prns[i], prns[std::min(j, i)]);
+std::vector<SkyMaskSector> parse_sky_mask(std::string_view text) {
+  if (text == "open" || text.empty()) return {};
+  if (text == "urban-canyon") {
+    // A street running north-south between buildings: low along the street, 45 degrees across.
+    return {{20.0, 160.0, 45.0}, {200.0, 340.0, 45.0}, {340.0, 20.0, 10.0}, {160.0, 200.0, 10.0}};
   }
-  const double n = in_view_;
-  const double az_start = 360.0 * rng.uniform();
-  const double el_start = rng.uniform();
-  for (int i = 0; i < in_view_; ++i) {
-    Track& t = tracks_[static_cast<std::size_t>(i)];
-    t.prn = prns[static_cast<std::size_t>(i)];
-    t.az0_deg = std::fmod(az_start + 360.0 * (i + 0.8 * rng.uniform()) / n, 360.0);
-    t.az_rate_deg_per_s = (rng.uniform() < 0.5 ? -1.0 : 1.0) * (0.2 + 0.3 * rng.uniform()) / 60.0;
-    t.el0_deg = 15.0 + 60.0 * std::fmod(el_start + kGolden * i, 1.0);
-    t.el_amp_deg = 4.0 + 8.0 * rng.uniform();
-    t.el_period_s = 3600.0 * (3.0 + 5.0 * rng.uniform());
-    t.el_phase_rad = 2.0 * kPi * rng.uniform();
-    t.snr_offset_db = -2.0 + 4.0 * rng.uniform();
-    t.snr_phase_rad = 2.0 * kPi * rng.uniform();
+  std::vector<SkyMaskSector> sectors;
+  while (!text.empty()) {
+    const std::size_t comma = text.find(',');
+    const std::string_view part = text.substr(0, comma);
+    text = comma == std::string_view::npos ? std::string_view{} : text.substr(comma + 1);
+    const std::size_t dash = part.find('-', 1);
+    const std::size_t colon = part.find(':');
+    if (dash == std::string_view::npos || colon == std::string_view::npos || colon < dash) {
+      throw std::invalid_argument("sky-mask: '" + std::string(part) +
+                                  "' is not FROM-TO:ELEVATION (degrees), 'urban-canyon' or 'open'");
+    }
+    SkyMaskSector s;
+    s.from_azimuth_deg = parse_degrees(part.substr(0, dash), "azimuth from");
+    s.to_azimuth_deg = parse_degrees(part.substr(dash + 1, colon - dash - 1), "azimuth to");
+    s.min_elevation_deg = parse_degrees(part.substr(colon + 1), "elevation");
+    if (s.from_azimuth_deg < 0 || s.from_azimuth_deg > 360 || s.to_azimuth_deg < 0 || s.to_azimuth_deg > 360 ||
+        s.min_elevation_deg < 0 || s.min_elevation_deg > 90) {
+      throw std::invalid_argument("sky-mask: '" + std::string(part) + "': azimuths 0..360, elevation 0..90 degrees");
+    }
+    sectors.push_back(s);
   }
-  // Acquisition order: another shuffle, over the satellites in view.
-  std::array<int, nmea::max_satellites> order{};
-  for (int i = 0; i < in_view_; ++i) order[static_cast<std::size_t>(i)] = i;
-  for (int i = in_view_ - 1; i > 0; --i) {
-    const auto j = static_cast<int>(rng.uniform() * (i + 1));
-    std::swap(order[static_cast<std::size_t>(i)], order[static_cast<std::size_t>(std::min(j, i))]);
-  }
-  for (int rank = 0; rank < in_view_; ++rank) {
-    tracks_[static_cast<std::size_t>(order[static_cast<std::size_t>(rank)])].acquisition_rank = rank;
-  }
-  std::sort(tracks_.begin(), tracks_.begin() + in_view_, [](const Track& a, const Track& b) { return a.prn < b.prn; });
+  return sectors;
 }
 
-void Sky::fill(double since_start_s, int acquired, int used, nmea::Fix& fix) const {
-  std::array<double, nmea::max_satellites> elevation{};
-  int listed = 0;
-  for (int i = 0; i < in_view_; ++i) {
-    const Track& t = tracks_[static_cast<std::size_t>(i)];
-    if (t.acquisition_rank >= acquired) continue;
-    const double el = elevation_deg(t.el0_deg, t.el_amp_deg, t.el_period_s, t.el_phase_rad, since_start_s);
-    double az = std::fmod(t.az0_deg + t.az_rate_deg_per_s * since_start_s, 360.0);
-    if (az < 0.0) az += 360.0;
-    const double snr = 22.0 + 24.0 * std::sin(el * kPi / 180.0) + t.snr_offset_db +
-                       2.0 * std::sin(2.0 * kPi * since_start_s / kSnrWobblePeriodS + t.snr_phase_rad);
-    nmea::SatelliteInView& out = fix.satellites[static_cast<std::size_t>(listed)];
-    out.prn = t.prn;
-    out.elevation_deg = static_cast<int>(std::lround(el));
-    out.azimuth_deg = static_cast<int>(std::lround(az)) % 360;
-    out.snr_dbhz = static_cast<int>(std::lround(snr));
-    out.used = false;
-    elevation[static_cast<std::size_t>(listed)] = el;
-    ++listed;
+double gps_seconds_of(UtcNs t) {
+  return std::chrono::duration<double>(t.time_since_epoch()).count() - 315964800.0 + 18.0;
+}
+
+Sky::Sky(const SkyOptions& options, const Geodetic& receiver)
+    : orbits_(options.orbits ? options.orbits : sky::Orbits::embedded_default()),
+      options_(options),
+      receiver_geodetic_{receiver.lat_deg, receiver.lon_deg, receiver.alt_m},
+      receiver_ecef_(sky::to_ecef(receiver.lat_deg, receiver.lon_deg, receiver.alt_m)) {
+  const auto& sats = orbits_->satellites();
+  noise::Rng rng(options.seed, kSkyStream);
+  cn0_offset_db_.resize(sats.size());
+  acquisition_rank_.resize(sats.size());
+  for (std::size_t i = 0; i < sats.size(); ++i) {
+    cn0_offset_db_[i] = static_cast<float>(-2.0 + 4.0 * rng.uniform());
+    acquisition_rank_[i] = static_cast<float>(rng.uniform());
+    if (options.profile.systems.contains(sats[i].system)) tracked_.push_back(i);
   }
-  fix.satellites_in_view = listed;
-  // Used: the `used` highest; rank = how many are higher (ties: the lower PRN, listed first, wins).
-  for (int i = 0; i < listed; ++i) {
-    int higher = 0;
-    for (int j = 0; j < listed; ++j) {
-      const double ej = elevation[static_cast<std::size_t>(j)], ei = elevation[static_cast<std::size_t>(i)];
-      if (ej > ei || (ej == ei && j < i)) ++higher;
+  // Listed in NMEA order: by system, then number.
+  std::stable_sort(tracked_.begin(), tracked_.end(), [&](std::size_t a, std::size_t b) {
+    return std::pair{system_rank(sats[a].system), sats[a].sv_id} < std::pair{system_rank(sats[b].system), sats[b].sv_id};
+  });
+  nodes_.resize(tracked_.size());
+  azel0_.resize(tracked_.size());
+  azel1_.resize(tracked_.size());
+}
+
+bool Sky::obstructed(double az, double el) const {
+  for (const SkyMaskSector& s : options_.obstruction) {
+    const bool inside = s.from_azimuth_deg <= s.to_azimuth_deg ? (az >= s.from_azimuth_deg && az < s.to_azimuth_deg)
+                                                               : (az >= s.from_azimuth_deg || az < s.to_azimuth_deg);
+    if (inside && el < s.min_elevation_deg) return true;
+  }
+  return false;
+}
+
+std::optional<sky::Ecef> Sky::position(std::size_t k, double t) {
+  // Four nodes around t: base-1, base, base+1, base+2, with base = floor(t / node).
+  const auto base = static_cast<std::int64_t>(std::floor(t / kNodeS));
+  if (base != node_base_) {
+    const std::int64_t shift = base - node_base_;
+    for (std::size_t j = 0; j < tracked_.size(); ++j) {
+      auto& n = nodes_[j];
+      if (shift > 0 && shift < 4) {
+        for (int i = 0; i + shift < 4; ++i) n[static_cast<std::size_t>(i)] = n[static_cast<std::size_t>(i + shift)];
+      }
+      for (int i = 0; i < 4; ++i) {
+        if (shift > 0 && shift < 4 && i < 4 - shift) continue;
+        n[static_cast<std::size_t>(i)] = orbits_->position(tracked_[j], (static_cast<double>(base) + i - 1) * kNodeS);
+      }
     }
-    fix.satellites[static_cast<std::size_t>(i)].used = higher < used;
+    node_base_ = base;
   }
+  const auto& n = nodes_[k];
+  if (!n[0] || !n[1] || !n[2] || !n[3]) return std::nullopt;
+  // Cubic Lagrange through nodes at x = -1, 0, 1, 2 (units of kNodeS).
+  const double x = t / kNodeS - static_cast<double>(base);
+  const double w0 = -x * (x - 1) * (x - 2) / 6.0, w1 = (x + 1) * (x - 1) * (x - 2) / 2.0;
+  const double w2 = -(x + 1) * x * (x - 2) / 2.0, w3 = (x + 1) * x * (x - 1) / 6.0;
+  return sky::Ecef{w0 * n[0]->x_m + w1 * n[1]->x_m + w2 * n[2]->x_m + w3 * n[3]->x_m,
+                   w0 * n[0]->y_m + w1 * n[1]->y_m + w2 * n[2]->y_m + w3 * n[3]->y_m,
+                   w0 * n[0]->z_m + w1 * n[1]->z_m + w2 * n[2]->z_m + w3 * n[3]->z_m};
+}
+
+void Sky::snapshot(std::int64_t second, std::vector<std::array<float, 2>>& azel) {
+  const double t = orbits_->map_time(static_cast<double>(second));
+  for (std::size_t k = 0; k < tracked_.size(); ++k) {
+    azel[k] = {0.0f, -100.0f};
+    const auto p = position(k, t);
+    if (!p) continue;
+    const sky::AzEl a = sky::azimuth_elevation(receiver_geodetic_, receiver_ecef_, *p);
+    azel[k] = {static_cast<float>(a.azimuth_deg), static_cast<float>(a.elevation_deg)};
+  }
+}
+
+void Sky::advance_to(std::int64_t second) {
+  if (second == second_) return;
+  if (second == second_ + 1) {
+    std::swap(azel0_, azel1_);
+  } else {
+    snapshot(second, azel0_);
+  }
+  snapshot(second + 1, azel1_);
+  second_ = second;
+}
+
+SkyState Sky::fill(UtcNs t, const Tracking& tracking, nmea::Fix& fix) {
+  const double gps = gps_seconds_of(t);
+  const auto second = static_cast<std::int64_t>(std::floor(gps));
+  const bool new_second = second != second_;
+  advance_to(second);
+  const bool same_tracking = tracking.acquired_fraction == tracking_.acquired_fraction &&
+                             tracking.solving == tracking_.solving && tracking.max_used == tracking_.max_used;
+  if (new_second || !same_tracking || entries_.empty()) {
+    tracking_ = tracking;
+    // Listed: above the horizon, not obstructed, acquired; within the channels (highest first).
+    const auto& sats = orbits_->satellites();
+    const sky::ReceiverProfile& p = options_.profile;
+    entries_.clear();
+    for (std::size_t k = 0; k < tracked_.size(); ++k) {
+      const float el = azel0_[k][1], az = azel0_[k][0];
+      if (el <= 0.0f || azel1_[k][1] < -90.0f || obstructed(az, el)) continue;
+      const std::size_t s = tracked_[k];
+      if (acquisition_rank_[s] >= tracking.acquired_fraction) continue;
+      Entry e;
+      e.sat = static_cast<std::uint16_t>(k);
+      e.az0 = az;
+      e.el0 = el;
+      e.az1 = azel1_[k][0];
+      e.el1 = azel1_[k][1];
+      const double cn0 = 28.0 + 20.0 * std::sin(el * kPi / 180.0) + cn0_offset_db_[s] -
+                         (sats[s].system == nmea::GnssSystem::sbas ? 6.0 : 0.0);
+      e.cn0 = static_cast<std::uint8_t>(std::clamp(std::lround(cn0), 0L, 99L));
+      e.usable = el >= p.elevation_mask_deg && e.cn0 >= p.cn0_threshold_dbhz;
+      entries_.push_back(e);
+    }
+    // Channels and the Fix's capacity: keep the highest.
+    const int per_sat = p.dual_band ? 2 : 1;
+    const std::size_t cap = std::min<std::size_t>(nmea::max_satellites, static_cast<std::size_t>(p.channels / per_sat));
+    if (entries_.size() > cap) {
+      std::vector<Entry> by_el = entries_;
+      std::nth_element(by_el.begin(), by_el.begin() + static_cast<std::ptrdiff_t>(cap) - 1, by_el.end(),
+                       [](const Entry& a, const Entry& b) { return a.el0 > b.el0; });
+      const float cut = by_el[cap - 1].el0;
+      std::size_t kept = 0;
+      std::erase_if(entries_, [&](const Entry& e) { return e.el0 < cut || (e.el0 == cut && kept++ >= cap); });
+      if (entries_.size() > cap) entries_.resize(cap);
+    }
+    // Used: the usable ones, at most max_used (highest first); none when not solving.
+    int limit = tracking.solving ? tracking.max_used : 0;
+    if (options_.max_used) limit = std::min(limit, *options_.max_used);
+    int usable = 0;
+    for (const Entry& e : entries_) usable += e.usable;
+    if (usable > limit) {
+      std::vector<float> els;
+      for (const Entry& e : entries_) if (e.usable) els.push_back(e.el0);
+      std::nth_element(els.begin(), els.begin() + (limit > 0 ? limit - 1 : 0), els.end(), std::greater<>());
+      const float cut = limit > 0 ? els[static_cast<std::size_t>(limit - 1)] : 1000.0f;
+      int taken = 0;
+      for (Entry& e : entries_) {
+        if (!e.usable) continue;
+        e.usable = e.el0 >= cut && taken < limit;
+        taken += e.usable;
+      }
+    }
+    std::array<sky::UsedSatellite, nmea::max_satellites> used{};
+    used_ = 0;
+    for (const Entry& e : entries_) {
+      if (e.usable) used[static_cast<std::size_t>(used_++)] = {e.az0, e.el0, sats[tracked_[e.sat]].system};
+    }
+    dops_ = sky::multi_clock_dops(std::span(used.data(), static_cast<std::size_t>(used_)));
+  }
+  // Write the entries, azimuth and elevation interpolated within the second.
+  const auto f = static_cast<float>(gps - static_cast<double>(second));
+  const auto& sats = orbits_->satellites();
+  int n = 0;
+  for (const Entry& e : entries_) {
+    nmea::SatelliteInView& out = fix.satellites[static_cast<std::size_t>(n++)];
+    const sky::SatelliteId& id = sats[tracked_[e.sat]];
+    out.system = id.system;
+    out.sv_id = id.sv_id;
+    out.prn = nmea_id(id);
+    out.elevation_deg = static_cast<int>(std::lround(e.el0 + f * (e.el1 - e.el0)));
+    out.azimuth_deg = static_cast<int>(std::lround(lerp_azimuth(e.az0, e.az1, f))) % 360;
+    out.snr_dbhz = e.cn0;
+    out.used = e.usable;
+  }
+  fix.satellites_in_view = n;
+  return {n, used_, dops_};
 }
 
 }  // namespace gpsemu

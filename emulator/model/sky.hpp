@@ -1,47 +1,105 @@
-// A synthetic GPS sky: which satellites a receiver sees, where (elevation, azimuth) and how
-// strongly (C/N0), moving slowly and smoothly, deterministic given the seed. Not an orbit
-// propagator: each satellite follows a smooth track chosen so that the configured number is
-// always in view, spread around the horizon (a good geometry, matching a small HDOP). Pure.
+// The receiver's sky: the satellites of the systems its model tracks, where they are (azimuth,
+// elevation from real orbits, sky/orbits.hpp), how strong (C/N0 by elevation), which are used
+// (above the elevation mask, not obstructed, strong enough, within the channels) and the DOPs of
+// the used ones (sky/dop.hpp). Computed once a GPS second (satellite positions from orbit nodes
+// a minute apart, cubic interpolation) and interpolated between seconds. Deterministic; the only
+// randomness (per-satellite C/N0 offsets, the cold-start acquisition order) comes from the seed.
+// docs/sky.md.
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <memory>
+#include <optional>
+#include <string_view>
+#include <vector>
 
+#include "emulator/model/geo.hpp"
+#include "emulator/model/sky/dop.hpp"
+#include "emulator/model/sky/orbits.hpp"
+#include "emulator/model/sky/profile.hpp"
+#include "emulator/model/time.hpp"
 #include "nmea/fix.hpp"
 
 namespace gpsemu {
 
+/// An obstruction: between two azimuths (degrees true, clockwise from `from` to `to`) nothing
+/// below `min_elevation_deg` is received (--sky-mask).
+struct SkyMaskSector {
+  double from_azimuth_deg = 0.0;
+  double to_azimuth_deg = 360.0;
+  double min_elevation_deg = 0.0;
+};
+/// "urban-canyon" (a north-south street between buildings: 10 degrees along the street, 45
+/// across it), "open" (none), or sectors "FROM-TO:ELEV[,FROM-TO:ELEV...]" in degrees. Throws
+/// std::invalid_argument naming the bad part.
+[[nodiscard]] std::vector<SkyMaskSector> parse_sky_mask(std::string_view text);
+
+struct SkyOptions {
+  std::shared_ptr<const sky::Orbits> orbits;  ///< empty: the embedded default sky
+  sky::ReceiverProfile profile;               ///< systems, channels, mask, C/N0 threshold
+  std::vector<SkyMaskSector> obstruction;     ///< --sky-mask
+  std::optional<int> max_used;                ///< --satellites: at most this many used
+  std::uint64_t seed = 1;
+};
+
+/// What the sky gave an epoch.
+struct SkyState {
+  int listed = 0;   ///< satellites written to fix.satellites
+  int used = 0;     ///< of them used
+  sky::Dops dops;   ///< of the used ones; all zero when they do not make a 3-D fix
+};
+
 class Sky {
  public:
-  /// `in_view` satellites (clamped to 1..nmea::max_satellites) with distinct PRNs from 1..32, their
-  /// tracks drawn from noise::Rng(seed, kSkyStream). Tracks: elevation el0 + A sin(2 pi t / P + phi)
-  /// with el0 15..75 deg, A 4..12 deg, P 3..8 h (at most 0.5 deg a minute, like GPS); azimuth
-  /// az0 + w t with az0 spread evenly around the horizon and |w| 0.2..0.5 deg a minute; C/N0
-  /// 22 + 24 sin(elevation) dB-Hz plus a per-satellite offset (+-2) and a slow 10-minute wobble
-  /// (+-2), rounded, so 20..50 dB-Hz.
-  Sky(std::uint64_t seed, int in_view);
+  /// The receiver stands at `receiver` (latitude, longitude, height above the ellipsoid).
+  Sky(const SkyOptions& options, const Geodetic& receiver_ellipsoidal);
 
-  [[nodiscard]] int in_view() const { return in_view_; }
+  /// How the receiver is doing, for fill().
+  struct Tracking {
+    double acquired_fraction = 1.0;  ///< cold start: share of the satellites acquired so far (0..1)
+    bool solving = true;             ///< false: none is used (no fix, no pose)
+    int max_used = 64;               ///< a 2-D start uses 3
+  };
 
-  /// Writes the sky at `since_start_s` (seconds after the first epoch) into fix.satellites, sorted
-  /// by PRN, and sets fix.satellites_in_view. Only the first `acquired` satellites of the
-  /// acquisition order (a seeded permutation; a cold start acquires them one by one) are listed.
-  /// The `used` highest (by elevation, ties by PRN) of those listed get `used = true`. No allocation.
-  void fill(double since_start_s, int acquired, int used, nmea::Fix& fix) const;
+  /// Writes the satellites at UTC `t` into fix.satellites (by system, then number; the highest
+  /// first when more than nmea::max_satellites are tracked) and fix.satellites_in_view.
+  SkyState fill(UtcNs t, const Tracking& tracking, nmea::Fix& fix);
 
-  /// Stream of noise::Rng reserved for the sky (the noise models use 0..2).
-  static constexpr std::uint64_t kSkyStream = 0x736b79;  // "sky"
+  [[nodiscard]] const sky::Orbits& orbits() const { return *orbits_; }
 
  private:
-  struct Track {
-    int prn = 0;
-    int acquisition_rank = 0;
-    double el0_deg = 45.0, el_amp_deg = 0.0, el_period_s = 1.0, el_phase_rad = 0.0;
-    double az0_deg = 0.0, az_rate_deg_per_s = 0.0;
-    double snr_offset_db = 0.0, snr_phase_rad = 0.0;
+  struct Entry {
+    std::uint16_t sat = 0;           // index into orbits_->satellites()
+    float az0 = 0, el0 = 0, az1 = 0, el1 = 0;
+    std::uint8_t cn0 = 0;
+    bool usable = false;             // above the mask, strong enough
   };
-  std::array<Track, nmea::max_satellites> tracks_{};  // sorted by PRN
-  int in_view_ = 0;
+  void advance_to(std::int64_t second);
+  void snapshot(std::int64_t second, std::vector<std::array<float, 2>>& azel);
+  [[nodiscard]] std::optional<sky::Ecef> position(std::size_t sat, double mapped_t);
+  [[nodiscard]] bool obstructed(double az_deg, double el_deg) const;
+
+  std::shared_ptr<const sky::Orbits> orbits_;
+  SkyOptions options_;
+  std::array<double, 3> receiver_geodetic_{};
+  sky::Ecef receiver_ecef_;
+  std::vector<std::size_t> tracked_;            // satellites of the tracked systems
+  std::vector<float> cn0_offset_db_;            // per satellite of the orbits
+  std::vector<float> acquisition_rank_;         // per satellite: 0..1, seeded
+  // Orbit nodes: positions every kNodeS seconds of mapped time, 4 around the second computed.
+  std::int64_t node_base_ = INT64_MIN;
+  double node_base_time_ = 0.0;
+  std::vector<std::array<std::optional<sky::Ecef>, 4>> nodes_;
+  std::int64_t second_ = INT64_MIN;             // the GPS second of az/el 0 (az/el 1: second + 1)
+  std::vector<std::array<float, 2>> azel0_, azel1_;  // per tracked satellite; el < -90: none
+  std::vector<Entry> entries_;                  // listed this second, by system then number
+  sky::Dops dops_;
+  int used_ = 0;
+  Tracking tracking_{};
 };
+
+/// GPS seconds (since 1980-01-06) of a UTC time (18 leap seconds, as since 2017).
+[[nodiscard]] double gps_seconds_of(UtcNs t);
 
 }  // namespace gpsemu

@@ -10,6 +10,7 @@
 
 #include "emulator/config/config.hpp"
 #include "emulator/model/receiver.hpp"
+#include "emulator/model/sky/profile.hpp"
 #include "emulator/config/receiver_config.hpp"
 #include "emulator/sources/sim.hpp"
 #include "nmea/parse.hpp"
@@ -33,35 +34,22 @@ std::unique_ptr<noise::NoiseModel> noise_model(noise::Model model, double sigma_
 
 UtcNs at(double seconds) { return kStart + nanoseconds{std::llround(seconds * 1e9)}; }
 
+/// The first sentence of several (GSA: one per system).
+std::string first_line(const std::string& text) { return text.substr(0, text.find('\n') + 1); }
+
 int used_flags(const nmea::Fix& fix) {
   int n = 0;
   for (int i = 0; i < fix.satellites_in_view; ++i) n += fix.satellites[static_cast<std::size_t>(i)].used;
   return n;
 }
 
-TEST(ReceiverGeometry, HdopAndSatellitesFollowTheNoiseWidthUnlessGiven) {
-  ReceiverOptions o;
-  o.noise_sigma_m = {0.25, 0.25, 0.375};  // cgrw one knob 1 m: sigma ~ 0.25 x width per axis
-  Geometry g = resolve_geometry(o);
-  EXPECT_NEAR(g.hdop, std::hypot(0.25, 0.25) / kUereM, 1e-12);  // 0.88
-  EXPECT_EQ(g.satellites_used, 12);                           // round((3 / 0.88)^2)
-  EXPECT_EQ(g.satellites_in_view, 17);                        // 12 + 2 + 12 / 4
-  EXPECT_NEAR(g.vdop, 1.5 * g.hdop, 1e-12);
-  EXPECT_NEAR(g.pdop, std::hypot(g.hdop, g.vdop), 1e-12);
-  o.noise_sigma_m = {};  // perfect: the best geometry
-  g = resolve_geometry(o);
-  EXPECT_EQ(g.hdop, kMinDerivedHdop);
-  EXPECT_EQ(g.satellites_used, kMaxDerivedSatellites);
-  o.noise_sigma_m = {10.0, 10.0, 15.0};  // 40 m wander: poor
-  g = resolve_geometry(o);
-  EXPECT_EQ(g.hdop, kMaxDerivedHdop);
-  EXPECT_EQ(g.satellites_used, kMinDerivedSatellites);
-  o.hdop = 1.3;
-  o.satellites_used = 30;
-  g = resolve_geometry(o);
-  EXPECT_EQ(g.hdop, 1.3);
-  EXPECT_EQ(g.satellites_used, 30);
-  EXPECT_EQ(g.satellites_in_view, 32);
+TEST(ReceiverGeometry, WorstCaseCountsFollowTheModelsSystems) {
+  ReceiverOptions o;  // generic = M8N: GPS 14 + GLONASS 12 + QZSS 5 + SBAS 4
+  EXPECT_EQ(resolve_geometry(o).satellites_in_view, 35);
+  o.profile = sky::profile_of(ubx::ReceiverModel::ublox_f9p);  // six systems, two signals: capped
+  EXPECT_EQ(resolve_geometry(o).satellites_in_view, static_cast<int>(nmea::max_satellites));
+  o.satellites_used = 10;
+  EXPECT_EQ(resolve_geometry(o).satellites_used, 10);
 }
 
 TEST(ReceiverGeometry, NoiseSigmaEstimateMatchesTheModel) {
@@ -109,16 +97,18 @@ TEST(ReceiverStates, ColdStartAcquiresThenTwoDThenThreeD) {
       EXPECT_GE(fix.hdop, g.hdop);
       const auto gga = nmea::parse_gga(*nmea::parse_sentence(nmea::format_gga(fix, fmt)));
       EXPECT_FALSE(gga->alt_msl_m.has_value()) << "a 2-D fix has no altitude";
-      EXPECT_EQ(nmea::parse_sentence(nmea::format_gsa(fix, fmt))->fields[1], "2");
+      EXPECT_EQ(nmea::parse_sentence(first_line(nmea::format_gsa(fix, fmt)))->fields[1], "2");
     } else {
       ASSERT_TRUE(fix.has_fix()) << s;
       EXPECT_EQ(fix.dimension, nmea::FixDimension::three_d);
-      EXPECT_EQ(fix.satellites_used, g.satellites_used);
-      EXPECT_EQ(fix.satellites_in_view, g.satellites_in_view);
-      EXPECT_EQ(nmea::parse_sentence(nmea::format_gsa(fix, fmt))->fields[1], "3");
+      EXPECT_GE(fix.satellites_used, 6);
+      EXPECT_EQ(used_flags(fix), fix.satellites_used);
+      EXPECT_NEAR(fix.satellites_in_view, g.satellites_in_view, 1) << "the sky at the first epoch";
+      EXPECT_EQ(nmea::parse_sentence(first_line(nmea::format_gsa(fix, fmt)))->fields[1], "3");
     }
   }
   EXPECT_GT(last_in_view, g.satellites_in_view / 2);
+  EXPECT_LT(last_in_view, g.satellites_in_view + 1);
 }
 
 TEST(ReceiverStates, OutageEmptiesTheSkyAndTheFixReturnsAfterIt) {
@@ -171,56 +161,82 @@ TEST(ReceiverStates, FixQualityShrinksTheNoiseAndGstSaysSo) {
     }
     EXPECT_NEAR(std::sqrt(sum_sq_east / n), 2.0 * c.scale, 0.1 * c.scale);
     EXPECT_NEAR(std::sqrt(sum_sq_north / n), 2.0 * c.scale, 0.1 * c.scale);
-    EXPECT_DOUBLE_EQ(fix.sigma_lat_m, 2.0 * c.scale);
-    EXPECT_DOUBLE_EQ(fix.sigma_lon_m, 2.0 * c.scale);
-    EXPECT_DOUBLE_EQ(fix.sigma_alt_m, 2.0 * c.scale);
-    // sigma_h = HDOP x RMS: the GST range RMS is consistent with the reported HDOP.
-    EXPECT_NEAR(fix.range_rms_m * fix.hdop, std::hypot(2.0, 2.0) * c.scale, 1e-9);
-    EXPECT_EQ(fix.hdop, rx.geometry().hdop) << "DOPs are geometry: the fix quality does not change them";
+    // Reported accuracy: DOP x the model's UERE x the quality's scale, never below the floor.
+    const double uere_m = o.profile.uere_m;
+    const double floor_m = sky::accuracy_floor_m(c.quality);
+    EXPECT_DOUBLE_EQ(fix.sigma_lat_m, std::max(floor_m, fix.hdop * uere_m * c.scale / std::sqrt(2.0)));
+    EXPECT_DOUBLE_EQ(fix.sigma_lon_m, fix.sigma_lat_m);
+    EXPECT_DOUBLE_EQ(fix.sigma_alt_m, std::max(1.5 * floor_m, fix.vdop * uere_m * c.scale));
+    EXPECT_GT(fix.sigma_lat_m, 0.0);
+    EXPECT_GT(fix.hdop, 0.3);
+    EXPECT_LT(fix.hdop, 2.0);
   }
+}
+
+TEST(ReceiverStates, AccuracyIsNeverZeroEvenWithoutNoise) {
+  for (const auto q : {nmea::FixQuality::gps, nmea::FixQuality::rtk_fixed}) {
+    ReceiverOptions o;
+    o.quality = q;
+    Receiver rx(kFrame, o, noise_model(noise::Model::none), kStart);
+    const nmea::Fix fix = rx.fix_at(at(1.0), kAtOrigin);
+    ASSERT_TRUE(fix.has_fix());
+    EXPECT_GE(fix.sigma_lat_m, sky::accuracy_floor_m(q));
+    EXPECT_GE(fix.sigma_alt_m, sky::accuracy_floor_m(q));
+    EXPECT_GT(fix.range_rms_m, 0.0);
+  }
+}
+
+TEST(ReceiverStates, NoiseScalesWithDopOnlyWhenAsked) {
+  ReceiverOptions o;
+  o.sky_mask = parse_sky_mask("urban-canyon");  // a poorer geometry: HDOP well above 1
+  Receiver plain(kFrame, o, noise_model(noise::Model::gaussian, 1.0), kStart);
+  o.noise_scales_with_dop = true;
+  Receiver scaled(kFrame, o, noise_model(noise::Model::gaussian, 1.0), kStart);
+  const nmea::Fix a = plain.fix_at(at(3.0), kAtOrigin), b = scaled.fix_at(at(3.0), kAtOrigin);
+  ASSERT_TRUE(a.has_fix() && b.has_fix());
+  const Enu ea = kFrame.to_enu({a.lat_deg, a.lon_deg, a.alt_msl_m}), eb = kFrame.to_enu({b.lat_deg, b.lon_deg, b.alt_msl_m});
+  EXPECT_NEAR(eb.east_m, ea.east_m * a.hdop / kReferenceHdop, 1e-6);
+  EXPECT_NEAR(eb.up_m, ea.up_m * a.vdop / kReferenceVdop, 1e-6);
+}
+
+TEST(ReceiverStates, GeoidSeparationIsTheEgm96GeoidUnlessGiven) {
+  Receiver rx(kFrame, {}, noise_model(noise::Model::none), kStart);
+  // EGM96 at Madison, Wisconsin: about -34 m (NGA's calculator: -33.9 m).
+  EXPECT_NEAR(rx.fix_at(at(1.0), kAtOrigin).geoid_sep_m, -33.9, 1.5);
+  ReceiverOptions o;
+  o.geoid_sep_m = 12.5;
+  Receiver given(kFrame, o, noise_model(noise::Model::none), kStart);
+  EXPECT_EQ(given.fix_at(at(1.0), kAtOrigin).geoid_sep_m, 12.5);
 }
 
 TEST(Sky, SatellitesArePlausibleConsistentAndMoveSlowly) {
   ReceiverOptions o;
-  o.noise_sigma_m = {0.25, 0.25, 0.375};
   Receiver rx(kFrame, o, noise_model(noise::Model::none), kStart);
-  const Geometry g = rx.geometry();
   nmea::Fix previous;
-  for (int s = 0; s < 3600; ++s) {
+  for (int s = 0; s < 600; ++s) {
     const nmea::Fix fix = rx.fix_at(at(s), kAtOrigin);
-    ASSERT_EQ(fix.satellites_in_view, g.satellites_in_view);
-    ASSERT_EQ(fix.satellites_used, g.satellites_used);
+    ASSERT_GE(fix.satellites_in_view, 12);
     ASSERT_EQ(used_flags(fix), fix.satellites_used);
-    int lowest_used = 90, highest_unused = -1;
-    std::set<int> prns;
     for (int i = 0; i < fix.satellites_in_view; ++i) {
       const auto& sat = fix.satellites[static_cast<std::size_t>(i)];
-      ASSERT_GE(sat.prn, 1);
-      ASSERT_LE(sat.prn, 32);
-      if (i > 0) {
-        ASSERT_GT(sat.prn, fix.satellites[static_cast<std::size_t>(i - 1)].prn) << "sorted by PRN";
-      }
-      prns.insert(sat.prn);
-      ASSERT_GE(sat.elevation_deg, 3);
-      ASSERT_LE(sat.elevation_deg, 87);
+      ASSERT_NE(sat.system, nmea::GnssSystem::galileo) << "an M8N tracks GPS, GLONASS, QZSS and SBAS";
+      ASSERT_NE(sat.system, nmea::GnssSystem::beidou);
+      ASSERT_GE(sat.elevation_deg, 0);
+      ASSERT_LE(sat.elevation_deg, 90);
       ASSERT_GE(sat.azimuth_deg, 0);
       ASSERT_LT(sat.azimuth_deg, 360);
       ASSERT_TRUE(sat.snr_dbhz.has_value());
-      ASSERT_GE(*sat.snr_dbhz, 20);
-      ASSERT_LE(*sat.snr_dbhz, 50);
-      if (sat.used) lowest_used = std::min(lowest_used, sat.elevation_deg);
-      else highest_unused = std::max(highest_unused, sat.elevation_deg);
-      if (s > 0) {
+      if (sat.used) {
+        ASSERT_GE(sat.elevation_deg, 5) << "used only above the elevation mask";
+      }
+      if (s > 0 && previous.satellites_in_view == fix.satellites_in_view) {
         const auto& before = previous.satellites[static_cast<std::size_t>(i)];
-        ASSERT_EQ(before.prn, sat.prn) << "the same satellites stay in view";
+        if (before.sv_id != sat.sv_id) continue;
         ASSERT_LE(std::abs(sat.elevation_deg - before.elevation_deg), 1) << s;
         const int daz = std::abs(sat.azimuth_deg - before.azimuth_deg);
-        ASSERT_LE(std::min(daz, 360 - daz), 1) << s;
-        ASSERT_LE(std::abs(*sat.snr_dbhz - *before.snr_dbhz), 1) << s;
+        ASSERT_LE(std::min(daz, 360 - daz), 2) << s;
       }
     }
-    ASSERT_EQ(static_cast<int>(prns.size()), fix.satellites_in_view);
-    ASSERT_GE(lowest_used, highest_unused) << "the highest satellites are used";
     previous = fix;
   }
 }
@@ -298,7 +314,7 @@ TEST(ReceiverOptionsConfig, OutagesAndSentencesFromAConfigFileArray) {
 }
 
 TEST(ReceiverOptionsConfig, LineBudgetOfTheConfiguredRun) {
-  // Default: u-blox set, cgrw 1 m -> about 12 used of 17 in view; 10 Hz needs 115200 baud.
+  // Default: u-blox set, an M8N's worst case of 35 in view; 10 Hz needs 115200 baud.
   const nmea::LineBudget b10 = line_budget_of({{"rate", {"10"}}});
   EXPECT_EQ(nmea::smallest_standard_baud(b10), 115200);
   EXPECT_FALSE(b10.fits(57600));

@@ -69,7 +69,7 @@ TEST(NmeaSentences, LineBudgetGrowsWithSatellitesInViewAndRate) {
   EXPECT_EQ(smallest_standard_baud(line_budget(o, 15, 11, 1.0)), 9600);
   EXPECT_EQ(smallest_standard_baud(line_budget(o, 32, 32, 50.0)), 921600);
   // Counts beyond the limits are clamped, used to at most in view.
-  EXPECT_EQ(line_budget(o, 99, 99, 1.0).bytes_per_epoch, line_budget(o, 32, 32, 1.0).bytes_per_epoch);
+  EXPECT_EQ(line_budget(o, 99, 99, 1.0).bytes_per_epoch, line_budget(o, 64, 64, 1.0).bytes_per_epoch);
 }
 
 }  // namespace

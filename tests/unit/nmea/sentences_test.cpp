@@ -246,8 +246,64 @@ TEST(NmeaSentences, EveryTypeFits82CharactersAtTheWidestValues) {
       EXPECT_TRUE(parse_sentence(l).ok()) << l;
     }
   }
-  EXPECT_EQ(lines(format_sentences(SentenceType::gsv, fix, FormatOptions{})).size(), 8u);
-  EXPECT_EQ(lines(format_sentences(SentenceType::gsa, fix, FormatOptions{})).size(), 3u);
+  EXPECT_EQ(lines(format_sentences(SentenceType::gsv, fix, FormatOptions{})).size(), (max_satellites + 3) / 4);
+  EXPECT_EQ(lines(format_sentences(SentenceType::gsa, fix, FormatOptions{})).size(), (max_satellites + 11) / 12);
+}
+
+Fix multi_gnss_sky() {
+  Fix fix;
+  fix.quality = FixQuality::gps;
+  fix.dimension = FixDimension::three_d;
+  fix.hdop = 0.6;
+  fix.vdop = 0.9;
+  fix.pdop = 1.08;
+  const SatelliteInView sats[] = {
+      {5, 40, 100, 44, true, GnssSystem::gps, 5},       {46, 30, 200, 38, true, GnssSystem::sbas, 133},
+      {70, 50, 45, 45, true, GnssSystem::glonass, 6},   {11, 60, 300, 47, true, GnssSystem::galileo, 11},
+      {12, 20, 250, 36, false, GnssSystem::galileo, 12}, {21, 70, 10, 48, true, GnssSystem::beidou, 21},
+      {2, 80, 170, 49, true, GnssSystem::qzss, 2},
+  };
+  for (const auto& s : sats) fix.satellites[static_cast<std::size_t>(fix.satellites_in_view++)] = s;
+  return fix;
+}
+
+TEST(NmeaSentences, GsvPerSystemWithItsTalkerAndSignalId) {
+  const Fix fix = multi_gnss_sky();
+  const auto gsv = lines(format_gsv(fix, options("GN", NmeaVersion::v4_1)));
+  ASSERT_EQ(gsv.size(), 5u);
+  EXPECT_EQ(gsv[0], "$GPGSV,1,1,02,05,40,100,44,46,30,200,38,1*6E") << "SBAS (NMEA 33-64) with GPS";
+  EXPECT_EQ(gsv[1].substr(0, 24), "$GLGSV,1,1,01,70,50,045,");
+  EXPECT_EQ(gsv[2], "$GAGSV,1,1,02,11,60,300,47,12,20,250,36,7*74") << "Galileo E1: signal 7";
+  EXPECT_EQ(gsv[3].substr(0, 6), "$GBGSV");
+  EXPECT_EQ(gsv[4].substr(0, 6), "$GQGSV");
+  for (const auto& l : gsv) EXPECT_TRUE(parse_sentence(l).ok()) << l;
+  // A dual-band receiver (F9P): each system's second signal as its own group, 3 dB weaker.
+  FormatOptions dual = options("GN", NmeaVersion::v4_1);
+  dual.gsv_second_signal = true;
+  const auto both = lines(format_gsv(fix, dual));
+  ASSERT_EQ(both.size(), 10u);
+  EXPECT_EQ(both[1], "$GPGSV,1,1,01,05,40,100,41,6*57") << "L2 CL; SBAS has no second signal";
+  EXPECT_EQ(both[5].substr(both[5].size() - 5, 2), ",2") << "Galileo E5b: " << both[5];
+  EXPECT_EQ(both[7].substr(both[7].size() - 5, 2), ",B") << "BeiDou B2I: " << both[7];
+  // NMEA 2.3 has no signal ID: one group per system.
+  EXPECT_EQ(lines(format_gsv(fix, {.talker = "GN", .version = NmeaVersion::v2_3, .gsv_second_signal = true})).size(), 5u);
+}
+
+TEST(NmeaSentences, GsaPerSystemWithTheNmea41SystemId) {
+  const Fix fix = multi_gnss_sky();
+  const auto gsa = lines(format_gsa(fix, options("GN", NmeaVersion::v4_1)));
+  ASSERT_EQ(gsa.size(), 5u);
+  EXPECT_EQ(gsa[0], "$GNGSA,A,3,05,46,,,,,,,,,,,1.08,0.60,0.90,1*00");
+  EXPECT_EQ(gsa[2], "$GNGSA,A,3,11,,,,,,,,,,,,1.08,0.60,0.90,3*05") << "unused E12 not listed";
+  for (std::size_t i = 0; i < gsa.size(); ++i) {
+    const auto p = parse_sentence(gsa[i]);
+    ASSERT_TRUE(p.ok()) << gsa[i];
+    EXPECT_EQ(p->fields.back(), std::string(1, static_cast<char>('1' + i))) << gsa[i];
+  }
+  // One system: one GSA.
+  Fix gps = fix;
+  gps.satellites_in_view = 1;
+  EXPECT_EQ(lines(format_gsa(gps, options("GP", NmeaVersion::v4_1))).size(), 1u);
 }
 
 }  // namespace

@@ -1,0 +1,40 @@
+#include "emulator/model/sky/profile.hpp"
+
+namespace gpsemu::sky {
+
+using S = nmea::GnssSystem;
+
+ReceiverProfile profile_of(ubx::ReceiverModel model) {
+  ReceiverProfile p;
+  switch (model) {
+    case ubx::ReceiverModel::generic:
+    case ubx::ReceiverModel::ublox_m8n:
+      p.systems = {S::gps, S::glonass, S::qzss, S::sbas};
+      p.channels = 72;
+      p.uere_m = 1.6;
+      break;
+    case ubx::ReceiverModel::ublox_m9n:
+      p.systems = {S::gps, S::glonass, S::galileo, S::beidou, S::qzss, S::sbas};
+      p.channels = 92;
+      p.uere_m = 1.3;
+      break;
+    case ubx::ReceiverModel::ublox_f9p:
+      p.systems = {S::gps, S::glonass, S::galileo, S::beidou, S::qzss, S::sbas};
+      p.channels = 184;
+      p.dual_band = true;
+      p.uere_m = 1.0;
+      break;
+  }
+  return p;
+}
+
+double accuracy_floor_m(nmea::FixQuality quality) {
+  switch (quality) {
+    case nmea::FixQuality::dgps: return 0.2;
+    case nmea::FixQuality::rtk_float: return 0.05;
+    case nmea::FixQuality::rtk_fixed: return 0.01;
+    default: return 0.3;
+  }
+}
+
+}  // namespace gpsemu::sky

@@ -1,0 +1,384 @@
+// The sky: orbits from RTKLIB checked against independent computations written here (the
+// IS-GPS-200 ephemeris algorithm for a RINEX record; Kepler with J2 secular rates and a GMST
+// rotation for the embedded two-line elements, with GeographicLib for azimuth/elevation), the
+// multi-clock DOP against RTKLIB's single-clock dops() on one system, and the per-model sky:
+// systems, elevation mask, obstruction, channels, C/N0 by elevation.
+#include <gtest/gtest.h>
+
+#include <GeographicLib/LocalCartesian.hpp>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <sstream>
+#include <unistd.h>
+
+#include "emulator/model/sky.hpp"
+#include "emulator/model/sky/dop.hpp"
+#include "emulator/model/sky/embedded_data.hpp"
+#include "emulator/model/sky/orbits.hpp"
+#include "emulator/model/sky/profile.hpp"
+
+namespace gpsemu {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kDeg = kPi / 180.0;
+constexpr double kMu = 3.986005e14;          // WGS84 GM of IS-GPS-200 (m^3/s^2)
+constexpr double kOmegaE = 7.2921151467e-5;  // earth rotation (rad/s)
+const Geodetic kMadison{43.0725, -89.4125, 260.0 - 33.9};  // ellipsoidal height
+
+double distance_m(const sky::Ecef& a, const sky::Ecef& b) {
+  return std::hypot(a.x_m - b.x_m, a.y_m - b.y_m, a.z_m - b.z_m);
+}
+
+sky::AzEl azel_by_geographiclib(const Geodetic& rx, const sky::Ecef& sat) {
+  const GeographicLib::LocalCartesian frame(rx.lat_deg, rx.lon_deg, rx.alt_m);
+  double e = 0, n = 0, u = 0;
+  // LocalCartesian::Forward takes geodetic; go through the Geocentric inverse.
+  double lat = 0, lon = 0, h = 0;
+  GeographicLib::Geocentric::WGS84().Reverse(sat.x_m, sat.y_m, sat.z_m, lat, lon, h);
+  frame.Forward(lat, lon, h, e, n, u);
+  double az = std::atan2(e, n) / kDeg;
+  if (az < 0) az += 360.0;
+  return {az, std::atan2(u, std::hypot(e, n)) / kDeg};
+}
+
+// --- A RINEX 3 GPS record, and IS-GPS-200's algorithm -----------------------------------------
+
+struct Kepler {
+  double af0 = 1.0e-5, af1 = 1.0e-12, af2 = 0.0;
+  double iode = 42, crs = 35.5, dn = 4.5e-9, m0 = 0.3;
+  double cuc = 1.8e-6, e = 0.0105, cus = 8.2e-6, sqrt_a = 5153.65;
+  double toe = 180000.0, cic = -1.1e-7, omega0 = 1.0, cis = 9.0e-8;
+  double i0 = 0.958, crc = 210.3, w = 0.52, omega_dot = -8.1e-9;
+  double idot = 1.2e-10, week = 2134;
+};
+
+std::string d19(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%19.12E", v);
+  return b;
+}
+
+std::string rinex3_gps_nav(const Kepler& k) {
+  std::ostringstream o;
+  const auto header = [&](const std::string& text, const std::string& label) {
+    std::string line = text;
+    line.resize(60, ' ');
+    o << line << label << "\n";
+  };
+  header("     3.03           N: GNSS NAV DATA    G: GPS", "RINEX VERSION / TYPE");
+  header("", "END OF HEADER");
+  // 2020-12-01 02:00:00 GPST = week 2134, 180000 s.
+  o << "G07 2020 12 01 02 00 00" << d19(k.af0) << d19(k.af1) << d19(k.af2) << "\n";
+  const auto line = [&](double a, double b, double c, double d) { o << "    " << d19(a) << d19(b) << d19(c) << d19(d) << "\n"; };
+  line(k.iode, k.crs, k.dn, k.m0);
+  line(k.cuc, k.e, k.cus, k.sqrt_a);
+  line(k.toe, k.cic, k.omega0, k.cis);
+  line(k.i0, k.crc, k.w, k.omega_dot);
+  line(k.idot, 1.0, k.week, 0.0);
+  line(2.0, 0.0, 5.0e-9, k.iode);
+  line(172800.0, 4.0, 0.0, 0.0);
+  return o.str();
+}
+
+sky::Ecef is_gps_200(const Kepler& k, double tk) {
+  const double a = k.sqrt_a * k.sqrt_a;
+  const double n = std::sqrt(kMu / (a * a * a)) + k.dn;
+  const double m = k.m0 + n * tk;
+  double ecc_anomaly = m;
+  for (int i = 0; i < 30; ++i) ecc_anomaly = m + k.e * std::sin(ecc_anomaly);
+  const double nu = std::atan2(std::sqrt(1 - k.e * k.e) * std::sin(ecc_anomaly), std::cos(ecc_anomaly) - k.e);
+  const double phi = nu + k.w;
+  const double s2 = std::sin(2 * phi), c2 = std::cos(2 * phi);
+  const double u = phi + k.cus * s2 + k.cuc * c2;
+  const double r = a * (1 - k.e * std::cos(ecc_anomaly)) + k.crs * s2 + k.crc * c2;
+  const double inc = k.i0 + k.cis * s2 + k.cic * c2 + k.idot * tk;
+  const double omega = k.omega0 + (k.omega_dot - kOmegaE) * tk - kOmegaE * k.toe;
+  const double xp = r * std::cos(u), yp = r * std::sin(u);
+  return {xp * std::cos(omega) - yp * std::cos(inc) * std::sin(omega), xp * std::sin(omega) + yp * std::cos(inc) * std::cos(omega),
+          yp * std::sin(inc)};
+}
+
+TEST(SkyOrbits, RinexRecordGivesTheIsGps200PositionOfItsEphemeris) {
+  const Kepler k;
+  const auto path = std::filesystem::temp_directory_path() / ("gpsemu_sky_" + std::to_string(::getpid()) + ".rnx");
+  std::ofstream(path) << rinex3_gps_nav(k);
+  const auto orbits = sky::Orbits::from_rinex_nav(path.string());
+  std::filesystem::remove(path);
+  ASSERT_EQ(orbits->satellites().size(), 1u);
+  EXPECT_EQ(orbits->satellites()[0], (sky::SatelliteId{nmea::GnssSystem::gps, 7}));
+  const double toe_gps_s = 2134 * 604800.0 + k.toe;
+  EXPECT_EQ(orbits->coverage_start(), 2134 * 604800.0 + 2 * 86400.0) << "the record's day";
+  for (const double tk : {0.0, 1800.0, -3600.0, 7000.0}) {
+    const auto p = orbits->position(0, toe_gps_s + tk);
+    ASSERT_TRUE(p) << tk;
+    const sky::Ecef expected = is_gps_200(k, tk);
+    EXPECT_LT(distance_m(*p, expected), 0.01) << tk;
+    EXPECT_NEAR(std::hypot(p->x_m, p->y_m, p->z_m), 26.56e6, 0.4e6);
+  }
+  EXPECT_FALSE(orbits->position(0, toe_gps_s + 3 * 3600.0)) << "older than RTKLIB's 2 h limit: no orbit";
+}
+
+TEST(SkyOrbits, UnreadableEphemerisIsOneClearError) {
+  const auto path = std::filesystem::temp_directory_path() / ("gpsemu_sky_bad_" + std::to_string(::getpid()) + ".rnx");
+  std::ofstream(path) << "not a rinex file\n";
+  try {
+    (void)sky::Orbits::from_rinex_nav(path.string());
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(path);
+}
+
+// --- The embedded two-line elements against Kepler + J2 ---------------------------------------
+
+struct Tle {
+  double epoch_unix_s = 0, inc = 0, raan = 0, ecc = 0, argp = 0, m = 0, n_rev_day = 0;
+};
+
+std::map<std::string, Tle> embedded_tles_by_catalogue() {
+  std::map<std::string, Tle> out;
+  std::istringstream in{std::string(sky::embedded_tle_text())};
+  std::string l0, l1, l2;
+  while (std::getline(in, l0) && std::getline(in, l1) && std::getline(in, l2)) {
+    Tle t;
+    const int yy = std::stoi(l1.substr(18, 2));
+    const double doy = std::stod(l1.substr(20, 12));
+    // Days from 1970-01-01 to Jan 1 of 20yy.
+    int days = 0;
+    for (int y = 1970; y < 2000 + yy; ++y) days += (y % 4 == 0 && (y % 100 != 0 || y % 400 == 0)) ? 366 : 365;
+    t.epoch_unix_s = (days + doy - 1.0) * 86400.0;
+    t.inc = std::stod(l2.substr(8, 8)) * kDeg;
+    t.raan = std::stod(l2.substr(17, 8)) * kDeg;
+    t.ecc = std::stod("0." + l2.substr(26, 7));
+    t.argp = std::stod(l2.substr(34, 8)) * kDeg;
+    t.m = std::stod(l2.substr(43, 8)) * kDeg;
+    t.n_rev_day = std::stod(l2.substr(52, 11));
+    out[l1.substr(2, 5)] = t;
+  }
+  return out;
+}
+
+sky::Ecef kepler_j2_ecef(const Tle& t, double unix_s) {
+  constexpr double j2 = 1.08262668e-3, re = 6378137.0, mu = 3.986004418e14;
+  const double n = t.n_rev_day * 2 * kPi / 86400.0;
+  const double a = std::cbrt(mu / (n * n));
+  const double p = a * (1 - t.ecc * t.ecc);
+  const double k = 1.5 * j2 * (re / p) * (re / p) * n;
+  const double dt = unix_s - t.epoch_unix_s;
+  const double raan = t.raan - k * std::cos(t.inc) * dt;
+  const double argp = t.argp + 0.5 * k * (5 * std::cos(t.inc) * std::cos(t.inc) - 1) * dt;
+  const double m = t.m + n * dt;
+  double ea = m;
+  for (int i = 0; i < 30; ++i) ea = m + t.ecc * std::sin(ea);
+  const double nu = std::atan2(std::sqrt(1 - t.ecc * t.ecc) * std::sin(ea), std::cos(ea) - t.ecc);
+  const double r = a * (1 - t.ecc * std::cos(ea));
+  const double u = argp + nu;
+  const double x = r * (std::cos(raan) * std::cos(u) - std::sin(raan) * std::sin(u) * std::cos(t.inc));
+  const double y = r * (std::sin(raan) * std::cos(u) + std::cos(raan) * std::sin(u) * std::cos(t.inc));
+  const double z = r * std::sin(u) * std::sin(t.inc);
+  // TEME to earth-fixed: rotate by Greenwich mean sidereal time (UT1 ~ UTC, no polar motion).
+  const double jd = unix_s / 86400.0 + 2440587.5;
+  const double gmst = std::fmod(280.46061837 + 360.98564736629 * (jd - 2451545.0), 360.0) * kDeg;
+  return {std::cos(gmst) * x + std::sin(gmst) * y, -std::sin(gmst) * x + std::cos(gmst) * y, z};
+}
+
+TEST(SkyOrbits, EmbeddedSkyAgreesWithKeplerAndJ2FromTheSameElements) {
+  const auto orbits = sky::Orbits::embedded_default();
+  const auto tles = embedded_tles_by_catalogue();
+  std::map<std::string, std::string> catalogue_of;  // "G07" -> "32711"
+  std::istringstream names{std::string(sky::embedded_tle_names_text())};
+  for (std::string line; std::getline(names, line);) {
+    std::istringstream f(line);
+    std::string name, cat;
+    if (f >> name >> cat) catalogue_of[name] = cat.substr(0, 5);
+  }
+  std::map<nmea::GnssSystem, int> per_system;
+  for (const auto& id : orbits->satellites()) ++per_system[id.system];
+  EXPECT_GE(per_system[nmea::GnssSystem::gps], 28);
+  EXPECT_GE(per_system[nmea::GnssSystem::glonass], 20);
+  EXPECT_GE(per_system[nmea::GnssSystem::galileo], 20);
+  EXPECT_GE(per_system[nmea::GnssSystem::beidou], 30);
+  EXPECT_GE(per_system[nmea::GnssSystem::qzss], 3);
+  EXPECT_GE(per_system[nmea::GnssSystem::sbas], 5);
+
+  const double unix_s = 1606802400.0;  // 2020-12-01T06:00:00Z, within hours of the elements' epochs
+  const double gps_s = unix_s - 315964800.0 + 18.0;
+  int checked = 0;
+  for (std::size_t i = 0; i < orbits->satellites().size(); ++i) {
+    const auto& id = orbits->satellites()[i];
+    if (id.system != nmea::GnssSystem::gps && id.system != nmea::GnssSystem::galileo) continue;
+    char name[8];
+    std::snprintf(name, sizeof name, "%c%02d", id.system == nmea::GnssSystem::gps ? 'G' : 'E', id.sv_id);
+    const auto tle = tles.find(catalogue_of[name]);
+    ASSERT_NE(tle, tles.end()) << name;
+    if (std::fabs(tle->second.epoch_unix_s - unix_s) > 1.5 * 86400.0) continue;
+    const auto p = orbits->position(i, gps_s);
+    ASSERT_TRUE(p) << name;
+    const sky::Ecef k = kepler_j2_ecef(tle->second, unix_s);
+    // SGP4's deep-space terms (sun, moon) against none: tens of km at most, 0.1 degree seen from Earth.
+    EXPECT_LT(distance_m(*p, k), 60e3) << name;
+    const sky::AzEl by_rtklib = sky::azimuth_elevation({kMadison.lat_deg, kMadison.lon_deg, kMadison.alt_m},
+                                                       sky::to_ecef(kMadison.lat_deg, kMadison.lon_deg, kMadison.alt_m), *p);
+    const sky::AzEl by_geographiclib = azel_by_geographiclib(kMadison, k);
+    EXPECT_NEAR(by_rtklib.elevation_deg, by_geographiclib.elevation_deg, 0.3) << name;
+    if (by_geographiclib.elevation_deg < 85.0) {
+      const double daz = std::fabs(by_rtklib.azimuth_deg - by_geographiclib.azimuth_deg);
+      EXPECT_LT(std::min(daz, 360.0 - daz), 0.5) << name;
+    }
+    ++checked;
+  }
+  EXPECT_GE(checked, 40);
+}
+
+TEST(SkyOrbits, AnyDateMapsToTheDataDayAtTheSameSiderealTime) {
+  const auto orbits = sky::Orbits::embedded_default();
+  const double start = orbits->coverage_start();
+  const double t = gps_seconds_of(parse_iso8601_utc("2024-05-01T12:00:00Z"));
+  const double m = orbits->map_time(t);
+  EXPECT_GE(m, start);
+  EXPECT_LT(m, start + sky::kSiderealDayS);
+  EXPECT_NEAR(orbits->map_time(t + sky::kSiderealDayS), m, 1e-6) << "a sidereal day later: the same sky";
+  EXPECT_NEAR(orbits->map_time(t + 10.0), m + 10.0, 1e-6) << "time runs on";
+  EXPECT_EQ(orbits->map_time(start + 3600.0), start + 3600.0) << "the data's own day is its true sky";
+}
+
+// --- DOP -----------------------------------------------------------------------------------
+
+TEST(SkyDop, OneSystemMatchesRtklibsDops) {
+  const std::vector<sky::AzEl> sats{{10, 75}, {80, 30}, {150, 45}, {220, 20}, {300, 55}, {350, 12}, {45, 60}};
+  std::vector<sky::UsedSatellite> used;
+  for (const auto& s : sats) used.push_back({s.azimuth_deg, s.elevation_deg, nmea::GnssSystem::gps});
+  const sky::Dops ours = sky::multi_clock_dops(used);
+  const sky::RtklibDops rtk = sky::rtklib_single_clock_dops(sats, 0.0);
+  EXPECT_NEAR(ours.gdop, rtk.gdop, 1e-9);
+  EXPECT_NEAR(ours.pdop, rtk.pdop, 1e-9);
+  EXPECT_NEAR(ours.hdop, rtk.hdop, 1e-9);
+  EXPECT_NEAR(ours.vdop, rtk.vdop, 1e-9);
+  EXPECT_NEAR(ours.tdop * ours.tdop + ours.pdop * ours.pdop, ours.gdop * ours.gdop, 1e-9);
+}
+
+TEST(SkyDop, AClockPerSystemCostsGeometryAndNeedsMoreSatellites) {
+  std::vector<sky::UsedSatellite> used{{10, 75, nmea::GnssSystem::gps},     {80, 30, nmea::GnssSystem::gps},
+                                       {150, 45, nmea::GnssSystem::gps},    {220, 20, nmea::GnssSystem::glonass},
+                                       {300, 55, nmea::GnssSystem::glonass}, {350, 12, nmea::GnssSystem::qzss}};
+  const sky::Dops two_clocks = sky::multi_clock_dops(used);
+  ASSERT_TRUE(two_clocks.valid());
+  for (auto& u : used) u.system = nmea::GnssSystem::gps;
+  const sky::Dops one_clock = sky::multi_clock_dops(used);
+  EXPECT_GT(two_clocks.pdop, one_clock.pdop) << "an extra unknown can only dilute";
+  used.resize(4);
+  used[3].system = nmea::GnssSystem::galileo;  // 4 satellites, 5 unknowns
+  EXPECT_FALSE(sky::multi_clock_dops(used).valid());
+}
+
+// --- The sky of a model ----------------------------------------------------------------------
+
+std::map<nmea::GnssSystem, int> listed_by_system(const nmea::Fix& fix) {
+  std::map<nmea::GnssSystem, int> n;
+  for (int i = 0; i < fix.satellites_in_view; ++i) ++n[fix.satellites[static_cast<std::size_t>(i)].system];
+  return n;
+}
+
+nmea::Fix sky_fix(const SkyOptions& o, const char* when = "2024-05-01T12:00:00Z") {
+  Sky sky(o, kMadison);
+  nmea::Fix fix;
+  (void)sky.fill(parse_iso8601_utc(when), {}, fix);
+  return fix;
+}
+
+TEST(SkyModels, EachModelListsTheSystemsItTracks) {
+  SkyOptions m8;
+  m8.profile = sky::profile_of(ubx::ReceiverModel::ublox_m8n);
+  const auto a = listed_by_system(sky_fix(m8));
+  EXPECT_GE(a.at(nmea::GnssSystem::gps), 6);
+  EXPECT_GE(a.at(nmea::GnssSystem::glonass), 4);
+  EXPECT_EQ(a.count(nmea::GnssSystem::galileo), 0u);
+  EXPECT_EQ(a.count(nmea::GnssSystem::beidou), 0u);
+  SkyOptions f9;
+  f9.profile = sky::profile_of(ubx::ReceiverModel::ublox_f9p);
+  const auto b = listed_by_system(sky_fix(f9));
+  EXPECT_GE(b.at(nmea::GnssSystem::galileo), 4);
+  EXPECT_GE(b.at(nmea::GnssSystem::beidou), 3);
+  EXPECT_EQ(b.at(nmea::GnssSystem::gps), a.at(nmea::GnssSystem::gps)) << "the same sky";
+}
+
+TEST(SkyModels, MaskObstructionAndChannelsDecideWhatIsUsed) {
+  SkyOptions o;
+  o.profile = sky::profile_of(ubx::ReceiverModel::ublox_f9p);
+  Sky open(o, kMadison);
+  nmea::Fix fix;
+  const SkyState all = open.fill(parse_iso8601_utc("2024-05-01T12:00:00Z"), {}, fix);
+  EXPECT_GE(all.used, 20);
+  EXPECT_LT(all.dops.hdop, 1.0);
+  for (int i = 0; i < fix.satellites_in_view; ++i) {
+    const auto& s = fix.satellites[static_cast<std::size_t>(i)];
+    if (s.elevation_deg < 4) {
+      EXPECT_FALSE(s.used) << "below the 5 degree mask";
+    }
+  }
+  // The satellites' C/N0 grows with elevation.
+  double low = 0, high = 0;
+  int nl = 0, nh = 0;
+  for (int i = 0; i < fix.satellites_in_view; ++i) {
+    const auto& s = fix.satellites[static_cast<std::size_t>(i)];
+    if (s.system == nmea::GnssSystem::sbas) continue;
+    if (s.elevation_deg < 20) low += *s.snr_dbhz, ++nl;
+    if (s.elevation_deg > 60) high += *s.snr_dbhz, ++nh;
+  }
+  ASSERT_GT(nl * nh, 0);
+  EXPECT_GT(high / nh, low / nl + 8.0);
+
+  o.profile.elevation_mask_deg = 30.0;
+  Sky masked(o, kMadison);
+  const SkyState m = masked.fill(parse_iso8601_utc("2024-05-01T12:00:00Z"), {}, fix);
+  EXPECT_LT(m.used, all.used);
+  EXPECT_GT(m.dops.hdop, all.dops.hdop);
+  EXPECT_EQ(m.listed, all.listed) << "below the mask: tracked, not used";
+
+  o.profile.elevation_mask_deg = 5.0;
+  o.obstruction = parse_sky_mask("urban-canyon");
+  Sky canyon(o, kMadison);
+  const SkyState c = canyon.fill(parse_iso8601_utc("2024-05-01T12:00:00Z"), {}, fix);
+  EXPECT_LT(c.listed, all.listed);
+  EXPECT_GT(c.dops.hdop, all.dops.hdop);
+  for (int i = 0; i < fix.satellites_in_view; ++i) {
+    const auto& s = fix.satellites[static_cast<std::size_t>(i)];
+    const bool across = (s.azimuth_deg > 21 && s.azimuth_deg < 159) || (s.azimuth_deg > 201 && s.azimuth_deg < 339);
+    if (across) {
+      EXPECT_GE(s.elevation_deg, 44) << "behind the buildings";
+    }
+  }
+
+  o.obstruction.clear();
+  o.profile.channels = 20;  // dual band: 10 satellites
+  Sky few(o, kMadison);
+  const SkyState f = few.fill(parse_iso8601_utc("2024-05-01T12:00:00Z"), {}, fix);
+  EXPECT_EQ(f.listed, 10);
+}
+
+TEST(SkyModels, SkyMaskSpecsAreParsedOrRefusedWithTheReason) {
+  const auto s = parse_sky_mask("0-90:30,270-45:15");
+  ASSERT_EQ(s.size(), 2u);
+  EXPECT_EQ(s[1].from_azimuth_deg, 270.0);
+  EXPECT_EQ(s[1].to_azimuth_deg, 45.0);
+  EXPECT_EQ(s[1].min_elevation_deg, 15.0);
+  EXPECT_TRUE(parse_sky_mask("open").empty());
+  EXPECT_THROW((void)parse_sky_mask("0-90"), std::invalid_argument);
+  EXPECT_THROW((void)parse_sky_mask("0-400:10"), std::invalid_argument);
+  EXPECT_THROW((void)parse_sky_mask("a-90:10"), std::invalid_argument);
+}
+
+TEST(SkyModels, GeoidIsEgm96) {
+  EXPECT_NEAR(sky::geoid_separation_m(43.0725, -89.4125), -33.9, 1.5);  // Madison
+  EXPECT_NEAR(sky::geoid_separation_m(0.0, 0.0), 17.2, 1.5);            // EGM96 at 0,0: 17.16 m
+  EXPECT_NEAR(sky::geoid_separation_m(35.36, 138.73), 41.0, 3.0);       // Mount Fuji: about 41 m
+}
+
+}  // namespace
+}  // namespace gpsemu
