@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <atomic>
+
 namespace gpsemu::transport {
 
 WriteStatus Output::write_epoch(std::string_view bytes) {
@@ -43,20 +45,61 @@ void Output::report(WriteStatus status, const std::string& error_text, std::uint
   }
 }
 
-void Output::client_wrote(std::string_view bytes) {
+ClientId new_client_id() {
+  static std::atomic<ClientId> next{1};
+  return next.fetch_add(1);
+}
+
+void Output::client_wrote(std::string_view bytes, ClientId client) {
   if (client_input_ == nullptr) return;
-  client_input_->client_wrote(bytes);
-  reply_ += client_input_->take_reply();
+  client_input_->client_wrote(bytes, client);
+  std::string reply = client_input_->take_reply(client);
+  if (reply.empty()) return;
+  if (reply_bytes_ + reply.size() > max_pending_reply_bytes) {
+    count_reply_dropped(reply.size());  // whole: every answer of this read together
+    report_reply_drops();
+    return;
+  }
+  reply_bytes_ += reply.size();
+  if (!replies_.empty() && replies_.back().first == client) {
+    replies_.back().second += reply;
+  } else {
+    replies_.emplace_back(client, std::move(reply));
+  }
+}
+
+void Output::client_left(ClientId client) {
+  if (client_input_ != nullptr) client_input_->client_left(client);
+}
+
+WriteStatus Output::write_reply(ClientId /*client*/, std::string_view bytes, std::string& error_text) {
+  return write_bytes(bytes, error_text);
 }
 
 void Output::answer_clients() {
-  if (reply_.empty()) return;
-  std::string error_text;
-  if (write_bytes(reply_, error_text) == WriteStatus::ok) {
-    ++stats_.replies_written;
-    stats_.reply_bytes_written += reply_.size();
+  if (replies_.empty()) return;
+  for (const auto& [client, reply] : replies_) {
+    std::string error_text;
+    if (write_reply(client, reply, error_text) == WriteStatus::ok) {
+      ++stats_.replies_written;
+      stats_.reply_bytes_written += reply.size();
+    } else {
+      count_reply_dropped(reply.size());
+    }
   }
-  reply_.clear();
+  replies_.clear();
+  reply_bytes_ = 0;
+  report_reply_drops();
+}
+
+void Output::report_reply_drops() {
+  if (stats_.replies_dropped == reply_drops_reported_) return;
+  const auto now = std::chrono::steady_clock::now();
+  if (now - last_reply_report_ < std::chrono::seconds(1)) return;
+  spdlog::warn("{}: {} answer(s) to clients dropped whole, no room for them ({} bytes in all so far)", describe(),
+               stats_.replies_dropped - reply_drops_reported_, stats_.reply_bytes_dropped);
+  reply_drops_reported_ = stats_.replies_dropped;
+  last_reply_report_ = now;
 }
 
 }  // namespace gpsemu::transport

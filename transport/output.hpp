@@ -10,6 +10,8 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include "transport/posix/fd.hpp"
 
@@ -33,19 +35,31 @@ struct OutputStats {
   std::uint64_t epochs_failed = 0;
   std::uint64_t bytes_written = 0;       ///< epochs' bytes the operating system took
   std::uint64_t epochs_empty = 0;        ///< epochs with nothing to send (a u-blox with every message off)
-  std::uint64_t replies_written = 0;     ///< answers to a client written between epochs
+  std::uint64_t replies_written = 0;     ///< answers to a client written (or queued behind its epochs) between epochs
   std::uint64_t reply_bytes_written = 0; ///< their bytes (apart from the epochs')
+  std::uint64_t replies_dropped = 0;     ///< answers dropped whole: no room for them (counted, logged)
+  std::uint64_t reply_bytes_dropped = 0;
 };
+
+/// One connection to an output: a TCP client, or whoever has a pty open (a new one after every
+/// client closed it) or the serial line. Unique in the process (new_client_id()).
+using ClientId = std::uint64_t;
+/// A ClientId no output gave before.
+[[nodiscard]] ClientId new_client_id();
 
 /// Where the bytes a client wrote to an output go (pipeline/channel.hpp: the receiver's encoders).
 class ClientInput {
  public:
   virtual ~ClientInput() = default;
-  /// Bytes a client wrote, in arrival order (any framing: a protocol decoder reassembles).
-  virtual void client_wrote(std::string_view bytes) = 0;
-  /// What the receiver answers at once (a u-blox's ACKs and poll answers), taken after each
-  /// client_wrote(); the output writes it back before the next epoch. Default: nothing.
-  [[nodiscard]] virtual std::string take_reply() { return {}; }
+  /// Bytes `client` wrote, in arrival order (any framing: a protocol decoder reassembles each
+  /// client's bytes on their own).
+  virtual void client_wrote(std::string_view bytes, ClientId client) = 0;
+  /// What the receiver answers `client` at once (a u-blox's ACKs and poll answers), taken after
+  /// each client_wrote(); the output writes it back to that client before the next epoch, after
+  /// what is already queued. Default: nothing.
+  [[nodiscard]] virtual std::string take_reply(ClientId /*client*/) { return {}; }
+  /// `client` went away (disconnected, the pty closed by everyone): forget its half-read input.
+  virtual void client_left(ClientId /*client*/) {}
 };
 
 class Output {
@@ -63,9 +77,13 @@ class Output {
   /// dropped), accept clients.
   virtual void service() {}
 
-  /// Writes what the ClientInput answered to the input service() read (a u-blox's ACKs), at once.
-  /// Called right after service(), outside the backend's own loops over its clients.
+  /// Writes what the ClientInput answered to the input service() read (a u-blox's ACKs), at once,
+  /// each answer to the client that asked (write_reply()). Called right after service(), outside
+  /// the backend's own loops over its clients.
   void answer_clients();
+  /// Answers waiting for answer_clients() at most (bytes); a further answer is dropped whole and
+  /// counted (replies_dropped).
+  static constexpr std::size_t max_pending_reply_bytes = 64 * 1024;
 
   /// Attaches where client input goes (nullptr: dropped). Not owned; outlives the output's use.
   void set_client_input(ClientInput* input) { client_input_ = input; }
@@ -101,9 +119,20 @@ class Output {
   /// or drop, which the base class logs at most once a second.
   virtual WriteStatus write_bytes(std::string_view bytes, std::string& error_text) = 0;
 
-  /// Backend hook: hands what a client wrote to the attached ClientInput (none: dropped) and
+  /// Backend hook: hands what `client` wrote to the attached ClientInput (none: dropped) and
   /// keeps its answer for answer_clients().
-  void client_wrote(std::string_view bytes);
+  void client_wrote(std::string_view bytes, ClientId client);
+  /// Backend hook: `client` went away; the ClientInput forgets its half-read input.
+  void client_left(ClientId client);
+  /// Backend hook: writes `bytes` (whole answers) to `client` behind what is queued for it, or
+  /// keeps them for later; `dropped`: not written nor kept (no room), nothing partial went out.
+  /// Default: write_bytes() (an output with one client).
+  virtual WriteStatus write_reply(ClientId client, std::string_view bytes, std::string& error_text);
+  /// Counts an answer dropped whole (a backend that kept it and then could not send it).
+  void count_reply_dropped(std::uint64_t bytes) {
+    ++stats_.replies_dropped;
+    stats_.reply_bytes_dropped += bytes;
+  }
 
   /// A buffering backend calls this in its constructor: an `ok` epoch is not counted as written
   /// then; the backend counts what the operating system takes (count_sent) or what is lost.
@@ -123,9 +152,16 @@ class Output {
   /// Logs a dropped or failed epoch (`count` of them) at most once a second.
   void report(WriteStatus status, const std::string& error_text, std::uint64_t count);
 
+  void report_reply_drops();
+
   ClientInput* client_input_ = nullptr;
   bool count_when_sent_ = false;
-  std::string reply_;  ///< the ClientInput's answers not yet written
+  /// The ClientInput's answers not yet written, per client (few: the clients that wrote since the
+  /// last answer_clients()).
+  std::vector<std::pair<ClientId, std::string>> replies_;
+  std::size_t reply_bytes_ = 0;
+  std::uint64_t reply_drops_reported_ = 0;
+  std::chrono::steady_clock::time_point last_reply_report_{};
   OutputStats stats_;
   std::chrono::steady_clock::time_point last_report_{};
   std::uint64_t unreported_ = 0;

@@ -2,10 +2,12 @@
 
 #include <fcntl.h>
 #include <spdlog/spdlog.h>
+#include <sys/epoll.h>
 #include <sys/ioctl.h>
 #include <termios.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cstdlib>
@@ -25,6 +27,9 @@ namespace {
   throw std::runtime_error(fmt::format("pty output: {}: {}", what, posix::errno_text(errno)));
 }
 
+/// What the line discipline of a pty holds for reading (N_TTY's buffer, less one): FIONREAD tells
+/// the unread bytes exactly below it; more waits in the kernel's flip buffers, unseen.
+constexpr int kLineDisciplineBytes = 4095;
 
 /// The byte of a pty that a gpsemu serving `link` locks on its own slave descriptor (an open file
 /// description lock: any process can test it, and it goes with its holder however that ends).
@@ -58,6 +63,7 @@ bool served_by_running_gpsemu(const fs::path& link, const fs::path& target) {
 PtyOutput::PtyOutput(std::optional<fs::path> link) : link_(std::move(link)) {
   try {
     open_pty();
+    open_watches();
     if (link_) create_link();
   } catch (...) {
     close_fds();
@@ -100,6 +106,30 @@ void PtyOutput::open_pty() {
   if (flags < 0 || ::fcntl(master_fd_, F_SETFL, flags | O_NONBLOCK) != 0) {
     throw_errno("cannot make the pty master non-blocking");
   }
+}
+
+void PtyOutput::open_watches() {
+  epoll_fd_ = ::epoll_create1(EPOLL_CLOEXEC);
+  if (epoll_fd_ < 0) throw_errno("epoll_create1");
+  epoll_event ev{};
+  ev.events = EPOLLIN;
+  ev.data.fd = master_fd_;
+  if (::epoll_ctl(epoll_fd_, EPOLL_CTL_ADD, master_fd_, &ev) != 0) throw_errno("epoll_ctl on the pty master");
+  // Opened after our own slave descriptor: only clients' opens and closes count.
+  opens_ = std::make_unique<posix::OpenWatch>(device_path_);
+  ev.data.fd = opens_->fd();
+  if (!opens_->valid() || ::epoll_ctl(epoll_fd_, EPOLL_CTL_ADD, opens_->fd(), &ev) != 0) {
+    spdlog::debug("pty output: cannot watch {} for clients closing it (inotify): a client's half-written frame "
+                  "is not forgotten when it closes the device", device_path_.string());
+  }
+}
+
+void PtyOutput::watch_room(bool on) {
+  if (on == watching_room_) return;
+  epoll_event ev{};
+  ev.events = EPOLLIN | (on ? EPOLLOUT : 0u);
+  ev.data.fd = master_fd_;
+  if (::epoll_ctl(epoll_fd_, EPOLL_CTL_MOD, master_fd_, &ev) == 0) watching_room_ = on;
 }
 
 void PtyOutput::create_link() {
@@ -160,6 +190,8 @@ void PtyOutput::create_link() {
 }
 
 void PtyOutput::close_fds() noexcept {
+  if (epoll_fd_ >= 0) ::close(epoll_fd_);
+  epoll_fd_ = -1;
   if (master_fd_ >= 0) ::close(master_fd_);
   if (slave_fd_ >= 0) ::close(slave_fd_);
   master_fd_ = -1;
@@ -171,18 +203,51 @@ std::string PtyOutput::describe() const {
   return device_path_.string();
 }
 
-void PtyOutput::discard_stale_input() {
-  // Whatever is still queued on the slave side belongs to earlier epochs that no client read
-  // (no client, or one that stopped reading). A client must never receive that backlog, so the
-  // queue is flushed before every epoch; FIONREAD tells how much was waiting. The flush is
-  // unconditional because bytes still in flight inside the kernel are not counted by FIONREAD
-  // yet but would otherwise reach a late client.
+int PtyOutput::unread() const {
   int pending = 0;
   if (::ioctl(slave_fd_, FIONREAD, &pending) != 0) pending = 0;
+  return pending;
+}
+
+void PtyOutput::discard_stale_input() {
+  // What no client read for a whole period (no client, or one that stopped reading) is discarded,
+  // so a client never receives a backlog of old epochs; what a client is reading never is. The
+  // bytes read since the last check: the unread then, plus what the pty took since, less the
+  // unread now (bytes still in flight inside the kernel make it look larger: never a discard).
+  // Past the line discipline's buffer FIONREAD stops counting: then nobody read when the pty
+  // took nothing for a period while bytes waited for room.
+  send_waiting();
+  const int now_unread = unread();
+  const std::uint64_t taken = taken_ - taken_at_check_;
+  bool stale = false;
+  if (now_unread > 0 || !waiting_.empty()) {
+    if (now_unread < kLineDisciplineBytes && unread_at_check_ < kLineDisciplineBytes) {
+      stale = static_cast<std::uint64_t>(unread_at_check_) + taken <= static_cast<std::uint64_t>(now_unread);
+    } else {
+      stale = taken == 0 && !waiting_.empty();
+    }
+  }
+  if (stale) discard_all(now_unread);
+  unread_at_check_ = stale ? 0 : now_unread;
+  taken_at_check_ = taken_;
+}
+
+void PtyOutput::discard_all(int unread_bytes) {
+  // The flush takes the kernel's flip buffers too: the pty is empty afterwards.
   ::tcflush(slave_fd_, TCIFLUSH);
-  if (pending > 0) {
+  std::uint64_t bytes = static_cast<std::uint64_t>(std::max(unread_bytes, 0));
+  bool any = unread_bytes > 0;
+  for (const Waiting& w : waiting_) {
+    bytes += w.bytes.size() - w.sent;
+    if (!w.epoch && w.sent == 0) count_reply_dropped(w.bytes.size());  // whole, never begun
+    any = true;
+  }
+  waiting_.clear();
+  waiting_bytes_ = 0;
+  watch_room(false);
+  if (any) {
     ++pty_stats_.stale_epochs_discarded;
-    pty_stats_.stale_bytes_discarded += static_cast<std::uint64_t>(pending);
+    pty_stats_.stale_bytes_discarded += bytes;
   }
 }
 
@@ -192,30 +257,65 @@ void PtyOutput::prepare_epoch() {
   prepared_ = true;
 }
 
+void PtyOutput::send_waiting() {
+  while (!waiting_.empty()) {
+    Waiting& w = waiting_.front();
+    const ssize_t n = ::write(master_fd_, w.bytes.data() + w.sent, w.bytes.size() - w.sent);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;  // no room (EAGAIN), or an error the next epoch's write reports
+    w.sent += static_cast<std::size_t>(n);
+    taken_ += static_cast<std::uint64_t>(n);
+    waiting_bytes_ -= static_cast<std::size_t>(n);
+    if (w.sent == w.bytes.size()) waiting_.pop_front();
+  }
+  watch_room(!waiting_.empty());
+}
+
+WriteStatus PtyOutput::send(std::string_view bytes, bool epoch, std::string& error_text) {
+  send_waiting();
+  std::size_t sent = 0;
+  if (waiting_.empty()) {
+    for (;;) {
+      const ssize_t n = ::write(master_fd_, bytes.data(), bytes.size());
+      if (n >= 0) {
+        sent = static_cast<std::size_t>(n);
+        taken_ += sent;
+        break;
+      }
+      if (errno == EINTR) continue;
+      if (errno == EAGAIN || errno == EWOULDBLOCK) break;
+      error_text = fmt::format("write to {} failed: {}", device_path_.string(), posix::errno_text(errno));
+      return WriteStatus::error;
+    }
+    if (sent == bytes.size()) return WriteStatus::ok;
+  }
+  // The rest waits behind what is queued and goes out as the client reads: never half a message
+  // in the pty with something else after it.
+  if (sent == 0 && waiting_bytes_ + bytes.size() > max_waiting_bytes) {
+    error_text = fmt::format("no room: {} bytes wait for a client that does not read", waiting_bytes_);
+    return WriteStatus::dropped;
+  }
+  waiting_.push_back({std::string(bytes), sent, epoch});
+  waiting_bytes_ += bytes.size() - sent;
+  watch_room(true);
+  return WriteStatus::ok;
+}
+
 WriteStatus PtyOutput::write_bytes(std::string_view bytes, std::string& error_text) {
   if (!prepared_) {
     discard_stale_input();
     report_discards();
   }
   prepared_ = false;
-  for (;;) {
-    const ssize_t n = ::write(master_fd_, bytes.data(), bytes.size());
-    if (n >= 0 && static_cast<std::size_t>(n) == bytes.size()) return WriteStatus::ok;
-    if (n >= 0) {
-      // The queue was empty, so this should not happen; never leave half an epoch for a client.
-      ::tcflush(slave_fd_, TCIFLUSH);
-      error_text = fmt::format("pty accepted only {} of {} bytes; the partial epoch was discarded",
-                               n, bytes.size());
-      return WriteStatus::dropped;
-    }
-    if (errno == EINTR) continue;
-    if (errno == EAGAIN || errno == EWOULDBLOCK) {
-      error_text = "no room in the pty";
-      return WriteStatus::dropped;
-    }
-    error_text = fmt::format("write to {} failed: {}", device_path_.string(), posix::errno_text(errno));
-    return WriteStatus::error;
+  return send(bytes, true, error_text);
+}
+
+WriteStatus PtyOutput::write_reply(ClientId client, std::string_view bytes, std::string& error_text) {
+  if (client != client_) {
+    error_text = "its client closed the device";
+    return WriteStatus::dropped;
   }
+  return send(bytes, false, error_text);
 }
 
 void PtyOutput::service() {
@@ -223,8 +323,19 @@ void PtyOutput::service() {
   // without ever blocking, so the client never stalls on a full pty, and hand it to the client
   // input (the receiver's encoders; NMEA drops it).
   const posix::Drained input = posix::drain_input(master_fd_, client_input_budget,
-                                                  [this](std::string_view bytes) { client_wrote(bytes); });
+                                                  [this](std::string_view bytes) { client_wrote(bytes, client_); });
   pty_stats_.input_bytes_discarded += input.bytes;
+  // Every client closed the device (after its input above was read): the next one to open it is
+  // a new connection, with a fresh frame reader and nothing of the old one's queued for it.
+  if (opens_ && opens_->valid() && opens_->read_events().all_closed) {
+    discard_all(unread());
+    client_left(client_);
+    client_ = new_client_id();
+    ++pty_stats_.clients_left;
+    unread_at_check_ = 0;
+    taken_at_check_ = taken_;
+  }
+  send_waiting();
   if (input.end == posix::Drained::End::failed) {
     const auto now = std::chrono::steady_clock::now();
     if (now - last_service_error_ >= std::chrono::seconds(1)) {

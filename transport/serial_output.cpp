@@ -265,7 +265,7 @@ void SerialOutput::service() {
     return;
   }
   const posix::Drained input =
-      posix::drain_input(fd_, client_input_budget, [this](std::string_view bytes) { client_wrote(bytes); });
+      posix::drain_input(fd_, client_input_budget, [this](std::string_view bytes) { client_wrote(bytes, client_); });
   serial_stats_.input_bytes_discarded += input.bytes;
   if (input.end != posix::Drained::End::empty) {
     // End of file on a tty, or EIO: the device hung up (unplugged, the pty's other side closed).

@@ -21,7 +21,8 @@ TcpOutput::TcpOutput(const std::string& host, std::uint16_t port, TcpOutputOptio
               {.max_clients = options.max_clients, .no_delay = true,  // an epoch goes out at once
                .send_buffer_bytes = options.socket_send_buffer_bytes}),
       description_("tcp:" + server_.address()),
-      pending_(options.max_clients) {
+      pending_(options.max_clients),
+      ids_(options.max_clients, 0) {
   spdlog::info("tcp output: listening on {}", description_);
 }
 
@@ -29,6 +30,8 @@ void TcpOutput::close_client(std::size_t slot, const char* why) {
   spdlog::debug("{}: client {} {}", description_, server_.peer(slot), why);
   server_.drop(slot);
   pending_[slot].clear();
+  client_left(ids_[slot]);  // a half-written frame is not the next connection's
+  ids_[slot] = 0;
 }
 
 bool TcpOutput::send_pending(std::size_t slot) {
@@ -76,6 +79,25 @@ WriteStatus TcpOutput::write_bytes(std::string_view bytes, std::string& error_te
   return WriteStatus::ok;
 }
 
+WriteStatus TcpOutput::write_reply(ClientId client, std::string_view bytes, std::string& error_text) {
+  for (std::size_t slot = 0; slot < server_.slots(); ++slot) {
+    if (!server_.occupied(slot) || ids_[slot] != client) continue;
+    std::string& pending = pending_[slot];
+    if (pending.size() + bytes.size() > options_.client_buffer_bytes) {
+      error_text = "no room in the client's buffer";
+      return WriteStatus::dropped;
+    }
+    pending.append(bytes);  // behind the whole epochs queued for it
+    if (!send_pending(slot)) {
+      ++tcp_stats_.clients_closed;
+      close_client(slot, "closed (send failed)");
+    }
+    return WriteStatus::ok;
+  }
+  error_text = "its client disconnected";
+  return WriteStatus::dropped;
+}
+
 void TcpOutput::service() {
   for (int i = 0; i < kMaxEventsPerService; ++i) {
     const auto event = server_.next_event();
@@ -94,6 +116,7 @@ void TcpOutput::handle(const posix::TcpServerEvent& event) {
   }
   if (event.kind == Kind::connected) {
     pending_[event.slot].clear();
+    ids_[event.slot] = new_client_id();
     ++tcp_stats_.clients_accepted;
     spdlog::info("{}: client {} connected ({} now)", description_, event.peer, server_.client_count());
     return;
@@ -101,7 +124,7 @@ void TcpOutput::handle(const posix::TcpServerEvent& event) {
   bool closed = false;
   if (event.readable) {
     const posix::Drained input = posix::drain_input(server_.client_fd(event.slot), client_input_budget,
-                                                      [this](std::string_view bytes) { client_wrote(bytes); });
+                                                      [this, id = ids_[event.slot]](std::string_view bytes) { client_wrote(bytes, id); });
     tcp_stats_.input_bytes_discarded += input.bytes;
     closed = input.end != posix::Drained::End::empty;  // 0: the client closed; otherwise reset
   }

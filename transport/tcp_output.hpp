@@ -2,8 +2,11 @@
 // server (default bind 127.0.0.1) that any number of clients connect to, each receiving whole
 // epochs from the first epoch after it connects. Each client has a bounded buffer; a client too
 // slow to keep up (buffer full) is disconnected and counted, so it never delays the others or the
-// epoch loop. Client input is read and discarded. Listening socket and clients sit behind ONE
-// pollable descriptor (posix::TcpServer).
+// epoch loop. Each connection is a client of its own (a ClientId): what it writes goes to the
+// receiver's client input as its own stream (its own frame reader), the answer goes to it alone,
+// behind the whole epochs queued for it (an answer that does not fit its buffer is dropped whole
+// and counted), and its half-written input is forgotten when it disconnects. Listening socket and
+// clients sit behind ONE pollable descriptor (posix::TcpServer).
 #pragma once
 
 #include <chrono>
@@ -55,6 +58,8 @@ class TcpOutput final : public Output {
  protected:
   /// Sends the epoch to every client: ok when there is none too (nothing is waiting for it).
   WriteStatus write_bytes(std::string_view bytes, std::string& error_text) override;
+  /// Queues an answer for the one client that asked (dropped when it has gone or has no room).
+  WriteStatus write_reply(ClientId client, std::string_view bytes, std::string& error_text) override;
 
  private:
   void handle(const posix::TcpServerEvent& event);
@@ -68,6 +73,7 @@ class TcpOutput final : public Output {
   std::string description_;
   /// Per client slot: bytes its socket did not take yet (whole epochs, the first partly sent).
   std::vector<std::string> pending_;
+  std::vector<ClientId> ids_;  ///< per client slot: the connection's ClientId
   std::vector<std::size_t> failed_, slow_;  ///< write_bytes' scratch lists (slots)
   TcpStats tcp_stats_;
   TcpStats reported_;

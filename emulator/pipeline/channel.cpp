@@ -30,14 +30,18 @@ nmea::Fix Channel::step(UtcNs t, const std::optional<sources::Truth>& truth) {
 
 void Channel::cold_start(UtcNs t) { receiver_->restart(t); }
 
-void Channel::client_wrote(std::string_view bytes) {
-  for (const auto& encoder : encoders_) encoder->client_wrote(bytes);
+void Channel::client_wrote(std::string_view bytes, transport::ClientId client) {
+  for (const auto& encoder : encoders_) encoder->client_wrote(bytes, client);
 }
 
-std::string Channel::take_reply() {
+std::string Channel::take_reply(transport::ClientId client) {
   std::string reply;
-  for (const auto& encoder : encoders_) reply += encoder->take_reply();
+  for (const auto& encoder : encoders_) reply += encoder->take_reply(client);
   return reply;
+}
+
+void Channel::client_left(transport::ClientId client) {
+  for (const auto& encoder : encoders_) encoder->client_left(client);
 }
 
 }  // namespace gpsemu

@@ -68,9 +68,10 @@ class Channel final : public transport::ClientInput {
   bool ended_at(UtcNs t) { return ended_ = ended_ || source_->ended_at(t); }
   [[nodiscard]] bool ended() const { return ended_; }
 
-  void client_wrote(std::string_view bytes) override;
-  /// Every encoder's answer to what the client wrote, in encoder order.
-  [[nodiscard]] std::string take_reply() override;
+  void client_wrote(std::string_view bytes, transport::ClientId client) override;
+  /// Every encoder's answer to what `client` wrote, in encoder order.
+  [[nodiscard]] std::string take_reply(transport::ClientId client) override;
+  void client_left(transport::ClientId client) override;
 
   /// The UBX encoder (settings.ubx), null for an NMEA channel.
   [[nodiscard]] UbxEncoder* ubx_encoder() const { return ubx_; }

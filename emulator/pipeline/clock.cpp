@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -58,6 +59,25 @@ EpochWait EpochClock::wait_for(UtcNs t, const std::atomic<bool>& stop) {
   if (late(t)) return EpochWait::skip;
   io()->sleep_until(*deadline, stop);
   return stop.load() ? EpochWait::stopped : EpochWait::due;
+}
+
+std::chrono::nanoseconds EpochClock::follow_step_back(UtcNs t, UtcNs now) {
+  if (t != current_) previous_ = std::exchange(current_, t);  // asked again for the same epoch: the same one before
+  const std::optional<UtcNs> previous = previous_;
+  if (!previous) return std::chrono::nanoseconds::zero();
+  const std::optional<UtcNs> previous_deadline = deadline_of(*previous);
+  if (!previous_deadline) return std::chrono::nanoseconds::zero();
+  // The previous epoch was sent at or after its deadline, or skipped for being late: the wall
+  // clock can be before that deadline only if it went back.
+  const auto back = *previous_deadline - now;
+  const auto unit = step_unit_;
+  if (unit > std::chrono::nanoseconds::zero() ? back <= unit / 2 : back <= std::chrono::milliseconds(1)) {
+    return std::chrono::nanoseconds::zero();
+  }
+  const auto by = unit > std::chrono::nanoseconds::zero() ? unit * ((back.count() + unit.count() - 1) / unit.count()) : back;
+  move_deadlines_back(by);
+  moved_back_ += by;
+  return by;
 }
 
 bool RealtimeClock::late(UtcNs t) {
@@ -134,11 +154,11 @@ std::string LockstepClock::describe() const {
 std::unique_ptr<EpochClock> make_epoch_clock(const ClockSpec& spec, ClockIo& io, const sources::PoseSource& source,
                                              UtcNs first_epoch, UtcNs first_wall, std::chrono::nanoseconds epoch_period,
                                              std::chrono::nanoseconds epoch_minus_wall,
-                                             std::chrono::nanoseconds latency) {
+                                             std::chrono::nanoseconds latency, std::chrono::nanoseconds step_unit) {
   switch (spec.kind) {
     case ClockKind::scaled: return std::make_unique<ScaledClock>(io, spec.scale, first_epoch, first_wall, epoch_period);
     case ClockKind::lockstep: return std::make_unique<LockstepClock>(io, source, epoch_period);
-    case ClockKind::realtime: return std::make_unique<RealtimeClock>(io, epoch_minus_wall, latency, epoch_period);
+    case ClockKind::realtime: return std::make_unique<RealtimeClock>(io, epoch_minus_wall, latency, epoch_period, step_unit);
     case ClockKind::fast: return std::make_unique<FastClock>();
   }
   return nullptr;

@@ -62,7 +62,7 @@ class ClockIo {
   /// The wall clock (UTC).
   [[nodiscard]] virtual UtcNs now() = 0;
   /// Waits until the wall clock reaches `deadline`, servicing inputs meanwhile; returns early
-  /// only when `stop` becomes true.
+  /// only when `stop` becomes true or the wall clock was set (a step: look at now() again).
   virtual void sleep_until(UtcNs deadline, const std::atomic<bool>& stop) = 0;
   /// Waits at most `timeout` for input (pose source, output clients), services what arrived.
   virtual void wait_for_input(std::chrono::nanoseconds timeout, const std::atomic<bool>& stop) = 0;
@@ -122,12 +122,32 @@ class EpochClock {
   /// The time between epochs now: the finest of the receivers' schedules (a u-blox client may
   /// ask for a faster one than --rate's); how late an epoch may be before it is skipped.
   void set_epoch_period(std::chrono::nanoseconds period) { period_ = period; }
+  [[nodiscard]] std::chrono::nanoseconds epoch_period() const { return period_; }
+
+  /// A clock with deadlines, asked before waiting for epoch `t` (epochs in order, each once): when
+  /// the wall clock went back since the previous epoch (`now` before that epoch's deadline by more
+  /// than half a step unit), every deadline moves back with it, by whole step units (at least the
+  /// step), so the epochs go on one period apart from now and their times never go back (a
+  /// receiver keeps its own time). Returns how far the deadlines moved (0: the clock did not go back).
+  [[nodiscard]] std::chrono::nanoseconds follow_step_back(UtcNs t, UtcNs now);
+  /// How far the deadlines moved back in all (the epochs' times are that far ahead of the wall clock).
+  [[nodiscard]] std::chrono::nanoseconds moved_back() const { return moved_back_; }
 
  protected:
   EpochClock() = default;
   explicit EpochClock(std::chrono::nanoseconds epoch_period) : period_(epoch_period) {}
+  /// Moves every deadline `by` earlier (the wall clock went back).
+  virtual void move_deadlines_back(std::chrono::nanoseconds /*by*/) {}
   std::chrono::nanoseconds period_{0};
   transport::LogLimit skip_log_{5};  ///< "epoch ... skipped" lines: at most 5 a second
+  /// What follow_step_back() moves the deadlines by a multiple of: the epoch period (whole epochs
+  /// keep each epoch's phase on the wall clock), a second with PPS; 0: exactly the step.
+  std::chrono::nanoseconds step_unit_{0};
+
+ private:
+  std::optional<UtcNs> current_;   ///< the epoch follow_step_back() was asked for last
+  std::optional<UtcNs> previous_;  ///< the one before it
+  std::chrono::nanoseconds moved_back_{0};
 };
 
 /// fast: every epoch is due at once.
@@ -143,13 +163,20 @@ class FastClock final : public EpochClock {
 /// than one epoch period late is skipped.
 class RealtimeClock final : public EpochClock {
  public:
+  /// `step_unit`: what a step back of the wall clock moves the deadlines by a multiple of (the
+  /// epoch period; a second with PPS, so the epoch stamped S still follows pulse S); 0: the period.
   RealtimeClock(ClockIo& io, std::chrono::nanoseconds epoch_minus_wall, std::chrono::nanoseconds latency,
-                std::chrono::nanoseconds epoch_period)
-      : EpochClock(epoch_period), io_(io), shift_(epoch_minus_wall), latency_(latency) {}
+                std::chrono::nanoseconds epoch_period, std::chrono::nanoseconds step_unit = {})
+      : EpochClock(epoch_period), io_(io), shift_(epoch_minus_wall), latency_(latency) {
+    step_unit_ = step_unit > std::chrono::nanoseconds::zero() ? step_unit : epoch_period;
+  }
   [[nodiscard]] std::optional<UtcNs> deadline_of(UtcNs t) const override { return t - shift_ + latency_; }
   [[nodiscard]] bool late(UtcNs t) override;
   [[nodiscard]] std::string describe() const override { return {}; }
   [[nodiscard]] ClockIo* io() const override { return &io_; }
+
+ protected:
+  void move_deadlines_back(std::chrono::nanoseconds by) override { shift_ += by; }
 
  private:
   ClockIo& io_;
@@ -169,6 +196,9 @@ class ScaledClock final : public EpochClock {
   [[nodiscard]] bool late(UtcNs t) override;
   [[nodiscard]] std::string describe() const override;
   [[nodiscard]] ClockIo* io() const override { return &io_; }
+
+ protected:
+  void move_deadlines_back(std::chrono::nanoseconds by) override { first_wall_ -= by; }
 
  private:
   ClockIo& io_;
@@ -201,6 +231,7 @@ class LockstepClock final : public EpochClock {
                                                            const sources::PoseSource& source, UtcNs first_epoch,
                                                            UtcNs first_wall, std::chrono::nanoseconds epoch_period,
                                                            std::chrono::nanoseconds epoch_minus_wall,
-                                                           std::chrono::nanoseconds latency);
+                                                           std::chrono::nanoseconds latency,
+                                                           std::chrono::nanoseconds step_unit = {});
 
 }  // namespace gpsemu

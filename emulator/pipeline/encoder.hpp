@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "nmea/fix.hpp"
+#include "transport/output.hpp"
 
 namespace gpsemu {
 
@@ -18,11 +19,13 @@ class Encoder {
   virtual ~Encoder() = default;
   /// Appends this protocol's bytes for `fix` to `out` (which holds the earlier encoders' bytes).
   virtual void encode(const nmea::Fix& fix, std::string& out) = 0;
-  /// Bytes a client wrote to one of the receiver's outputs, in arrival order. Default: ignored.
-  virtual void client_wrote(std::string_view /*bytes*/) {}
-  /// The answer to what the client wrote, due at once (written back by the output before the next
-  /// epoch: PX4 waits 250 ms for an ACK). Default: none.
-  [[nodiscard]] virtual std::string take_reply() { return {}; }
+  /// Bytes `client` wrote to one of the receiver's outputs, in arrival order. Default: ignored.
+  virtual void client_wrote(std::string_view /*bytes*/, transport::ClientId /*client*/) {}
+  /// The answer to what `client` wrote, due at once (written back to it by the output before the
+  /// next epoch: PX4 waits 250 ms for an ACK). Default: none.
+  [[nodiscard]] virtual std::string take_reply(transport::ClientId /*client*/) { return {}; }
+  /// `client` went away: its half-read input is forgotten. Default: nothing.
+  virtual void client_left(transport::ClientId /*client*/) {}
 };
 
 /// The configured NMEA sentences (nmea/sentences.hpp), in receiver order. Ignores client input.

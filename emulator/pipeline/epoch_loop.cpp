@@ -65,30 +65,32 @@ void EpochLoop::run(const std::atomic<bool>& stop) {
         producer_.service_inputs();
         if (sink_.all_gone()) break;
       }
-    } else if (const std::optional<UtcNs> deadline = clock_.deadline_of(t)) {
-      // Every PPS edge due before the epoch's bytes goes first (a leading edge at the same
-      // instant too: the NMEA of second S follows pulse S). A fleet drives them in run_ahead().
-      if (pps_ && !ahead) pps_->run_until(*deadline, *io, stop);
+    } else if (const std::optional<UtcNs> idle_deadline = clock_.deadline_of(t); idle_deadline && !producer_.any_due()) {
+      // An idle epoch: the ports answer until its time, nothing is sent. Every PPS edge due
+      // before it goes first (a fleet drives them in run_ahead()).
+      if (pps_ && !ahead) pps_->run_until(*idle_deadline, *io, stop);
       if (stop.load()) break;
-      if (!producer_.any_due()) {  // an idle epoch: the ports answer until its time, nothing is sent
-        io->sleep_until(*deadline, stop);
-        continue;
-      }
-      if (clock_.late(t)) {
+      io->sleep_until(*idle_deadline, stop);
+      continue;
+    } else if (idle_deadline) {
+      const EpochWait wait = wait_for_deadline(t, !ahead, stop);
+      if (wait == EpochWait::stopped) break;
+      if (wait == EpochWait::skip) {
         ++stats_.epochs_late_skipped;
         continue;
       }
+      const UtcNs deadline = *clock_.deadline_of(t);
       if (ahead) {
-        if (!run_ahead(k, t, *deadline, stop)) break;
-        ++stats_.epochs_emitted;
+        const EpochWait written = run_ahead(k, t, deadline, stop);
+        if (written == EpochWait::skip) ++stats_.epochs_late_skipped;
+        if (written == EpochWait::due) ++stats_.epochs_emitted;
+        if (written == EpochWait::stopped) break;
         continue;
       }
-      io->sleep_until(*deadline, stop);
-      if (stop.load()) break;
       if (options_.measure_send_delay) {
         // Against the deadline it could be met at: an epoch whose time went back is due with the
         // previous one, not at its own (past) deadline.
-        latest_deadline_ = std::max(latest_deadline_, *deadline);
+        latest_deadline_ = std::max(latest_deadline_, deadline);
         const auto delay = std::max(io->now() - latest_deadline_, std::chrono::nanoseconds::zero());
         stats_.worst_delay = std::max(stats_.worst_delay, delay);
         stats_.total_delay += delay;
@@ -125,6 +127,35 @@ int EpochLoop::exit_status() const {
   return 0;
 }
 
+EpochWait EpochLoop::wait_for_deadline(UtcNs t, bool sleep, const std::atomic<bool>& stop) {
+  ClockIo& io = *clock_.io();
+  for (;;) {
+    // A wall clock that went back: the deadlines follow it (logged once a step), so the epochs
+    // go on one period apart instead of waiting out the step.
+    if (const auto back = clock_.follow_step_back(t, io.now()); back > std::chrono::nanoseconds::zero()) {
+      ++stats_.clock_steps_back;
+      spdlog::warn("the wall clock went back (about {:.3f} s) before epoch {}: the epochs go on one period apart; "
+                   "their times are now {:.3f} s ahead of the system clock (a receiver's time never goes back)",
+                   std::chrono::duration<double>(back).count(), format_iso8601_utc(t),
+                   std::chrono::duration<double>(clock_.moved_back()).count());
+      if (pps_) pps_->start(io.now());
+    }
+    const UtcNs deadline = *clock_.deadline_of(t);
+    // Every PPS edge due before the epoch's bytes goes first (a leading edge at the same instant
+    // too: the NMEA of second S follows pulse S). A fleet drives them in run_ahead().
+    if (pps_ && sleep) pps_->run_until(deadline, io, stop);
+    if (stop.load()) return EpochWait::stopped;
+    if (clock_.late(t)) return EpochWait::skip;
+    if (!sleep) return EpochWait::due;
+    io.sleep_until(deadline, stop);
+    if (stop.load()) return EpochWait::stopped;
+    // Woken at the deadline, or later (the process was stopped or starved, the wall clock jumped
+    // ahead): an epoch more than a period late is skipped, never sent with its old time. Woken
+    // before it: the wall clock was set; look again.
+    if (io.now() >= deadline) return clock_.late(t) ? EpochWait::skip : EpochWait::due;
+  }
+}
+
 void EpochLoop::send(UtcNs t) {
   for (std::size_t i = 0; i < ahead_.size(); ++i) {
     if (producer_.active(i)) sink_.write(i, producer_.produce(i, t));
@@ -139,7 +170,7 @@ void EpochLoop::write_range(std::size_t first, std::size_t from, std::size_t to)
   }
 }
 
-bool EpochLoop::run_ahead(std::int64_t k, UtcNs t, UtcNs deadline, const std::atomic<bool>& stop) {
+EpochWait EpochLoop::run_ahead(std::int64_t k, UtcNs t, UtcNs deadline, const std::atomic<bool>& stop) {
   ClockIo& io = *clock_.io();
   // Compute ahead by twice the recent cost, within the latency: never before the epoch's own time
   // (a receiver's fix for t is computed after t), so with no latency it is done at the deadline.
@@ -148,7 +179,7 @@ bool EpochLoop::run_ahead(std::int64_t k, UtcNs t, UtcNs deadline, const std::at
   const UtcNs compute_at = deadline - lead;
   if (pps_) pps_->run_until(compute_at, io, stop);
   io.sleep_until(compute_at, stop);
-  if (stop.load()) return false;
+  if (stop.load()) return EpochWait::stopped;
   const auto begin = std::chrono::steady_clock::now();
   const std::size_t n = ahead_.size();
   for (std::size_t i = 0; i < n; ++i) {
@@ -161,14 +192,19 @@ bool EpochLoop::run_ahead(std::int64_t k, UtcNs t, UtcNs deadline, const std::at
   compute_cost_ = std::max(std::chrono::nanoseconds{cost}, compute_cost_ * 99 / 100);
   const std::size_t first = static_cast<std::size_t>(k % static_cast<std::int64_t>(n));
   const std::size_t mine = helper_ ? n / 2 : n;
-  if (helper_) helper_->post(deadline, first, mine, n);
+  // Woken more than a period after the deadline (stopped, starved, the wall clock jumped): the
+  // epoch is skipped by both writers, never sent with its old time.
+  const UtcNs latest = deadline + clock_.epoch_period();
+  if (helper_) helper_->post(deadline, first, mine, n, latest);
   if (pps_) pps_->run_until(deadline, io, stop);
   io.sleep_until(deadline, stop);
   // Stopped while waiting: the helper still writes its part at the deadline; write ours too, so
   // an epoch is never half sent.
-  write_range(first, 0, mine);
+  const bool late = io.now() > latest;
+  if (!late) write_range(first, 0, mine);
   if (helper_) helper_->wait_done();
-  return !stop.load();
+  if (stop.load()) return EpochWait::stopped;
+  return late ? EpochWait::skip : EpochWait::due;
 }
 
 }  // namespace gpsemu

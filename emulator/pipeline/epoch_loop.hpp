@@ -65,6 +65,7 @@ struct LoopOptions {
 struct LoopStats {
   std::uint64_t epochs_emitted = 0;       ///< epochs handed to the sink (each receiver's)
   std::uint64_t epochs_late_skipped = 0;  ///< epochs skipped because their time had long passed
+  std::uint64_t clock_steps_back = 0;     ///< times the wall clock went back and the deadlines followed
   /// With measure_send_delay: latest an epoch was handed to the sink after its deadline (an epoch
   /// whose time went back: after the previous epoch's deadline), and the sum (for the mean).
   std::chrono::nanoseconds worst_delay{0};
@@ -91,8 +92,13 @@ class EpochLoop {
   [[nodiscard]] int exit_status() const;
 
  private:
-  /// The fleet's epoch in real time: compute ahead, write at the deadline. False when stopped.
-  bool run_ahead(std::int64_t k, UtcNs t, UtcNs deadline, const std::atomic<bool>& stop);
+  /// A clock with deadlines: follows a wall clock that went back, drives the PPS edges due first
+  /// (when `sleep`), skips an epoch more than a period late, and (when `sleep`) waits for the
+  /// deadline and looks again at how late the wake-up was.
+  EpochWait wait_for_deadline(UtcNs t, bool sleep, const std::atomic<bool>& stop);
+  /// The fleet's epoch in real time: compute ahead, write at the deadline (skip: woken more than a
+  /// period after it).
+  EpochWait run_ahead(std::int64_t k, UtcNs t, UtcNs deadline, const std::atomic<bool>& stop);
   /// Hands every active receiver's epoch `t` to the sink, computed now.
   void send(UtcNs t);
   /// Writes positions [from, to) of the receivers in the order that starts with receiver `first`.

@@ -16,10 +16,10 @@ HelperWriter::~HelperWriter() {
   thread_.join();
 }
 
-void HelperWriter::post(UtcNs write_at, std::size_t first, std::size_t from, std::size_t to) {
+void HelperWriter::post(UtcNs write_at, std::size_t first, std::size_t from, std::size_t to, UtcNs latest) {
   {
     const std::lock_guard lock(mutex_);
-    job_ = Job{write_at, first, from, to};
+    job_ = Job{write_at, first, from, to, latest};
     busy_ = true;
   }
   wake_.notify_all();
@@ -41,7 +41,7 @@ void HelperWriter::loop() {
     job_.reset();
     lock.unlock();
     waiter.sleep_until(job.write_at, never);
-    write_(job.first, job.from, job.to);
+    if (posix::wall_clock_now() <= job.latest) write_(job.first, job.from, job.to);
     lock.lock();
     busy_ = false;
     done_.notify_all();

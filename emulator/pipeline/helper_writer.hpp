@@ -31,8 +31,9 @@ class HelperWriter {
   HelperWriter(const HelperWriter&) = delete;
   HelperWriter& operator=(const HelperWriter&) = delete;
 
-  /// Writes positions [from, to) of the order starting with `first` at `write_at` (wall clock).
-  void post(UtcNs write_at, std::size_t first, std::size_t from, std::size_t to);
+  /// Writes positions [from, to) of the order starting with `first` at `write_at` (wall clock);
+  /// not at all when woken after `latest` (the process was stopped: the epoch is skipped).
+  void post(UtcNs write_at, std::size_t first, std::size_t from, std::size_t to, UtcNs latest = UtcNs::max());
   /// Waits until the posted epoch is written.
   void wait_done();
 
@@ -40,6 +41,7 @@ class HelperWriter {
   struct Job {
     UtcNs write_at;
     std::size_t first, from, to;
+    UtcNs latest;
   };
   void loop();
 

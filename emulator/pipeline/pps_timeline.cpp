@@ -30,6 +30,7 @@ void PpsTimeline::run_until(UtcNs wall_deadline, ClockIo& io, const std::atomic<
   while (!stop.load() && next_edge_.time <= wall_deadline) {
     io.sleep_until(next_edge_.time, stop);
     if (stop.load()) return;
+    if (io.now() < next_edge_.time) return;  // the wall clock was set: the loop looks again
     const transport::PpsEdge edge = next_edge_;
     next_edge_ = transport::next_pps_edge(edge, width_);
     const auto late = io.now() - edge.time;

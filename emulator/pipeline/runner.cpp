@@ -88,7 +88,9 @@ Runner::Runner(RunSettings settings, std::optional<RunnerIo> io)
   }
   clock_ = make_epoch_clock(loop_.clock, *io_, fleet_time_ ? *fleet_time_ : *channels_->channel(0).source(),
                             timeline_.first_epoch(), timeline_.first_wall() + loop_.latency, timeline_.grid.nominal_period(),
-                            timeline_.epoch_minus_wall, loop_.latency);
+                            timeline_.epoch_minus_wall, loop_.latency,
+                            // With PPS a step back moves the deadlines by whole seconds: epoch S still follows pulse S.
+                            pps_ ? std::chrono::nanoseconds{std::chrono::seconds{1}} : std::chrono::nanoseconds{});
   // An epoch is late (skipped) by the finest period any receiver runs at, not only --rate's.
   channels_->on_finest_period([clock = clock_.get()](std::chrono::nanoseconds period) { clock->set_epoch_period(period); });
   // Everything that can fail is open: only now are the outputs' files truncated.
@@ -151,6 +153,7 @@ int Runner::run(const std::atomic<bool>& stop) {
   loop.run(stop);
   stats_.epochs_emitted = loop.stats().epochs_emitted;
   stats_.epochs_late_skipped = loop.stats().epochs_late_skipped;
+  stats_.clock_steps_back = loop.stats().clock_steps_back;
   stats_.epochs_without_fix = 0;
   for (std::size_t i = 0; i < channels_->size(); ++i) stats_.epochs_without_fix += channels_->channel(i).stats().epochs_without_fix;
   stats_.wakeups = io_->wakeups();
@@ -166,6 +169,9 @@ int Runner::run(const std::atomic<bool>& stop) {
 void Runner::log_summary() const {
   spdlog::info("{} epochs emitted ({} without fix), {} late epochs skipped; {} wake-ups", stats_.epochs_emitted,
                stats_.epochs_without_fix, stats_.epochs_late_skipped, stats_.wakeups);
+  if (stats_.clock_steps_back > 0) {
+    spdlog::warn("the wall clock went back {} time(s); the epochs went on one period apart each time", stats_.clock_steps_back);
+  }
   const std::size_t n = channels_->size();
   for (std::size_t i = 0; i < n; ++i) {
     const ReceiverStats& r = channels_->channel(i).stats();

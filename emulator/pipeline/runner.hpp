@@ -26,6 +26,7 @@ namespace gpsemu {
 struct RunStats {
   std::uint64_t epochs_emitted = 0;   ///< epochs formatted and handed to the outputs (each receiver's)
   std::uint64_t epochs_late_skipped = 0;  ///< epochs skipped because their time had long passed
+  std::uint64_t clock_steps_back = 0;     ///< times the wall clock went back (the deadlines followed)
   std::uint64_t epochs_without_fix = 0;   ///< over all receivers
   /// Wake-ups while waiting: one an epoch (plus one a PPS edge) when no input arrives.
   std::uint64_t wakeups = 0;

@@ -4,9 +4,9 @@
 
 namespace gpsemu {
 
-void UbxEncoder::client_wrote(std::string_view bytes) {
-  session_.client_wrote(bytes);
-  const ubx::FrameStats& stats = session_.machine().reader_stats();
+void UbxEncoder::client_wrote(std::string_view bytes, transport::ClientId client) {
+  session_.client_wrote(bytes, client);
+  const ubx::FrameStats& stats = session_.reader_stats();
   const std::uint64_t bad = stats.bad_checksum + stats.too_long;
   if (bad == bad_frames_reported_ || !bad_frame_log_.admit(transport::LogLimit::Clock::now())) return;
   (void)bad_frame_log_.take_suppressed();  // the line counts the frames themselves

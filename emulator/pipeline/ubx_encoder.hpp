@@ -23,8 +23,9 @@ class UbxEncoder final : public Encoder {
   explicit UbxEncoder(ubx::SessionSettings settings) : session_(std::move(settings)) {}
 
   void encode(const nmea::Fix& fix, std::string& out) override { session_.append_solution(fix, out); }
-  void client_wrote(std::string_view bytes) override;
-  [[nodiscard]] std::string take_reply() override { return session_.take_reply(); }
+  void client_wrote(std::string_view bytes, transport::ClientId client) override;
+  [[nodiscard]] std::string take_reply(transport::ClientId client) override { return session_.take_reply(client); }
+  void client_left(transport::ClientId client) override { session_.client_left(client); }
 
   /// Measurement period, baud and cold-start changes the client asked for, not yet taken.
   [[nodiscard]] std::vector<ubx::Effect> take_effects() { return session_.take_effects(); }

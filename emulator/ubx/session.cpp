@@ -12,9 +12,34 @@ namespace gpsemu::ubx {
 
 Session::Session(SessionSettings settings) : settings_(std::move(settings)), machine_(settings_.start) {}
 
-void Session::client_wrote(std::string_view bytes) {
-  Answer answer = machine_.feed(bytes);
-  reply_ += answer.bytes;
+Session::Client& Session::client(ClientId id) {
+  if (clients_.size() >= max_clients && clients_.find(id) == clients_.end()) clients_.erase(clients_.begin());
+  return clients_[id];
+}
+
+void Session::client_left(ClientId id) { clients_.erase(id); }
+
+void Session::client_wrote(std::string_view bytes, ClientId id) {
+  Client& c = client(id);
+  const FrameStats before = c.reader.stats();
+  const std::vector<ClientMessage> messages = c.reader.feed(bytes);
+  const FrameStats& after = c.reader.stats();
+  reader_stats_.frames_ok += after.frames_ok - before.frames_ok;
+  reader_stats_.bad_checksum += after.bad_checksum - before.bad_checksum;
+  reader_stats_.too_long += after.too_long - before.too_long;
+  reader_stats_.sentences_ok += after.sentences_ok - before.sentences_ok;
+  reader_stats_.bad_sentences += after.bad_sentences - before.bad_sentences;
+  reader_stats_.garbage_bytes += after.garbage_bytes - before.garbage_bytes;
+  for (const ClientMessage& message : messages) handle(machine_.handle(message), c);
+}
+
+void Session::handle(Answer answer, Client& c) {
+  if (c.reply.size() + answer.bytes.size() <= max_reply_bytes) {
+    c.reply += answer.bytes;
+  } else {
+    ++stats_.answers_dropped;  // whole: the answer and its ACK together
+    stats_.answer_bytes_dropped += answer.bytes.size();
+  }
   for (Effect& effect : answer.effects) {
     if (const auto* poll = std::get_if<PollOnce>(&effect)) {
       // One answer a kind, as a u-blox answers a NAV poll with its next solution.
@@ -43,7 +68,10 @@ bool Session::on_solution_grid(nmea::UtcTime t) const {
   return solution_grid(machine_.settings(), machine_.model()).contains(t);
 }
 
-std::string Session::take_reply() { return std::exchange(reply_, std::string{}); }
+std::string Session::take_reply(ClientId id) {
+  const auto it = clients_.find(id);
+  return it == clients_.end() ? std::string{} : std::exchange(it->second.reply, std::string{});
+}
 
 std::vector<Effect> Session::take_effects() { return std::exchange(effects_, std::vector<Effect>{}); }
 

@@ -19,6 +19,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -36,20 +37,36 @@ struct SessionSettings {
   double speed_sigma_mps = 0.0;  ///< 1-sigma speed error reported as sAcc (metres per second)
 };
 
-/// What the session folded while it waited for a solution (the summary reports it).
+/// One connection to the port (a TCP client, or whoever has the pty or serial line open): its own
+/// frame reader and its own answers. 0 is the port's only connection.
+using ClientId = std::uint64_t;
+
+/// What the session folded or dropped (the summary reports it).
 struct SessionStats {
   std::uint64_t polls_merged = 0;        ///< NAV polls of a kind already waiting: answered once
   std::uint64_t effects_superseded = 0;  ///< period, baud or cold-start effects a newer one replaced
+  std::uint64_t answers_dropped = 0;     ///< answers (whole, with their ACK) past a client's reply limit
+  std::uint64_t answer_bytes_dropped = 0;
 };
 
 class Session {
  public:
+  /// Answers waiting for one client at most (bytes): as a u-blox's TX buffer, what does not fit is
+  /// dropped whole (one message's answer and its ACK together) and counted. 1000 CFG-RATE polls in
+  /// one write (24 000 bytes of answers) fit.
+  static constexpr std::size_t max_reply_bytes = 64 * 1024;
+  /// Connections with a reader of their own at most; a further one takes the oldest's.
+  static constexpr std::size_t max_clients = 64;
+
   explicit Session(SessionSettings settings);
 
-  /// Bytes a client wrote (any chunking).
-  void client_wrote(std::string_view bytes);
-  /// The answers not yet written (empties them).
-  [[nodiscard]] std::string take_reply();
+  /// Bytes `client` wrote (any chunking): read by that client's own frame reader, answered to it.
+  void client_wrote(std::string_view bytes, ClientId client = 0);
+  /// The answers to `client` not yet written (empties them).
+  [[nodiscard]] std::string take_reply(ClientId client = 0);
+  /// `client` went away (disconnected, closed the device): its half-read frame and unwritten
+  /// answers are dropped, so the next client starts clean.
+  void client_left(ClientId client);
   /// MeasurementPeriodChanged, BaudChanged and ColdStart effects not yet taken (empties them).
   [[nodiscard]] std::vector<Effect> take_effects();
 
@@ -61,19 +78,30 @@ class Session {
   [[nodiscard]] bool on_solution_grid(nmea::UtcTime t) const;
 
   [[nodiscard]] const ConfigMachine& machine() const { return machine_; }
-  [[nodiscard]] std::uint64_t solutions() const { return solutions_; }
+  /// Every client's frame readers' counts, added up.
+  [[nodiscard]] const FrameStats& reader_stats() const { return reader_stats_; }
   [[nodiscard]] const SessionStats& stats() const { return stats_; }
+  [[nodiscard]] std::uint64_t solutions() const { return solutions_; }
   /// NAV polls and effects waiting for the next solution (at most one a kind of each).
   [[nodiscard]] std::size_t polls_waiting() const { return polled_.size(); }
   [[nodiscard]] std::size_t effects_waiting() const { return effects_.size(); }
 
  private:
+  struct Client {
+    FrameReader reader;
+    std::string reply;
+  };
+  Client& client(ClientId id);
+  /// Keeps `answer` for client `c` (or drops it whole past max_reply_bytes), collects its effects.
+  void handle(Answer answer, Client& c);
+
   SessionSettings settings_;
   ConfigMachine machine_;
-  std::string reply_;
+  std::map<ClientId, Client> clients_;
+  FrameStats reader_stats_;
+  SessionStats stats_;
   std::vector<Effect> effects_;
   std::vector<MessageId> polled_;  ///< one a kind
-  SessionStats stats_;
   std::uint64_t solutions_ = 0;
   std::optional<nmea::UtcTime> first_epoch_;
   std::optional<std::chrono::milliseconds> time_to_first_fix_;

@@ -19,11 +19,12 @@ namespace gpsemu::test {
 class TalkingOutput final : public transport::Output {
  public:
   void service() override {
-    client_wrote(input);
+    client_wrote(input, client_id);
     input.clear();
   }
   [[nodiscard]] std::string describe() const override { return "talking"; }
   std::string input;               ///< what the client writes at the next service()
+  transport::ClientId client_id = transport::new_client_id();  ///< who writes it
   std::string written;             ///< every byte written to it
   std::vector<std::string> sent;   ///< each write
 

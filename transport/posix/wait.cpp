@@ -64,7 +64,9 @@ void Waiter::sleep_until(WallTime deadline, const std::atomic<bool>& stop) {
   itimerspec when{};
   when.it_value = {static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};
   // Arming resets the timer's expiry count: a fired, unread timer of an earlier wait is forgotten.
-  if (::timerfd_settime(timer_fd_, TFD_TIMER_ABSTIME, &when, nullptr) != 0) {
+  // A wall clock set meanwhile (a step back or ahead) ends the wait early (the timer reads
+  // ECANCELED, poll() sees it readable): the caller looks at the clock again.
+  if (::timerfd_settime(timer_fd_, TFD_TIMER_ABSTIME | TFD_TIMER_CANCEL_ON_SET, &when, nullptr) != 0) {
     // Cannot happen with a valid descriptor and time; sleep without servicing rather than spin.
     while (!stop.load() && clock_nanosleep(CLOCK_REALTIME, TIMER_ABSTIME, &when.it_value, nullptr) == EINTR) {
     }

@@ -36,7 +36,8 @@ class Waiter {
   Waiter& operator=(const Waiter&) = delete;
 
   /// Waits until the wall clock reaches `deadline`, servicing inputs meanwhile; returns early only
-  /// when `stop` becomes true (a signal interrupts the wait). A past deadline returns at once.
+  /// when `stop` becomes true (a signal interrupts the wait) or when the wall clock was set (a
+  /// step: the caller looks at the clock again). A past deadline returns at once.
   void sleep_until(WallTime deadline, const std::atomic<bool>& stop);
   /// Waits at most `timeout` for input and services what arrived.
   void wait_for_input(std::chrono::nanoseconds timeout, const std::atomic<bool>& stop);

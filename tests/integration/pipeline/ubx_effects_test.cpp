@@ -103,8 +103,8 @@ TEST(UbxEffects, CfgRstColdStartRestartsTheReceiverAtTheEpoch) {
   EXPECT_FALSE(channel.step(t0 + 1s, sources::Truth{}).has_fix());
   EXPECT_TRUE(channel.step(t0 + 3s, sources::Truth{}).has_fix());
 
-  channel.client_wrote(ubx::frame_bytes(ubx::msg::cfg_rst, std::string("\xff\xff\x02\x00", 4)));
-  EXPECT_TRUE(channel.take_reply().empty()) << "a u-blox does not acknowledge CFG-RST";
+  channel.client_wrote(ubx::frame_bytes(ubx::msg::cfg_rst, std::string("\xff\xff\x02\x00", 4)), 1);
+  EXPECT_TRUE(channel.take_reply(1).empty()) << "a u-blox does not acknowledge CFG-RST";
   const EpochGrid grid(1.0);
   ReceiverSchedule schedule(grid, grid.index_at_or_after(t0));
   UbxLine line;

@@ -25,7 +25,7 @@ class TagEncoder final : public Encoder {
   void encode(const nmea::Fix& fix, std::string& out) override {
     out += fix.has_fix() ? "TAG fix\r\n" : "TAG none\r\n";
   }
-  void client_wrote(std::string_view bytes) override { heard += bytes; }
+  void client_wrote(std::string_view bytes, transport::ClientId /*client*/) override { heard += bytes; }
   std::string heard;
 };
 

@@ -59,10 +59,10 @@ TEST(UbxEncoder, BadFramesFromTheClientAreCountedAndNotAnswered) {
   UbxEncoder encoder(settings);
   std::string bad = ubx::frame_bytes(ubx::msg::mon_ver, "");
   bad.back() = static_cast<char>(bad.back() ^ 0x55);
-  encoder.client_wrote(bad + "\xb5\x62\x06\x01\xff\xff");
-  EXPECT_TRUE(encoder.take_reply().empty());
-  EXPECT_EQ(encoder.session().machine().reader_stats().bad_checksum, 1u);
-  EXPECT_EQ(encoder.session().machine().reader_stats().too_long, 1u);
+  encoder.client_wrote(bad + "\xb5\x62\x06\x01\xff\xff", 1);
+  EXPECT_TRUE(encoder.take_reply(1).empty());
+  EXPECT_EQ(encoder.session().reader_stats().bad_checksum, 1u);
+  EXPECT_EQ(encoder.session().reader_stats().too_long, 1u);
 }
 
 }  // namespace

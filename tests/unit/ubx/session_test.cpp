@@ -127,6 +127,49 @@ TEST(UbxSession, StatusCountsTimeToFirstFix) {
   EXPECT_EQ(get_u4(frames[0].payload, 12), 2500u);  // msss
 }
 
+// Each connection has its own frame reader and its own answers (issue 22 point 8): two clients
+// writing their polls half by half at once are each answered, to themselves; a client that went
+// in the middle of a frame whose header announced 1000 bytes leaves nothing for the next one.
+TEST(UbxSession, EachClientHasItsOwnReaderAndItsOwnAnswers) {
+  Session session(f9p_nmea_only());
+  const std::string mon_ver = frame_bytes(msg::mon_ver, "");
+  const std::string rate = frame_bytes(msg::cfg_rate, "");
+  session.client_wrote(mon_ver.substr(0, 3), 1);
+  session.client_wrote(rate.substr(0, 5), 2);
+  session.client_wrote(mon_ver.substr(3), 1);
+  session.client_wrote(rate.substr(5), 2);
+  const auto to_1 = frames_in(session.take_reply(1));
+  const auto to_2 = frames_in(session.take_reply(2));
+  ASSERT_EQ(to_1.size(), 1u);
+  EXPECT_EQ(to_1[0].id, msg::mon_ver);
+  ASSERT_EQ(to_2.size(), 2u);
+  EXPECT_EQ(to_2[0].id, msg::cfg_rate);
+  EXPECT_EQ(to_2[1], test::ack_of(msg::cfg_rate));
+  EXPECT_EQ(session.reader_stats().frames_ok, 2u);
+
+  session.client_wrote(std::string("\xb5\x62\x06\x01\xe8\x03\x01\x02", 8), 3);  // 1000 bytes announced
+  session.client_left(3);
+  session.client_wrote(mon_ver, 3);  // the same id again: a new reader
+  EXPECT_EQ(frames_in(session.take_reply(3)).size(), 1u);
+}
+
+// Answers wait for their client up to Session::max_reply_bytes; past that a message's answer is
+// dropped whole (the poll's answer and its ACK together) and counted, as a u-blox's TX buffer.
+TEST(UbxSession, AnswersPastTheLimitAreDroppedWholeAndCounted) {
+  Session session(f9p_nmea_only());
+  std::string polls;
+  for (int i = 0; i < 3000; ++i) polls += frame_bytes(msg::cfg_rate, "");  // 3000 x 24 bytes of answers
+  session.client_wrote(polls, 1);
+  const std::string reply = session.take_reply(1);
+  const auto frames = frames_in(reply);
+  const std::size_t kept = Session::max_reply_bytes / 24;
+  EXPECT_EQ(reply.size(), kept * 24);
+  ASSERT_EQ(frames.size(), 2 * kept);
+  EXPECT_EQ(frames.back(), test::ack_of(msg::cfg_rate));
+  EXPECT_EQ(session.stats().answers_dropped, 3000 - kept);
+  EXPECT_EQ(session.stats().answer_bytes_dropped, (3000 - kept) * 24);
+}
+
 }  // namespace
 }  // namespace gpsemu::ubx
 
