@@ -79,3 +79,11 @@ gpsemu_cli_test(fleet_receivers_not_tables 2 "receivers is 3 but config file .*f
                 --config ${CMAKE_CURRENT_BINARY_DIR}/fleet_two.toml --receivers 3 --fast --duration 1)
 gpsemu_cli_test(fleet_not_for_replay 2 "apply to the emulator loop, not to 'gpsemu replay'"
                 replay --receivers 2 --output file:fleet{i}.nmea ${CMAKE_CURRENT_BINARY_DIR}/two_epochs.nmea)
+# Issue 22, point 11: a number for a text option in a config file is refused even when the command
+# line gives the option too (it was silently replaced by --output); a run in which no output took
+# any epoch (every write failed) exits with status 3.
+file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/output_number.toml "output = 5\n")
+gpsemu_cli_test(config_output_number 2 "output_number.toml:1: key 'output': expected a string \\(SPEC\\), got an integer"
+                --config ${CMAKE_CURRENT_BINARY_DIR}/output_number.toml --output stdout --fast --duration 1)
+gpsemu_cli_test(no_output_took_any_epoch 3 "no output took any epoch \\(every write failed\\): exit status 3"
+                --output file:/dev/full --fast --duration 2)

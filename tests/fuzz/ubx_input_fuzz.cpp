@@ -5,7 +5,13 @@
 //    stats().frames_ok frames;
 //  - the settings stay valid: a measurement period a u-blox accepts, a 36-byte CFG-NAV5, a
 //    CFG-GNSS of whole blocks, an 8-byte CFG-SBAS, a supported baud on the client's port;
-//  - every NAV payload has its message's length.
+//  - every NAV payload has its message's length;
+//  - driven as the epoch loop drives a u-blox port (ubx::Session: client bytes in chunks, the
+//    reply taken after each, now and then an epoch that applies the waiting effects and writes a
+//    solution): the queues stay bounded whatever the client writes (one waiting poll a NAV kind,
+//    at most one effect of each of the three kinds), every count adds up (waiting + folded =
+//    polled), every reply and epoch is whole frames and sentences, and a solution answers every
+//    waiting poll.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -17,6 +23,7 @@
 #include "emulator/ubx/cfg_legacy.hpp"
 #include "emulator/ubx/machine.hpp"
 #include "emulator/ubx/nav.hpp"
+#include "emulator/ubx/session.hpp"
 #include "tests/fuzz/fuzz_check.hpp"
 
 namespace {
@@ -63,6 +70,69 @@ void fuzz_machine(std::string_view input) {
   GPSEMU_FUZZ_CHECK(frames == reader.stats().frames_ok);
 }
 
+/// Every byte of `bytes` belongs to a whole, checksummed UBX frame or a valid NMEA sentence.
+void check_whole(std::string_view bytes) {
+  FrameReader reader;
+  (void)reader.feed(bytes);
+  const FrameStats& s = reader.stats();
+  GPSEMU_FUZZ_CHECK(s.bad_checksum == 0 && s.too_long == 0 && s.bad_sentences == 0);
+  GPSEMU_FUZZ_CHECK(s.garbage_bytes <= 2 * s.sentences_ok);  // only the sentences' CR LF
+}
+
+/// The client's bytes through a Session as the loop drives it: a chunk, its reply, and when the
+/// third input byte's bits say so, an epoch (effects taken, a solution written) 100 ms later.
+void fuzz_session(std::string_view input) {
+  if (input.size() < 3) return;
+  SessionSettings settings;
+  settings.start.model = static_cast<ReceiverModel>(static_cast<unsigned char>(input[0]) % 4);
+  settings.start.measurement_period = std::chrono::milliseconds{100};
+  const std::size_t chunk = 1 + static_cast<unsigned char>(input[1]) % 61;
+  const unsigned epochs_mask = static_cast<unsigned char>(input[2]);
+  input.remove_prefix(3);
+  Session session(settings);
+  nmea::Fix fix;
+  fix.time_utc = nmea::UtcTime{std::chrono::hours{24 * 20000 + 12}};
+  fix.quality = nmea::FixQuality::gps;
+  fix.lat_deg = 47.0;
+  fix.lon_deg = 8.0;
+  FrameReader polls_seen;  // counts the NAV polls the client wrote, as the session's reader does
+  std::uint64_t nav_polls = 0;
+  std::uint64_t polls_answered = 0;
+  std::uint64_t effects_taken = 0;
+  std::size_t turn = 0;
+  for (std::size_t begin = 0; begin < input.size(); begin += chunk, ++turn) {
+    const std::string_view piece = input.substr(begin, chunk);
+    session.client_wrote(piece);
+    for (const ClientMessage& m : polls_seen.feed(piece)) {
+      const auto* f = std::get_if<Frame>(&m);
+      nav_polls += f && f->id.msg_class == 0x01 && f->payload.empty() && nav_encodes(f->id) ? 1 : 0;
+    }
+    check_answer(session.take_reply());
+    GPSEMU_FUZZ_CHECK(session.polls_waiting() <= 16);
+    GPSEMU_FUZZ_CHECK(session.effects_waiting() <= 3);
+    if (((epochs_mask >> (turn % 8)) & 1) == 0) continue;
+    // An epoch: the loop takes the effects, then the receiver writes its solution.
+    const std::vector<Effect> effects = session.take_effects();
+    GPSEMU_FUZZ_CHECK(effects.size() <= 3);
+    for (std::size_t a = 0; a < effects.size(); ++a) {
+      for (std::size_t b = a + 1; b < effects.size(); ++b) GPSEMU_FUZZ_CHECK(effects[a].index() != effects[b].index());
+    }
+    effects_taken += effects.size();
+    const std::size_t waiting = session.polls_waiting();
+    std::string out;
+    const bool on_grid = session.on_solution_grid(fix.time_utc);
+    session.append_solution(fix, out);
+    check_whole(out);
+    if (on_grid) {
+      GPSEMU_FUZZ_CHECK(session.polls_waiting() == 0);
+      polls_answered += waiting;
+    }
+    fix.time_utc += std::chrono::milliseconds{100};
+  }
+  GPSEMU_FUZZ_CHECK(polls_answered + session.polls_waiting() + session.stats().polls_merged == nav_polls);
+  (void)effects_taken;
+}
+
 template <class T>
 T take(std::string_view& input) {
   T value{};
@@ -103,6 +173,7 @@ void fuzz_nav(std::string_view input) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view input(reinterpret_cast<const char*>(data), size);
   fuzz_machine(input);
+  fuzz_session(input);
   fuzz_nav(input);
   return 0;
 }

@@ -46,6 +46,23 @@ TEST(Config, FileErrorsNameFileLineAndKey) {
   EXPECT_NE(error_of(syntax, {}).find(":1:"), std::string::npos) << error_of(syntax, {});
 }
 
+// Issue 22, point 11: `output = 5` was silently replaced by --output; a number for a text option
+// is refused whether the command line gives the option or not, in a [[receiver]] table too.
+TEST(Config, ANumberForATextOptionIsRefusedEvenWhenTheCommandLineGivesIt) {
+  const auto file = write_temp("number.toml", "rate = 5\noutput = 5\n");
+  for (const RawOptions& cli : {RawOptions{}, RawOptions{{"output", {"stdout"}}}}) {
+    const std::string e = error_of(file, cli);
+    EXPECT_NE(e.find(":2: key 'output': expected a string (SPEC), got an integer (5)"), std::string::npos) << e;
+  }
+  const auto list = write_temp("list.toml", "output = [\"stdout\", true]\n");
+  EXPECT_NE(error_of(list, {}).find("expected a string (SPEC), got a boolean"), std::string::npos) << error_of(list, {});
+  const auto table = write_temp("table.toml", "[[receiver]]\noutput = 7.5\n");
+  EXPECT_NE(error_of(table, {}).find("key 'output': expected a string (SPEC), got a number"), std::string::npos)
+      << error_of(table, {});
+  // A number where a number belongs is still fine, and a string for a text option.
+  EXPECT_NO_THROW((void)build_config(write_temp("ok.toml", "rate = 5\noutput = \"stdout\"\n"), {}));
+}
+
 TEST(Config, FlagErrorsNameTheFlagAndTheAcceptedValues) {
   EXPECT_NE(error_of(std::nullopt, {{"noise", {"pink"}}}).find("--noise: unknown noise model 'pink'"), std::string::npos);
   EXPECT_NE(error_of(std::nullopt, {{"origin", {"95,0,0"}}}).find("latitude 95"), std::string::npos);

@@ -115,6 +115,39 @@ TEST(ChannelSet, AUbloxAskingTwoHundredMillisecondsGetsItsOwnEpochsBesideAnNmeaR
   EXPECT_EQ(nmea_bytes, alone_bytes);
 }
 
+// Issue 22, point 10: a client asks for one solution per 2.3 hours; the run still lasts its
+// --duration: no receiver has an epoch left, so the run grid's last time (4 s of a 5 s run at
+// 1 Hz) is an idle epoch, none due, for the loop to wait for with the port open.
+TEST(ChannelSet, ARunWhoseReceiversHaveNoEpochLeftWaitsIdleForItsLastTime) {
+  const Timeline timeline{EpochGrid(1.0), EpochGrid(1.0).index_at_or_after(kT0), 0ns};
+  ChannelSet set(timeline, 5);  // --duration 5 at 1 Hz
+  set.add(channel(true));
+  Sink sink;
+  TalkingOutput* client = test::add_talking_output(sink).client;
+  sink.attach_client_input(0, &set.channel(0));
+  set.attach(sink);
+  std::string bytes;
+  EXPECT_EQ(run(set, 1, bytes), (std::vector<Epoch>{{0ms, {0}}}));
+  EXPECT_TRUE(set.any_due());
+  std::string slow;
+  ubx::put_u2(slow, 65535);
+  ubx::put_u2(slow, 127);
+  ubx::put_u2(slow, 1);
+  client->input = ubx::frame_bytes(ubx::msg::cfg_rate, slow);
+  sink.service_all();
+  // Applied at 1 s; the next solution is hours away: 4 s is idle, then the run ends.
+  UtcNs t{};
+  ASSERT_TRUE(set.next_epoch(t));
+  EXPECT_EQ(t, kT0 + 1s);
+  EXPECT_TRUE(set.any_due());
+  (void)set.produce(0, t);
+  ASSERT_TRUE(set.next_epoch(t));
+  EXPECT_EQ(t, kT0 + 4s);
+  EXPECT_FALSE(set.any_due());
+  EXPECT_FALSE(set.active(0));
+  EXPECT_FALSE(set.next_epoch(t));
+}
+
 TEST(ReceiverSchedule, FollowsASolutionGridFromTheEpochAfterAndReturnsToTheRunGrid) {
   const EpochGrid grid(1.0);
   ReceiverSchedule schedule(grid, grid.index_at_or_after(kT0));

@@ -44,6 +44,14 @@ TEST(UbxEncoder, PollIsAnsweredOnTheOutputBeforeAnyEpoch) {
   EXPECT_EQ(reply[1].id, ubx::msg::ack_ack);
   EXPECT_EQ(client->stats().replies_written, 1u);
   EXPECT_EQ(client->stats().epochs_written, 0u);
+  // The reply's bytes are counted apart from the epochs' (issue 22, point 11), and an epoch with
+  // nothing to send is not written: counted as empty.
+  EXPECT_EQ(client->stats().reply_bytes_written, client->sent[0].size());
+  EXPECT_EQ(client->stats().bytes_written, 0u);
+  EXPECT_EQ(client->write_epoch(""), transport::WriteStatus::ok);
+  EXPECT_EQ(client->sent.size(), 1u);
+  EXPECT_EQ(client->stats().epochs_empty, 1u);
+  EXPECT_EQ(client->stats().epochs_written, 0u);
 
   (void)channel.step(kT0, sources::Truth{});
   const auto epoch = frames_in(channel.bytes());
