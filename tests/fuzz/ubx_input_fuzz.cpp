@@ -5,7 +5,9 @@
 //    stats().frames_ok frames;
 //  - the settings stay valid: a measurement period a u-blox accepts, a 36-byte CFG-NAV5, a
 //    CFG-GNSS of whole blocks, an 8-byte CFG-SBAS, a supported baud on the client's port;
-//  - every NAV payload has its message's length.
+//  - every NAV payload has its message's length;
+//  - a session's clients (each chunk from the client a byte picks, which may leave first) each get
+//    whole frames only, never more than Session::max_reply_bytes at once, whatever the others wrote.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -17,6 +19,7 @@
 #include "emulator/ubx/cfg_legacy.hpp"
 #include "emulator/ubx/machine.hpp"
 #include "emulator/ubx/nav.hpp"
+#include "emulator/ubx/session.hpp"
 #include "tests/fuzz/fuzz_check.hpp"
 
 namespace {
@@ -63,6 +66,26 @@ void fuzz_machine(std::string_view input) {
   GPSEMU_FUZZ_CHECK(frames == reader.stats().frames_ok);
 }
 
+void fuzz_session(std::string_view input) {
+  if (input.size() < 2) return;
+  SessionSettings settings;
+  settings.start.model = static_cast<ReceiverModel>(static_cast<unsigned char>(input[0]) % 4);
+  const std::size_t chunk = 1 + static_cast<unsigned char>(input[1]) % 61;
+  input.remove_prefix(2);
+  Session session(settings);
+  for (std::size_t begin = 0; begin < input.size(); begin += chunk) {
+    // The chunk's first byte picks its client (one of 4) and whether that client left before it.
+    const auto pick = static_cast<unsigned char>(input[begin]);
+    const ClientId client = pick % 4;
+    if ((pick & 0x80) != 0) session.client_left(client);
+    session.client_wrote(input.substr(begin, chunk), client);
+    const std::string reply = session.take_reply(client);
+    GPSEMU_FUZZ_CHECK(reply.size() <= Session::max_reply_bytes);
+    check_answer(reply);
+    check_settings(session.machine());
+  }
+}
+
 template <class T>
 T take(std::string_view& input) {
   T value{};
@@ -103,6 +126,7 @@ void fuzz_nav(std::string_view input) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view input(reinterpret_cast<const char*>(data), size);
   fuzz_machine(input);
+  fuzz_session(input);
   fuzz_nav(input);
   return 0;
 }
