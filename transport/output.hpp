@@ -26,8 +26,8 @@ struct OutputStats {
   std::uint64_t epochs_dropped = 0;
   std::uint64_t epochs_failed = 0;
   std::uint64_t bytes_written = 0;
-  std::uint64_t replies_written = 0;  ///< answers to a client written between epochs
-  std::uint64_t replies_dropped = 0;  ///< answers dropped whole: no room for them (counted, logged)
+  std::uint64_t replies_written = 0;  ///< batches of answers (to one read of a client's) written between epochs
+  std::uint64_t replies_dropped = 0;  ///< batches dropped whole: no room for them (counted, logged)
   std::uint64_t reply_bytes_dropped = 0;
 };
 

@@ -101,6 +101,11 @@ void Sink::log_summary(std::size_t i) const {
     const auto& s = out->stats();
     spdlog::info("{}{}: {} epochs written ({} bytes), {} dropped, {} failed", who(i), out->describe(),
                  s.epochs_written, s.bytes_written, s.epochs_dropped, s.epochs_failed);
+    if (s.replies_dropped > 0) {
+      spdlog::warn("{}{}: answers to clients: {} batches written, {} dropped whole ({} bytes; a batch answers one read "
+                   "of a client's): no room for them", who(i), out->describe(), s.replies_written, s.replies_dropped,
+                   s.reply_bytes_dropped);
+    }
   }
 }
 

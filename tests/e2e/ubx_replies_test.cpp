@@ -174,6 +174,41 @@ TEST(UbxReplies, AThousandPollsInOneWriteGetAThousandAnswers) {
               heard.count(ubx::msg::cfg_rate), heard.acks_of(ubx::msg::cfg_rate));
 }
 
+// Past the limits (64 KiB of answers waiting for a client) nothing is dropped silently: every one
+// of 5000 polls in one write (120 000 bytes of answers) is answered or counted in the summary.
+TEST(UbxReplies, FiveThousandPollsAreEachAnsweredOrCounted) {
+  const fs::path link = scratch_link("replies_flood");
+  std::string opened;
+  const auto gpsemu = start_ublox("pty:" + link.string(), opened);
+  ASSERT_NE(opened, "") << gpsemu->stderr_text();
+  const int fd = test::open_raw_pty_client(link);
+  ASSERT_GE(fd, 0);
+  std::string polls;
+  for (int i = 0; i < 5000; ++i) polls += kRatePoll;
+  ASSERT_TRUE(write_all(fd, polls));
+  Heard heard;
+  (void)test::read_with_deadline(fd, {3s}, [&](std::string_view bytes) {
+    heard.feed(bytes);
+    return false;
+  });
+  ::close(fd);
+  stop(*gpsemu);
+  std::smatch m;
+  const std::string err = gpsemu->stderr_text();
+  std::uint64_t dropped_bytes = 0;
+  if (std::regex_search(err, m, std::regex("answers to clients: [0-9]+ batches written, [0-9]+ dropped whole \\(([0-9]+) bytes"))) {
+    dropped_bytes = std::stoull(m[1]);
+  }
+  const std::size_t answered = heard.acks_of(ubx::msg::cfg_rate);
+  EXPECT_EQ(heard.count(ubx::msg::cfg_rate), answered) << "an answer without its ACK, or the reverse";
+  EXPECT_EQ(dropped_bytes % 24, 0u) << "dropped whole: an answer and its ACK are 24 bytes";
+  EXPECT_EQ(answered + dropped_bytes / 24, 5000u) << err;
+  EXPECT_GE(answered, 1000u);
+  EXPECT_EQ(heard.reader.stats().bad_checksum, 0u);
+  std::printf("5000 CFG-RATE polls in one write: %zu answered, %llu dropped whole and counted\n", answered,
+              static_cast<unsigned long long>(dropped_bytes / 24));
+}
+
 TEST(UbxReplies, EachTcpClientHasItsOwnReaderAndItsOwnAnswers) {
   std::string opened;
   const auto gpsemu = start_ublox("tcp:127.0.0.1:0", opened);
