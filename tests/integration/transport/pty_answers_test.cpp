@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/answering_input.hpp"
 #include "tests/support/pty_client.hpp"
 #include "transport/pty_output.hpp"
 
@@ -22,21 +23,7 @@ namespace {
 
 using namespace std::chrono_literals;
 
-/// Answers every write with `answer`; remembers who wrote and who left.
-class Answering final : public ClientInput {
- public:
-  explicit Answering(std::string answer) : answer_(std::move(answer)) {}
-  void client_wrote(std::string_view /*bytes*/, ClientId client) override {
-    writers.push_back(client);
-    pending_ = answer_;
-  }
-  std::string take_reply(ClientId /*client*/) override { return std::exchange(pending_, std::string{}); }
-  void client_left(ClientId client) override { left.push_back(client); }
-  std::vector<ClientId> writers, left;
-
- private:
-  std::string answer_, pending_;
-};
+using Answering = test::AnsweringInput;
 
 int open_client(const PtyOutput& out) { return test::open_raw_pty_client(out.device_path()); }
 
