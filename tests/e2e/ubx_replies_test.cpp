@@ -121,11 +121,21 @@ void stop(test::Process& gpsemu) {
   EXPECT_EQ(gpsemu.wait(10s), 0) << gpsemu.stderr_text();
 }
 
-TEST(UbxReplies, AnAnswerNeverCutsTheNavPvtTheClientIsReading) {
-  const fs::path link = scratch_link("replies_cut");
+/// gpsemu as a u-blox on a pty link (started before each test, stopped after it).
+class UbxRepliesOnPty : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    gpsemu = start_ublox("pty:" + link.string(), opened);
+    ASSERT_NE(opened, "") << gpsemu->stderr_text();
+  }
+  void TearDown() override { stop(*gpsemu); }
+
+  const fs::path link = scratch_link(::testing::UnitTest::GetInstance()->current_test_info()->name());
   std::string opened;
-  const auto gpsemu = start_ublox("pty:" + link.string(), opened);
-  ASSERT_NE(opened, "") << gpsemu->stderr_text();
+  std::unique_ptr<test::Process> gpsemu;
+};
+
+TEST_F(UbxRepliesOnPty, AnAnswerNeverCutsTheNavPvtTheClientIsReading) {
   const int fd = test::open_raw_pty_client(link);
   ASSERT_GE(fd, 0);
   const std::string pvt_head("\xb5\x62\x01\x07\x5c\x00", 6);  // NAV-PVT, 92 bytes of payload
@@ -146,14 +156,9 @@ TEST(UbxReplies, AnAnswerNeverCutsTheNavPvtTheClientIsReading) {
     EXPECT_EQ(heard.acks_of(ubx::msg::cfg_rate), 1u) << "round " << round;
   }
   ::close(fd);
-  stop(*gpsemu);
 }
 
-TEST(UbxReplies, AThousandPollsInOneWriteGetAThousandAnswers) {
-  const fs::path link = scratch_link("replies_many");
-  std::string opened;
-  const auto gpsemu = start_ublox("pty:" + link.string(), opened);
-  ASSERT_NE(opened, "") << gpsemu->stderr_text();
+TEST_F(UbxRepliesOnPty, AThousandPollsInOneWriteGetAThousandAnswers) {
   const int fd = test::open_raw_pty_client(link);
   ASSERT_GE(fd, 0);
   std::string polls;
@@ -169,18 +174,13 @@ TEST(UbxReplies, AThousandPollsInOneWriteGetAThousandAnswers) {
   EXPECT_EQ(heard.acks_of(ubx::msg::cfg_rate), 1000u);
   EXPECT_EQ(heard.reader.stats().bad_checksum, 0u);
   ::close(fd);
-  stop(*gpsemu);
   std::printf("1000 CFG-RATE polls in one write (%zu bytes): %zu answers, %zu ACK-ACKs\n", polls.size(),
               heard.count(ubx::msg::cfg_rate), heard.acks_of(ubx::msg::cfg_rate));
 }
 
 // Past the limits (64 KiB of answers waiting for a client) nothing is dropped silently: every one
 // of 5000 polls in one write (120 000 bytes of answers) is answered or counted in the summary.
-TEST(UbxReplies, FiveThousandPollsAreEachAnsweredOrCounted) {
-  const fs::path link = scratch_link("replies_flood");
-  std::string opened;
-  const auto gpsemu = start_ublox("pty:" + link.string(), opened);
-  ASSERT_NE(opened, "") << gpsemu->stderr_text();
+TEST_F(UbxRepliesOnPty, FiveThousandPollsAreEachAnsweredOrCounted) {
   const int fd = test::open_raw_pty_client(link);
   ASSERT_GE(fd, 0);
   std::string polls;
@@ -209,7 +209,7 @@ TEST(UbxReplies, FiveThousandPollsAreEachAnsweredOrCounted) {
               static_cast<unsigned long long>(dropped_bytes / 24));
 }
 
-TEST(UbxReplies, EachTcpClientHasItsOwnReaderAndItsOwnAnswers) {
+TEST(UbxRepliesOverTcp, EachTcpClientHasItsOwnReaderAndItsOwnAnswers) {
   std::string opened;
   const auto gpsemu = start_ublox("tcp:127.0.0.1:0", opened);
   std::smatch m;
@@ -253,11 +253,7 @@ TEST(UbxReplies, EachTcpClientHasItsOwnReaderAndItsOwnAnswers) {
   stop(*gpsemu);
 }
 
-TEST(UbxReplies, APtyClientClosingInTheMiddleOfAFrameLeavesNothingForTheNext) {
-  const fs::path link = scratch_link("replies_reopen");
-  std::string opened;
-  const auto gpsemu = start_ublox("pty:" + link.string(), opened);
-  ASSERT_NE(opened, "") << gpsemu->stderr_text();
+TEST_F(UbxRepliesOnPty, APtyClientClosingInTheMiddleOfAFrameLeavesNothingForTheNext) {
   for (int round = 0; round < 3; ++round) {
     const int gone = test::open_raw_pty_client(link);
     ASSERT_GE(gone, 0);
@@ -276,7 +272,6 @@ TEST(UbxReplies, APtyClientClosingInTheMiddleOfAFrameLeavesNothingForTheNext) {
     EXPECT_EQ(heard.count(ubx::msg::mon_ver), 1u) << "round " << round << ": the next client's poll was not answered";
     ::close(next);
   }
-  stop(*gpsemu);
 }
 
 }  // namespace
