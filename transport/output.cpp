@@ -96,8 +96,8 @@ void Output::report_reply_drops() {
   if (stats_.replies_dropped == reply_drops_reported_) return;
   const auto now = std::chrono::steady_clock::now();
   if (now - last_reply_report_ < std::chrono::seconds(1)) return;
-  spdlog::warn("{}: {} answer(s) to clients dropped whole, no room for them ({} bytes in all so far)", describe(),
-               stats_.replies_dropped - reply_drops_reported_, stats_.reply_bytes_dropped);
+  spdlog::warn("{}: {} batch(es) of answers to clients dropped whole, no room for them ({} bytes in all so far)",
+               describe(), stats_.replies_dropped - reply_drops_reported_, stats_.reply_bytes_dropped);
   reply_drops_reported_ = stats_.replies_dropped;
   last_reply_report_ = now;
 }

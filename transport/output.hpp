@@ -35,9 +35,9 @@ struct OutputStats {
   std::uint64_t epochs_failed = 0;
   std::uint64_t bytes_written = 0;       ///< epochs' bytes the operating system took
   std::uint64_t epochs_empty = 0;        ///< epochs with nothing to send (a u-blox with every message off)
-  std::uint64_t replies_written = 0;     ///< answers to a client written (or queued behind its epochs) between epochs
+  std::uint64_t replies_written = 0;     ///< batches of answers (to one read of a client's) written between epochs
   std::uint64_t reply_bytes_written = 0; ///< their bytes (apart from the epochs')
-  std::uint64_t replies_dropped = 0;     ///< answers dropped whole: no room for them (counted, logged)
+  std::uint64_t replies_dropped = 0;     ///< batches dropped whole: no room for them (counted, logged)
   std::uint64_t reply_bytes_dropped = 0;
 };
 

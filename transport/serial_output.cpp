@@ -157,6 +157,9 @@ void SerialOutput::lose_device(const std::string& why) {
   lost_reason_ = why;
   close_fd(false);
   tail_.clear();
+  // Whatever is on the line when it comes back is another connection: a half-read frame is dropped.
+  client_left(client_);
+  client_ = new_client_id();
   ++serial_stats_.device_losses;
   lost_since_ = std::chrono::steady_clock::now();
   last_attempt_ = std::chrono::steady_clock::time_point{};  // look for it again at once

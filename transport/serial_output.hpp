@@ -94,7 +94,7 @@ class SerialOutput final : public Output {
   WriteStatus write_bytes(std::string_view bytes, std::string& error_text) override;
 
  private:
-  ClientId client_ = new_client_id();  ///< the line has one client
+  ClientId client_ = new_client_id();  ///< the line has one client (a new one after the device was lost)
   void open_device(const std::string& path);
   [[nodiscard]] std::string spec_text() const;
   void lose_device(const std::string& why);

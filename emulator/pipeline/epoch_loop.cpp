@@ -134,9 +134,10 @@ EpochWait EpochLoop::wait_for_deadline(UtcNs t, bool sleep, const std::atomic<bo
     // go on one period apart instead of waiting out the step.
     if (const auto back = clock_.follow_step_back(t, io.now()); back > std::chrono::nanoseconds::zero()) {
       ++stats_.clock_steps_back;
-      spdlog::warn("the wall clock went back (about {:.3f} s) before epoch {}: the epochs go on one period apart; "
-                   "their times are now {:.3f} s ahead of the system clock (a receiver's time never goes back)",
-                   std::chrono::duration<double>(back).count(), format_iso8601_utc(t),
+      spdlog::warn("the wall clock went back before epoch {}: its deadlines moved back {:.3f} s and the epochs go on "
+                   "one period apart; their times are now {:.3f} s ahead of the system clock (a receiver's time never "
+                   "goes back)",
+                   format_iso8601_utc(t), std::chrono::duration<double>(back).count(),
                    std::chrono::duration<double>(clock_.moved_back()).count());
       if (pps_) pps_->start(io.now());
     }

@@ -6,6 +6,7 @@ namespace gpsemu {
 
 void UbxEncoder::client_wrote(std::string_view bytes, transport::ClientId client) {
   session_.client_wrote(bytes, client);
+  report_dropped_answers();
   const ubx::FrameStats& stats = session_.reader_stats();
   const std::uint64_t bad = stats.bad_checksum + stats.too_long;
   if (bad == bad_frames_reported_ || !bad_frame_log_.admit(transport::LogLimit::Clock::now())) return;
@@ -13,6 +14,17 @@ void UbxEncoder::client_wrote(std::string_view bytes, transport::ClientId client
   spdlog::warn("u-blox: {} bad UBX frame(s) from the client ({} bad checksum, {} too long in all)",
                bad - bad_frames_reported_, stats.bad_checksum, stats.too_long);
   bad_frames_reported_ = bad;
+}
+
+void UbxEncoder::report_dropped_answers() {
+  const ubx::SessionStats& stats = session_.stats();
+  if (stats.answers_dropped == answers_dropped_reported_) return;
+  const auto now = std::chrono::steady_clock::now();
+  if (now - last_answer_report_ < std::chrono::seconds(1)) return;
+  spdlog::warn("u-blox: {} answer(s) dropped whole, more than {} bytes of answers waited for their client ({} in all)",
+               stats.answers_dropped - answers_dropped_reported_, ubx::Session::max_reply_bytes, stats.answers_dropped);
+  answers_dropped_reported_ = stats.answers_dropped;
+  last_answer_report_ = now;
 }
 
 }  // namespace gpsemu

@@ -32,9 +32,14 @@ class UbxEncoder final : public Encoder {
   [[nodiscard]] const ubx::Session& session() const { return session_; }
 
  private:
+  /// Logs answers the session dropped (past its reply limit), at most once a second.
+  void report_dropped_answers();
+
   ubx::Session session_;
   std::uint64_t bad_frames_reported_ = 0;
   transport::LogLimit bad_frame_log_{1};
+  std::uint64_t answers_dropped_reported_ = 0;
+  std::chrono::steady_clock::time_point last_answer_report_{};
 };
 
 }  // namespace gpsemu

@@ -18,6 +18,7 @@
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <regex>
 #include <string>
 #include <thread>
@@ -26,6 +27,7 @@
 #include "emulator/ubx/bytes.hpp"
 #include "emulator/ubx/frame.hpp"
 #include "tests/support/process.hpp"
+#include "tests/support/pty_client.hpp"
 #include "tests/support/read_deadline.hpp"
 #include "tests/support/scratch.hpp"
 
@@ -63,16 +65,6 @@ struct Heard {
     return n;
   }
 };
-
-int open_raw(const fs::path& path) {
-  const int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) return -1;
-  termios tio{};
-  ::tcgetattr(fd, &tio);
-  ::cfmakeraw(&tio);
-  ::tcsetattr(fd, TCSANOW, &tio);
-  return fd;
-}
 
 /// Writes all of `bytes` to the non-blocking `fd`, waiting for room with poll().
 bool write_all(int fd, std::string_view bytes) {
@@ -115,16 +107,40 @@ fs::path scratch_link(const std::string& name) {
   return fs::temp_directory_path() / ("gpsemu_" + name + "_" + std::to_string(::getpid()));
 }
 
-TEST(UbxReplies, AnAnswerNeverCutsTheNavPvtTheClientIsReading) {
-  const fs::path link = scratch_link("replies_cut");
-  test::Process gpsemu({GPSEMU_BINARY, "--protocol", "ubx", "--receiver", "ublox-m8n", "--rate", "5", "--output",
-                        "pty:" + link.string(), "--log-level", "info"});
-  ASSERT_TRUE(gpsemu.wait_for_stderr("UBX on /dev/pts", 10s)) << gpsemu.stderr_text();
-  const int fd = open_raw(link);
+/// gpsemu as a u-blox M8N at 5 Hz on `output`, once it says so ("UBX on ...": the line returned).
+std::unique_ptr<test::Process> start_ublox(const std::string& output, std::string& opened) {
+  auto gpsemu = std::make_unique<test::Process>(std::vector<std::string>{
+      GPSEMU_BINARY, "--protocol", "ubx", "--receiver", "ublox-m8n", "--rate", "5", "--output", output, "--log-level", "info"});
+  opened = gpsemu->wait_for_stderr("UBX on ", 10s).value_or("");
+  return gpsemu;
+}
+
+/// Stops gpsemu with SIGTERM: exit status 0.
+void stop(test::Process& gpsemu) {
+  gpsemu.signal(SIGTERM);
+  EXPECT_EQ(gpsemu.wait(10s), 0) << gpsemu.stderr_text();
+}
+
+/// gpsemu as a u-blox on a pty link (started before each test, stopped after it).
+class UbxRepliesOnPty : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    gpsemu = start_ublox("pty:" + link.string(), opened);
+    ASSERT_NE(opened, "") << gpsemu->stderr_text();
+  }
+  void TearDown() override { stop(*gpsemu); }
+
+  const fs::path link = scratch_link(::testing::UnitTest::GetInstance()->current_test_info()->name());
+  std::string opened;
+  std::unique_ptr<test::Process> gpsemu;
+};
+
+TEST_F(UbxRepliesOnPty, AnAnswerNeverCutsTheNavPvtTheClientIsReading) {
+  const int fd = test::open_raw_pty_client(link);
   ASSERT_GE(fd, 0);
   const std::string pvt_head("\xb5\x62\x01\x07\x5c\x00", 6);  // NAV-PVT, 92 bytes of payload
   for (int round = 0; round < 5; ++round) {
-    ASSERT_TRUE(read_up_to(fd, pvt_head, 3s)) << "round " << round << "\n" << gpsemu.stderr_text();
+    ASSERT_TRUE(read_up_to(fd, pvt_head, 3s)) << "round " << round << "\n" << gpsemu->stderr_text();
     ASSERT_TRUE(write_all(fd, kRatePoll));
     // The client reads on after the answer has been written (well within the 200 ms to the next
     // epoch): the rest of the NAV-PVT must still be there, before the answer.
@@ -140,16 +156,10 @@ TEST(UbxReplies, AnAnswerNeverCutsTheNavPvtTheClientIsReading) {
     EXPECT_EQ(heard.acks_of(ubx::msg::cfg_rate), 1u) << "round " << round;
   }
   ::close(fd);
-  gpsemu.signal(SIGTERM);
-  EXPECT_EQ(gpsemu.wait(10s), 0) << gpsemu.stderr_text();
 }
 
-TEST(UbxReplies, AThousandPollsInOneWriteGetAThousandAnswers) {
-  const fs::path link = scratch_link("replies_many");
-  test::Process gpsemu({GPSEMU_BINARY, "--protocol", "ubx", "--receiver", "ublox-m8n", "--rate", "5", "--output",
-                        "pty:" + link.string(), "--log-level", "info"});
-  ASSERT_TRUE(gpsemu.wait_for_stderr("UBX on /dev/pts", 10s)) << gpsemu.stderr_text();
-  const int fd = open_raw(link);
+TEST_F(UbxRepliesOnPty, AThousandPollsInOneWriteGetAThousandAnswers) {
+  const int fd = test::open_raw_pty_client(link);
   ASSERT_GE(fd, 0);
   std::string polls;
   for (int i = 0; i < 1000; ++i) polls += kRatePoll;
@@ -164,19 +174,46 @@ TEST(UbxReplies, AThousandPollsInOneWriteGetAThousandAnswers) {
   EXPECT_EQ(heard.acks_of(ubx::msg::cfg_rate), 1000u);
   EXPECT_EQ(heard.reader.stats().bad_checksum, 0u);
   ::close(fd);
-  gpsemu.signal(SIGTERM);
-  ASSERT_EQ(gpsemu.wait(10s), 0) << gpsemu.stderr_text();
   std::printf("1000 CFG-RATE polls in one write (%zu bytes): %zu answers, %zu ACK-ACKs\n", polls.size(),
               heard.count(ubx::msg::cfg_rate), heard.acks_of(ubx::msg::cfg_rate));
 }
 
-TEST(UbxReplies, EachTcpClientHasItsOwnReaderAndItsOwnAnswers) {
-  test::Process gpsemu({GPSEMU_BINARY, "--protocol", "ubx", "--receiver", "ublox-m8n", "--rate", "5", "--output",
-                        "tcp:127.0.0.1:0", "--log-level", "info"});
-  const auto line = gpsemu.wait_for_stderr("UBX on tcp:127.0.0.1:", 10s);
-  ASSERT_TRUE(line) << gpsemu.stderr_text();
+// Past the limits (64 KiB of answers waiting for a client) nothing is dropped silently: every one
+// of 5000 polls in one write (120 000 bytes of answers) is answered or counted in the summary.
+TEST_F(UbxRepliesOnPty, FiveThousandPollsAreEachAnsweredOrCounted) {
+  const int fd = test::open_raw_pty_client(link);
+  ASSERT_GE(fd, 0);
+  std::string polls;
+  for (int i = 0; i < 5000; ++i) polls += kRatePoll;
+  ASSERT_TRUE(write_all(fd, polls));
+  Heard heard;
+  (void)test::read_with_deadline(fd, {3s}, [&](std::string_view bytes) {
+    heard.feed(bytes);
+    return false;
+  });
+  ::close(fd);
+  stop(*gpsemu);
   std::smatch m;
-  ASSERT_TRUE(std::regex_search(*line, m, std::regex("tcp:127\\.0\\.0\\.1:([0-9]+)")));
+  const std::string err = gpsemu->stderr_text();
+  std::uint64_t dropped_bytes = 0;
+  if (std::regex_search(err, m, std::regex("answers to clients: [0-9]+ batches written, [0-9]+ dropped whole \\(([0-9]+) bytes"))) {
+    dropped_bytes = std::stoull(m[1]);
+  }
+  const std::size_t answered = heard.acks_of(ubx::msg::cfg_rate);
+  EXPECT_EQ(heard.count(ubx::msg::cfg_rate), answered) << "an answer without its ACK, or the reverse";
+  EXPECT_EQ(dropped_bytes % 24, 0u) << "dropped whole: an answer and its ACK are 24 bytes";
+  EXPECT_EQ(answered + dropped_bytes / 24, 5000u) << err;
+  EXPECT_GE(answered, 1000u);
+  EXPECT_EQ(heard.reader.stats().bad_checksum, 0u);
+  std::printf("5000 CFG-RATE polls in one write: %zu answered, %llu dropped whole and counted\n", answered,
+              static_cast<unsigned long long>(dropped_bytes / 24));
+}
+
+TEST(UbxRepliesOverTcp, EachTcpClientHasItsOwnReaderAndItsOwnAnswers) {
+  std::string opened;
+  const auto gpsemu = start_ublox("tcp:127.0.0.1:0", opened);
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(opened, m, std::regex("tcp:127\\.0\\.0\\.1:([0-9]+)"))) << gpsemu->stderr_text();
   const auto port = static_cast<std::uint16_t>(std::stoi(m[1]));
 
   // A client that disconnects in the middle of a frame whose header announces 1000 bytes.
@@ -213,23 +250,18 @@ TEST(UbxReplies, EachTcpClientHasItsOwnReaderAndItsOwnAnswers) {
   EXPECT_GE(heard_b.count(ubx::msg::nav_pvt), 2u);
   ::close(a);
   ::close(b);
-  gpsemu.signal(SIGTERM);
-  EXPECT_EQ(gpsemu.wait(10s), 0) << gpsemu.stderr_text();
+  stop(*gpsemu);
 }
 
-TEST(UbxReplies, APtyClientClosingInTheMiddleOfAFrameLeavesNothingForTheNext) {
-  const fs::path link = scratch_link("replies_reopen");
-  test::Process gpsemu({GPSEMU_BINARY, "--protocol", "ubx", "--receiver", "ublox-m8n", "--rate", "5", "--output",
-                        "pty:" + link.string(), "--log-level", "info"});
-  ASSERT_TRUE(gpsemu.wait_for_stderr("UBX on /dev/pts", 10s)) << gpsemu.stderr_text();
+TEST_F(UbxRepliesOnPty, APtyClientClosingInTheMiddleOfAFrameLeavesNothingForTheNext) {
   for (int round = 0; round < 3; ++round) {
-    const int gone = open_raw(link);
+    const int gone = test::open_raw_pty_client(link);
     ASSERT_GE(gone, 0);
     ASSERT_TRUE(write_all(gone, std::string("\xb5\x62\x06\x01\xe8\x03\x01\x02\x03", 9)));
     std::this_thread::sleep_for(200ms);
     ::close(gone);
     std::this_thread::sleep_for(100ms);
-    const int next = open_raw(link);
+    const int next = test::open_raw_pty_client(link);
     ASSERT_GE(next, 0);
     ASSERT_TRUE(write_all(next, kMonVerPoll));
     Heard heard;
@@ -240,8 +272,6 @@ TEST(UbxReplies, APtyClientClosingInTheMiddleOfAFrameLeavesNothingForTheNext) {
     EXPECT_EQ(heard.count(ubx::msg::mon_ver), 1u) << "round " << round << ": the next client's poll was not answered";
     ::close(next);
   }
-  gpsemu.signal(SIGTERM);
-  EXPECT_EQ(gpsemu.wait(10s), 0) << gpsemu.stderr_text();
 }
 
 }  // namespace

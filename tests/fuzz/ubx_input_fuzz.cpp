@@ -12,6 +12,8 @@
 //    at most one effect of each of the three kinds), every count adds up (waiting + folded =
 //    polled), every reply and epoch is whole frames and sentences, and a solution answers every
 //    waiting poll.
+//  - a session's clients (each chunk from the client a byte picks, which may leave first) each get
+//    whole frames only, never more than Session::max_reply_bytes at once, whatever the others wrote.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -133,6 +135,27 @@ void fuzz_session(std::string_view input) {
   (void)effects_taken;
 }
 
+/// Several clients of one session, leaving and writing in turn.
+void fuzz_clients(std::string_view input) {
+  if (input.size() < 2) return;
+  SessionSettings settings;
+  settings.start.model = static_cast<ReceiverModel>(static_cast<unsigned char>(input[0]) % 4);
+  const std::size_t chunk = 1 + static_cast<unsigned char>(input[1]) % 61;
+  input.remove_prefix(2);
+  Session session(settings);
+  for (std::size_t begin = 0; begin < input.size(); begin += chunk) {
+    // The chunk's first byte picks its client (one of 4) and whether that client left before it.
+    const auto pick = static_cast<unsigned char>(input[begin]);
+    const ClientId client = pick % 4;
+    if ((pick & 0x80) != 0) session.client_left(client);
+    session.client_wrote(input.substr(begin, chunk), client);
+    const std::string reply = session.take_reply(client);
+    GPSEMU_FUZZ_CHECK(reply.size() <= Session::max_reply_bytes);
+    check_answer(reply);
+    check_settings(session.machine());
+  }
+}
+
 template <class T>
 T take(std::string_view& input) {
   T value{};
@@ -174,6 +197,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string_view input(reinterpret_cast<const char*>(data), size);
   fuzz_machine(input);
   fuzz_session(input);
+  fuzz_clients(input);
   fuzz_nav(input);
   return 0;
 }

@@ -2,9 +2,10 @@
 // RealtimeClock and Sink, with a wall clock the test steps (the system clock cannot be stepped on
 // a shared machine). A wait ends when the clock is set, as the loop's timerfd does
 // (TFD_TIMER_CANCEL_ON_SET). Stepped back 30 s at 10 Hz: the epochs go on one period apart with
-// increasing times, none skipped, the step counted once (no 30 s of silence). Stepped ahead 30 s:
-// the epoch being waited for and the 30 s after it are skipped and counted; nothing is written
-// with a time more than a period old.
+// increasing times, none skipped, the step counted once (no 30 s of silence); with PPS the
+// deadlines move by whole seconds; a step of less than half a period is waited out; replay's
+// scaled clock follows a step exactly. Stepped ahead 30 s: the epoch being waited for and the
+// 30 s after it are skipped and counted; nothing is written with a time more than a period old.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -104,11 +105,16 @@ struct SteppedRun {
   LoopStats stats;
 };
 
-/// 60 epochs at 10 Hz from t0 (latency 50 ms); the wall clock jumps by `step` at t0 + 1.07 s.
-SteppedRun run_with_step(nanoseconds step) {
-  const UtcNs t0 = parse_iso8601_utc("2024-05-01T12:00:00Z");
+const UtcNs kT0 = parse_iso8601_utc("2024-05-01T12:00:00Z");
+
+/// 60 epochs at 10 Hz from t0 (latency 50 ms) on the clock `make_clock(io)` makes; the wall clock
+/// jumps by `step` at t0 + 1.07 s.
+template <class MakeClock>
+SteppedRun run_with_step(nanoseconds step, MakeClock make_clock) {
+  const UtcNs t0 = kT0;
   SteppedClockIo io(t0 - 30ms, t0 + 1070ms, step);
-  RealtimeClock clock(io, 0ns, 50ms, 100ms);
+  auto clock_ptr = make_clock(io);
+  EpochClock& clock = *clock_ptr;
   GridProducer producer(t0, 60);
   Sink sink;
   auto out = std::make_unique<TimedOutput>(io);
@@ -120,6 +126,10 @@ SteppedRun run_with_step(nanoseconds step) {
   const std::atomic<bool> stop{false};
   loop.run(stop);
   return {timed->written, loop.stats()};
+}
+
+SteppedRun run_with_step(nanoseconds step) {
+  return run_with_step(step, [](ClockIo& io) { return std::make_unique<RealtimeClock>(io, 0ns, 50ms, 100ms); });
 }
 
 TEST(ClockStep, BackwardsTheEpochsGoOnOnePeriodApart) {
@@ -151,6 +161,45 @@ TEST(ClockStep, AheadTheStaleEpochsAreSkippedAndCounted) {
   EXPECT_EQ(run.stats.epochs_emitted + run.stats.epochs_late_skipped, 60u);
   for (const auto& w : run.written) {
     EXPECT_LE(w.wall - (t0 + w.index * 100ms + 50ms), 100ms) << "epoch " << w.index << " sent with an old time";
+  }
+}
+
+// With PPS the deadlines move by whole seconds (epoch S still follows pulse S): after 30.4 s back,
+// 31 s; the epochs whose deadlines then lie more than a period behind are skipped, within a second.
+TEST(ClockStep, BackwardsWithPpsTheDeadlinesMoveByWholeSeconds) {
+  const SteppedRun run = run_with_step(-30400ms, [](ClockIo& io) {
+    return std::make_unique<RealtimeClock>(io, 0ns, 50ms, 100ms, std::chrono::seconds{1});
+  });
+  EXPECT_EQ(run.stats.clock_steps_back, 1u);
+  const auto& last = run.written.back();
+  EXPECT_EQ((kT0 + last.index * 100ms + 50ms) - last.wall, 31s);
+  for (std::size_t k = 1; k < run.written.size(); ++k) {
+    EXPECT_LE(run.written[k].elapsed - run.written[k - 1].elapsed, 1s) << "epoch " << run.written[k].index;
+  }
+  EXPECT_EQ(run.written.size() + run.stats.epochs_late_skipped, 60u);
+}
+
+// A step back smaller than half a period is waited out (less than a period), not followed.
+TEST(ClockStep, BackwardsByLessThanHalfAPeriodIsWaitedOut) {
+  const SteppedRun run = run_with_step(-40ms);
+  EXPECT_EQ(run.stats.clock_steps_back, 0u);
+  EXPECT_EQ(run.written.size(), 60u);
+  for (std::size_t k = 1; k < run.written.size(); ++k) {
+    EXPECT_LE(run.written[k].elapsed - run.written[k - 1].elapsed, 140ms);
+  }
+}
+
+// Replay's clock (scaled, never skipping) follows a step back exactly: every epoch is sent, the
+// one after the step a period after the step was seen (here 20 ms after the epoch before it).
+TEST(ClockStep, ReplaysScaledClockFollowsAStepBack) {
+  const SteppedRun run = run_with_step(-30s, [](ClockIo& io) {
+    return std::make_unique<ScaledClock>(io, 1.0, kT0, kT0 + 50ms, 100ms, /*skip_late=*/false);
+  });
+  ASSERT_EQ(run.written.size(), 60u);
+  EXPECT_EQ(run.stats.clock_steps_back, 1u);
+  for (std::size_t k = 1; k < run.written.size(); ++k) {
+    EXPECT_LE(run.written[k].elapsed - run.written[k - 1].elapsed, run.written[k].index == 11 ? 120ms : 100ms)
+        << "epoch " << run.written[k].index;
   }
 }
 

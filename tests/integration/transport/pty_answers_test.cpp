@@ -6,6 +6,7 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <poll.h>
+#include <sys/ioctl.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -13,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/answering_input.hpp"
+#include "tests/support/pty_client.hpp"
 #include "transport/pty_output.hpp"
 
 namespace gpsemu::transport {
@@ -20,31 +23,9 @@ namespace {
 
 using namespace std::chrono_literals;
 
-/// Answers every write with `answer`; remembers who wrote and who left.
-class Answering final : public ClientInput {
- public:
-  explicit Answering(std::string answer) : answer_(std::move(answer)) {}
-  void client_wrote(std::string_view /*bytes*/, ClientId client) override {
-    writers.push_back(client);
-    pending_ = answer_;
-  }
-  std::string take_reply(ClientId /*client*/) override { return std::exchange(pending_, std::string{}); }
-  void client_left(ClientId client) override { left.push_back(client); }
-  std::vector<ClientId> writers, left;
+using Answering = test::AnsweringInput;
 
- private:
-  std::string answer_, pending_;
-};
-
-int open_client(const PtyOutput& out) {
-  const int fd = ::open(out.device_path().c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK);
-  if (fd < 0) return -1;
-  termios tio{};
-  ::tcgetattr(fd, &tio);
-  ::cfmakeraw(&tio);
-  ::tcsetattr(fd, TCSANOW, &tio);
-  return fd;
-}
+int open_client(const PtyOutput& out) { return test::open_raw_pty_client(out.device_path()); }
 
 /// Reads what arrives within `quiet` of the last byte, servicing the output between reads.
 std::string read_serviced(int fd, PtyOutput& out, std::size_t want, std::chrono::milliseconds timeout = 2s) {
@@ -62,15 +43,21 @@ std::string read_serviced(int fd, PtyOutput& out, std::size_t want, std::chrono:
   return got;
 }
 
-/// Services `out` until the client input heard a write (the client's bytes crossed the pty).
-void service_until_heard(PtyOutput& out, const Answering& input, std::size_t writes) {
+/// Services `out` as the loop does (when its descriptor is readable) until `done()`, at most 2 s.
+template <class Done>
+void service_until(PtyOutput& out, Done done) {
   const auto until = std::chrono::steady_clock::now() + 2s;
-  while (input.writers.size() < writes && std::chrono::steady_clock::now() < until) {
+  while (!done() && std::chrono::steady_clock::now() < until) {
     pollfd p{out.poll_fd(), POLLIN, 0};
     (void)::poll(&p, 1, 20);
     out.service();
     out.answer_clients();
   }
+}
+
+/// Until the client input heard `writes` writes (the client's bytes crossed the pty).
+void service_until_heard(PtyOutput& out, const Answering& input, std::size_t writes) {
+  service_until(out, [&] { return input.writers.size() >= writes; });
 }
 
 TEST(PtyAnswers, AnAnswerNeverDiscardsWhatTheClientHasNotRead) {
@@ -120,13 +107,15 @@ TEST(PtyAnswers, EveryClientClosingTheDeviceEndsTheConnection) {
   ASSERT_EQ(::write(first, "half a frame", 12), 12);
   service_until_heard(out, input, 1);
   ASSERT_EQ(out.write_epoch("$GPRMC,UNREAD*00\r\n"), WriteStatus::ok);
-  ::close(first);
-  const auto until = std::chrono::steady_clock::now() + 2s;
-  while (input.left.empty() && std::chrono::steady_clock::now() < until) {
-    pollfd p{out.poll_fd(), POLLIN, 0};
-    (void)::poll(&p, 1, 20);
-    out.service();
+  // Both reach the client's side (the kernel pushes a pty's bytes in the background), unread.
+  const auto landed = std::chrono::steady_clock::now() + 2s;
+  for (int queued = 0; queued < 26 && std::chrono::steady_clock::now() < landed;) {
+    pollfd p{first, POLLIN, 0};
+    (void)::poll(&p, 1, 10);
+    ::ioctl(first, FIONREAD, &queued);
   }
+  ::close(first);
+  service_until(out, [&] { return !input.left.empty(); });
   ASSERT_EQ(input.left.size(), 1u);
   EXPECT_EQ(input.left[0], input.writers[0]);
   EXPECT_EQ(out.pty_stats().clients_left, 1u);

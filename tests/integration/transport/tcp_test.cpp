@@ -1,6 +1,7 @@
 // TCP output with real sockets on loopback: clients receive whole epochs from the first one after
 // they connect; a client that stops reading is disconnected without delaying the others or the
-// writer; client input is discarded; specs and start-up errors.
+// writer; client input is discarded; each connection is a client of its own (an answer goes to the
+// client that asked, a disconnect is told to the client input); specs and start-up errors.
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
@@ -15,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/answering_input.hpp"
 #include "tests/support/nmea_check.hpp"
 #include "tests/support/read_deadline.hpp"
 #include "tests/support/scratch.hpp"
@@ -50,6 +52,29 @@ bool service_until(TcpOutput& out, Done done, std::chrono::milliseconds timeout 
 }
 
 using test::read_exactly;
+
+TEST(TcpOutputTest, EachConnectionIsAClientOfItsOwn) {
+  TcpOutput out("127.0.0.1", 0);
+  test::AnsweringInput input("<ANSWER>");
+  out.set_client_input(&input);
+  const int asker = connect_client(out.port());
+  const int other = connect_client(out.port());
+  ASSERT_TRUE(service_until(out, [&] { return out.client_count() == 2; }));
+  ASSERT_EQ(::write(asker, "poll", 4), 4);
+  ASSERT_TRUE(service_until(out, [&] { return input.writers.size() == 1; }));
+  out.answer_clients();
+  EXPECT_EQ(test::read_with_deadline(asker, {2s}, [](std::string_view b) { return b.find('>') != b.npos; }).bytes,
+            "<ANSWER>");
+  EXPECT_EQ(test::read_with_deadline(other, {300ms}, [](std::string_view) { return false; }).bytes, "")
+      << "the answer went to a client that did not ask";
+  ASSERT_EQ(::write(other, "poll", 4), 4);
+  ASSERT_TRUE(service_until(out, [&] { return input.writers.size() == 2; }));
+  EXPECT_NE(input.writers[1], input.writers[0]);
+  ::close(asker);
+  ASSERT_TRUE(service_until(out, [&] { return input.left.size() == 1; }));
+  EXPECT_EQ(input.left[0], input.writers[0]);
+  ::close(other);
+}
 
 TEST(TcpOutputTest, EachClientGetsWholeEpochsFromTheFirstAfterItConnects) {
   TcpOutput out("127.0.0.1", 0);
