@@ -5,6 +5,7 @@
 #include <array>
 #include <chrono>
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -31,7 +32,10 @@ enum class FixQuality : int {
 enum class FixDimension : int { none = 1, two_d = 2, three_d = 3 };
 
 /// Most satellites one Fix carries (fixed-size storage: a Fix never allocates).
-inline constexpr std::size_t max_satellites = 32;
+inline constexpr std::size_t max_satellites = 64;
+
+/// GNSS of a satellite; values are u-blox gnssId numbers.
+enum class GnssSystem : std::uint8_t { gps = 0, sbas = 1, galileo = 2, beidou = 3, qzss = 5, glonass = 6 };
 
 /// One satellite in view (a GSV entry; `used` ones are listed in GSA).
 struct SatelliteInView {
@@ -40,6 +44,8 @@ struct SatelliteInView {
   int azimuth_deg = 0;           ///< azimuth (degrees true), 0..359
   std::optional<int> snr_dbhz;   ///< carrier-to-noise density (dB-Hz), 0..99; empty when not tracked
   bool used = false;             ///< used in the navigation solution
+  GnssSystem system = GnssSystem::gps;
+  int sv_id = 0;  ///< the system's own satellite number (GPS PRN 1..32, SBAS 120..158, Galileo 1..36, BeiDou 1..63, QZSS 1..10, GLONASS slot 1..32)
 };
 
 /// One epoch of receiver output. When `quality == FixQuality::none` only `time_utc` is
@@ -58,6 +64,8 @@ struct Fix {
   double hdop = 0.0;         ///< horizontal dilution of precision
   double vdop = 0.0;         ///< vertical dilution of precision
   double pdop = 0.0;         ///< position dilution of precision
+  double tdop = 0.0;         ///< time dilution of precision
+  double gdop = 0.0;         ///< geometric dilution of precision
   double sigma_lat_m = 0.0;  ///< 1-sigma latitude error estimate (metres), for GST
   double sigma_lon_m = 0.0;  ///< 1-sigma longitude error estimate (metres), for GST
   double sigma_alt_m = 0.0;  ///< 1-sigma altitude error estimate (metres), for GST
