@@ -2,8 +2,10 @@
 // receiver channel is a thin adapter over it): what the client writes goes in, the answers
 // (ACKs, poll answers) come out at once through take_reply() for the loop to write before the
 // next epoch, the effects the emulator must apply (measurement period, baud, cold start) through
-// take_effects(), and each epoch's bytes (NAV messages, NMEA sentences, then NAV-EOE, as the
-// settings turn them on: output.hpp) through append_solution().
+// take_effects(), and each epoch's bytes (NAV and MON messages, NMEA sentences, then NAV-EOE, as
+// the settings turn them on: output.hpp) through append_solution(). The receiver's own state
+// (run time, TTFF, time validity, clock, RF: receiver_state.hpp) advances with each solution and
+// starts again at a CFG-RST cold start.
 //
 // The solutions lie on the start grid (the epochs the session is stepped at: --rate's) until the
 // client asks for another period; then on the solution grid it asks for (solution_grid.hpp): an
@@ -20,6 +22,7 @@
 
 #include "emulator/ubx/machine.hpp"
 #include "emulator/ubx/nav.hpp"
+#include "emulator/ubx/receiver_state.hpp"
 #include "nmea/fix.hpp"
 
 namespace gpsemu::ubx {
@@ -28,6 +31,7 @@ struct SessionSettings {
   StartSettings start;           ///< model, port, start rate, NMEA sentences and UBX messages on
   nmea::FormatOptions format;    ///< how the NMEA part is written (its sentence set is ignored)
   double speed_sigma_mps = 0.0;  ///< 1-sigma speed error reported as sAcc (metres per second)
+  std::uint64_t seed = 1;        ///< seed of the receiver clock (NAV-CLOCK): the run's --seed
 };
 
 class Session {
@@ -50,6 +54,8 @@ class Session {
 
   [[nodiscard]] const ConfigMachine& machine() const { return machine_; }
   [[nodiscard]] std::uint64_t solutions() const { return solutions_; }
+  /// The RF front end MON-HW and MON-RF report (a fault may change it).
+  [[nodiscard]] RfState& rf() { return state_.rf(); }
 
  private:
   SessionSettings settings_;
@@ -58,8 +64,7 @@ class Session {
   std::vector<Effect> effects_;
   std::vector<MessageId> polled_;
   std::uint64_t solutions_ = 0;
-  std::optional<nmea::UtcTime> first_epoch_;
-  std::optional<std::chrono::milliseconds> time_to_first_fix_;
+  ReceiverState state_;
 };
 
 }  // namespace gpsemu::ubx
