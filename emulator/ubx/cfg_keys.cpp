@@ -13,7 +13,7 @@ struct MsgOut {
   MessageId id;
   std::uint32_t i2c_key;
 };
-constexpr std::array<MsgOut, 35> kMsgOut = {{
+constexpr std::array<MsgOut, 36> kMsgOut = {{
     {msg::nav_pvt, 0x20910006},      {msg::nav_posllh, 0x20910029},  {msg::nav_velned, 0x20910042},
     {msg::nav_status, 0x2091001A},   {msg::nav_dop, 0x20910038},     {msg::nav_sat, 0x20910015},
     {msg::nav_timeutc, 0x2091005B},  {msg::nav_timegps, 0x20910047}, {msg::nav_cov, 0x20910083},
@@ -29,6 +29,7 @@ constexpr std::array<MsgOut, 35> kMsgOut = {{
     {{0x02, 0x15}, 0x209102A4},      // RXM-RAWX
     {{0x02, 0x32}, 0x20910268},      // RXM-RTCM
     {msg::mon_hw, 0x209101B4},
+    {msg::mon_hw2, 0x209101B9},
     {msg::mon_rf, 0x20910359},
     {{0xF0, 0x00}, 0x209100BA},      // NMEA GGA
     {{0xF0, 0x01}, 0x209100C9},      // GLL

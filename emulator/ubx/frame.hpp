@@ -64,6 +64,7 @@ inline constexpr MessageId cfg_valget{0x06, 0x8B};
 inline constexpr MessageId cfg_valdel{0x06, 0x8C};
 inline constexpr MessageId mon_ver{0x0A, 0x04};
 inline constexpr MessageId mon_hw{0x0A, 0x09};
+inline constexpr MessageId mon_hw2{0x0A, 0x0B};
 inline constexpr MessageId mon_rf{0x0A, 0x38};
 inline constexpr MessageId nmea_class_first{0xF0, 0x00};  ///< NMEA standard sentences: class 0xF0
 }  // namespace msg

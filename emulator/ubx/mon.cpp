@@ -46,6 +46,22 @@ std::string mon_hw(const RfState& rf) {
   return p;
 }
 
+std::string mon_hw2() {
+  std::string p;
+  p.reserve(28);
+  put_i1(p, kOffsetI);
+  put_u1(p, kMagnitudeI);
+  put_i1(p, kOffsetQ);
+  put_u1(p, kMagnitudeQ);
+  put_u1(p, 114);   // cfgSource: 'r', ROM
+  put_zeros(p, 3);  // reserved0
+  put_u4(p, 0);     // lowLevCfg
+  put_zeros(p, 8);  // reserved1
+  put_u4(p, 0);     // postStatus
+  put_zeros(p, 4);  // reserved2
+  return p;
+}
+
 std::string mon_rf(const RfState& rf, ReceiverModel model) {
   const int blocks = dual_band(model) ? 2 : 1;
   std::string p;

@@ -16,10 +16,13 @@ bool outputs(const Settings& s, Port port, std::uint16_t protocol) {
 
 }  // namespace
 
-bool solution_encodes(MessageId id) { return nav_encodes(id) || id == msg::mon_hw || id == msg::mon_rf; }
+bool solution_encodes(MessageId id) {
+  return nav_encodes(id) || id == msg::mon_hw || id == msg::mon_hw2 || id == msg::mon_rf;
+}
 
 std::optional<std::string> solution_payload(MessageId id, const nmea::Fix& fix, const NavExtras& extras) {
   if (id == msg::mon_hw) return mon_hw(extras.rf);
+  if (id == msg::mon_hw2) return mon_hw2();
   if (id == msg::mon_rf) return mon_rf(extras.rf, extras.model);
   return nav_payload(id, fix, extras);
 }

@@ -5,7 +5,7 @@
 // recorded u-blox 8 and F9 streams of gpsd's regression logs; u-blox's interface description of
 // NAV-EOE): append_solution() writes the NAV messages by class, then id (NAV-POSECEF, POSLLH,
 // STATUS, DOP, SOL, PVT, VELECEF, VELNED, HPPOSLLH, TIMEGPS, TIMEUTC, CLOCK, SVINFO, SAT, COV, SIG,
-// then MON-HW, MON-RF), polled messages once more;
+// then MON-HW, MON-HW2, MON-RF), polled messages once more;
 // the caller writes the NMEA sentences after them, then append_end_of_epoch(). Pure.
 #pragma once
 
@@ -22,7 +22,8 @@
 
 namespace gpsemu::ubx {
 
-/// Whether `id` is a message written with a solution: the NAV messages (nav.hpp), MON-HW, MON-RF.
+/// Whether `id` is a message written with a solution: the NAV messages (nav.hpp), MON-HW, MON-HW2,
+/// MON-RF.
 [[nodiscard]] bool solution_encodes(MessageId id);
 /// The payload of solution message `id`, nullopt for a message not encoded.
 [[nodiscard]] std::optional<std::string> solution_payload(MessageId id, const nmea::Fix& fix, const NavExtras& extras);

@@ -1,4 +1,4 @@
-// MON-HW and MON-RF byte for byte from the RF state (fields hand-checked against u-blox's
+// MON-HW, MON-HW2 and MON-RF byte for byte from the RF state (fields hand-checked against u-blox's
 // interface descriptions, M8 protocol 18 and F9 HPG 1.32), and a changed state reaching them.
 #include <gtest/gtest.h>
 
@@ -33,6 +33,11 @@ TEST(UbxMon, RfHasOneBlockPerBand) {
   EXPECT_EQ(hex(mon_rf(RfState{}, ReceiverModel::ublox_f9p)),
             hex(unhex(std::string("00 02 0000 00") + block + "01" + block)));
   EXPECT_EQ(mon_rf(RfState{}, ReceiverModel::ublox_m9n).size(), 4u + 24);
+}
+
+TEST(UbxMon, Hw2IsByteExact) {
+  // ofsI 9, magI 166, ofsQ -5, magQ 162, cfgSource ROM ('r'), reserved, lowLevCfg, reserved, postStatus, reserved
+  EXPECT_EQ(hex(mon_hw2()), "09a6fba2" "72000000" "00000000" "0000000000000000" "00000000" "00000000");
 }
 
 TEST(UbxMon, AJammedShortedFrontEndShowsInBoth) {
