@@ -12,6 +12,7 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kGolden = 0.6180339887498949;  // low-discrepancy spread of base elevations
 constexpr double kSnrWobblePeriodS = 600.0;
+constexpr int kGpsPrns = 32;  // the sky is GPS only: PRNs 1..32
 
 double elevation_deg(double el0, double amp, double period_s, double phase, double t_s) {
   return el0 + amp * std::sin(2.0 * kPi * t_s / period_s + phase);
@@ -20,10 +21,10 @@ double elevation_deg(double el0, double amp, double period_s, double phase, doub
 }  // namespace
 
 Sky::Sky(std::uint64_t seed, int in_view)
-    : in_view_(std::clamp(in_view, 1, static_cast<int>(nmea::max_satellites))) {
+    : in_view_(std::clamp(in_view, 1, kGpsPrns)) {
   noise::Rng rng(seed, kSkyStream);
   // PRNs: a Fisher-Yates shuffle of 1..32; the first in_view are in view.
-  std::array<int, nmea::max_satellites> prns{};
+  std::array<int, kGpsPrns> prns{};
   for (std::size_t i = 0; i < prns.size(); ++i) prns[i] = static_cast<int>(i) + 1;
   for (std::size_t i = prns.size() - 1; i > 0; --i) {
     const auto j = static_cast<std::size_t>(rng.uniform() * static_cast<double>(i + 1));
@@ -70,6 +71,8 @@ void Sky::fill(double since_start_s, int acquired, int used, nmea::Fix& fix) con
                        2.0 * std::sin(2.0 * kPi * since_start_s / kSnrWobblePeriodS + t.snr_phase_rad);
     nmea::SatelliteInView& out = fix.satellites[static_cast<std::size_t>(listed)];
     out.prn = t.prn;
+    out.system = nmea::GnssSystem::gps;
+    out.sv_id = t.prn;
     out.elevation_deg = static_cast<int>(std::lround(el));
     out.azimuth_deg = static_cast<int>(std::lround(az)) % 360;
     out.snr_dbhz = static_cast<int>(std::lround(snr));

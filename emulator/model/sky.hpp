@@ -13,7 +13,7 @@ namespace gpsemu {
 
 class Sky {
  public:
-  /// `in_view` satellites (clamped to 1..nmea::max_satellites) with distinct PRNs from 1..32, their
+  /// `in_view` satellites (clamped to 1..32) with distinct GPS PRNs from 1..32, their
   /// tracks drawn from noise::Rng(seed, kSkyStream). Tracks: elevation el0 + A sin(2 pi t / P + phi)
   /// with el0 15..75 deg, A 4..12 deg, P 3..8 h (at most 0.5 deg a minute, like GPS); azimuth
   /// az0 + w t with az0 spread evenly around the horizon and |w| 0.2..0.5 deg a minute; C/N0

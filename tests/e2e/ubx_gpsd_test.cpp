@@ -325,8 +325,7 @@ TEST(UbxGpsd, SkyFromNavSatListsTheSatellitesWithTheirSystems) {
   }
   std::string systems;
   for (const SkySatellite& s : reported) systems += fmt::format(" {}:{}{}", s.gnss_id, s.sv_id, s.used ? "u" : "");
-  std::cout << fmt::format("gpsd SKY ({} reports): {} satellites (gnssid:svid, u used):{}; NAV-SAT sent {} ({} messages)
-",
+  std::cout << fmt::format("gpsd SKY ({} reports): {} satellites (gnssid:svid, u used):{}; NAV-SAT sent {} ({} messages)\n",
                            run.sky.size(), reported.size(), systems, sent.size(), nav_sats);
   EXPECT_EQ(reported, sent);
   for (const SkySatellite& r : reported) {
