@@ -373,6 +373,46 @@ TEST(UbxGpsd, UbxtoolThroughGpsdPollsMonVerCfgRateAndCfgNav5) {
   EXPECT_EQ(nav5_of(after), (std::pair<int, int>{4, expected.second})) << after;
 }
 
+/// ubxtool's decode of the answer to its poll of `message` (the second "UBX-<message>:" block: the
+/// first is its echo of the poll request), up to the next message.
+std::string decoded_answer(const std::string& ubxtool_output, const std::string& message) {
+  const std::string head = "UBX-" + message + ":\n";
+  const std::size_t request = ubxtool_output.find(head);
+  if (request == std::string::npos) return {};
+  const std::size_t answer = ubxtool_output.find(head, request + head.size());
+  if (answer == std::string::npos) return {};
+  const std::size_t next = ubxtool_output.find("\nUBX-", answer + head.size());
+  return ubxtool_output.substr(answer, next == std::string::npos ? std::string::npos : next - answer);
+}
+
+// ubxtool decodes, independently of gpsemu, the F9P's answers to polls of MON-RF (two blocks, the
+// RF state), NAV-SIG (two bands a GPS satellite), NAV-CLOCK (a bias within +-0.5 ms) and
+// NAV-HPPOSLLH (the high-precision parts), each answered with the next solution.
+TEST(UbxGpsd, UbxtoolDecodesTheF9psMonRfNavSigNavClockAndNavHpposllh) {
+  if (!tools_present()) return;
+  UbxGpsd run("mon", {"--noise", "none", "--rate", "5", "--receiver", "ublox-f9p"}, 30.0);
+  ASSERT_TRUE(run.wait_for_ublox());
+  const std::string rf = decoded_answer(run.ubxtool({"-p", "MON-RF", "-P", "27.31", "-w", "1", "-v", "2"}), "MON-RF");
+  EXPECT_NE(rf.find("nBlocks 2"), std::string::npos) << rf;
+  EXPECT_NE(rf.find("noisePerMS 89 agcCnt 3140 jamInd 9"), std::string::npos) << rf;
+  EXPECT_NE(rf.find("jammingState (OK) antStatus (OK) antPower (On)"), std::string::npos) << rf;
+  const std::string sig = decoded_answer(run.ubxtool({"-p", "NAV-SIG", "-P", "27.31", "-w", "1", "-v", "2"}), "NAV-SIG");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(sig, m, std::regex(R"(numSigs (\d+))"))) << sig;
+  EXPECT_GE(std::stoi(m[1]), 8);
+  EXPECT_EQ(std::stoi(m[1]) % 2, 0) << "GPS only: L1C/A and L2 CL of each satellite";
+  EXPECT_NE(sig.find(":L1C/A)"), std::string::npos) << sig;
+  EXPECT_NE(sig.find(":L2 CL)"), std::string::npos) << sig;
+  const std::string clock = decoded_answer(run.ubxtool({"-p", "NAV-CLOCK", "-P", "27.31", "-w", "1", "-v", "2"}), "NAV-CLOCK");
+  ASSERT_TRUE(std::regex_search(clock, m, std::regex(R"(clkB (-?\d+) clkD (-?\d+) tAcc 20 fAcc 500)"))) << clock;
+  EXPECT_LE(std::abs(std::stol(m[1])), 500'000);
+  EXPECT_LE(std::abs(std::stol(m[2])), 600);
+  const std::string hp = decoded_answer(run.ubxtool({"-p", "NAV-HPPOSLLH", "-P", "27.31", "-w", "1", "-v", "2"}), "NAV-HPPOSLLH");
+  EXPECT_TRUE(std::regex_search(hp, std::regex(R"(lonHp -?\d+ latHp -?\d+ heightHp -?\d+ hMSLHp -?\d+)"))) << hp;
+  EXPECT_NE(hp.find("hAcc 5000 vAcc 7500"), std::string::npos) << hp;  // the floors, 0.1 mm
+  std::cout << rf << sig.substr(0, 200) << "\n" << clock << hp;
+}
+
 // A raw CFG-RATE write (measRate 400 ms) is acknowledged and the solutions follow it: gpsd's
 // TPVs come every 400 ms from then on, on the 400 ms grid.
 TEST(UbxGpsd, RawCfgRateWriteIsAcknowledgedAndTheEpochRateFollows) {
