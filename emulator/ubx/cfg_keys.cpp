@@ -13,7 +13,7 @@ struct MsgOut {
   MessageId id;
   std::uint32_t i2c_key;
 };
-constexpr std::array<MsgOut, 36> kMsgOut = {{
+constexpr std::array<MsgOut, 37> kMsgOut = {{
     {msg::nav_pvt, 0x20910006},      {msg::nav_posllh, 0x20910029},  {msg::nav_velned, 0x20910042},
     {msg::nav_status, 0x2091001A},   {msg::nav_dop, 0x20910038},     {msg::nav_sat, 0x20910015},
     {msg::nav_timeutc, 0x2091005B},  {msg::nav_timegps, 0x20910047}, {msg::nav_cov, 0x20910083},
@@ -21,6 +21,7 @@ constexpr std::array<MsgOut, 36> kMsgOut = {{
     {msg::nav_velecef, 0x2091003D},  // NAV-VELECEF
     {msg::nav_hpposllh, 0x20910033},
     {msg::nav_clock, 0x20910065},
+    {msg::nav_timels, 0x20910060},
     {msg::nav_svin, 0x20910088},
     {msg::nav_relposned, 0x2091008D},
     {msg::nav_sig, 0x20910345},

@@ -75,6 +75,9 @@ inline constexpr std::uint32_t no_fix_speed_accuracy_mm_s = 20000;
 [[nodiscard]] std::string nav_timeutc(const nmea::Fix& fix, const NavExtras& extras);
 /// NAV-TIMEGPS, 16 bytes.
 [[nodiscard]] std::string nav_timegps(const nmea::Fix& fix, const NavExtras& extras);
+/// NAV-TIMELS, 24 bytes (nav_time.cpp): the current leap seconds (18, from GPS) once UTC is
+/// resolved, no change announced; the last event (end of 2016-12-31, GPS week 1929 day 7).
+[[nodiscard]] std::string nav_timels(const nmea::Fix& fix, const NavExtras& extras);
 /// NAV-CLOCK, 20 bytes (NavExtras::clock).
 [[nodiscard]] std::string nav_clock(const nmea::Fix& fix, const NavExtras& extras);
 /// NAV-HPPOSLLH, 36 bytes (F9): NAV-POSLLH's position with the 1e-9 degree and 0.1 mm parts.

@@ -4,8 +4,8 @@
 // messages first, then its NMEA sentences, and ends the epoch with NAV-EOE when that is on (the
 // recorded u-blox 8 and F9 streams of gpsd's regression logs; u-blox's interface description of
 // NAV-EOE): append_solution() writes the NAV messages by class, then id (NAV-POSECEF, POSLLH,
-// STATUS, DOP, SOL, PVT, VELECEF, VELNED, HPPOSLLH, TIMEGPS, TIMEUTC, CLOCK, SVINFO, SAT, COV, SIG,
-// then MON-HW, MON-HW2, MON-RF), polled messages once more;
+// STATUS, DOP, SOL, PVT, VELECEF, VELNED, HPPOSLLH, TIMEGPS, TIMEUTC, CLOCK, TIMELS, SVINFO, SAT, COV,
+// SIG, then MON-HW, MON-HW2, MON-RF), polled messages once more;
 // the caller writes the NMEA sentences after them, then append_end_of_epoch(). Pure.
 #pragma once
 

@@ -386,9 +386,10 @@ std::string decoded_answer(const std::string& ubxtool_output, const std::string&
 }
 
 // ubxtool decodes, independently of gpsemu, the F9P's answers to polls of MON-RF (two blocks, the
-// RF state), NAV-SIG (two bands a GPS satellite), NAV-CLOCK (a bias within +-0.5 ms) and
-// NAV-HPPOSLLH (the high-precision parts), each answered with the next solution.
-TEST(UbxGpsd, UbxtoolDecodesTheF9psMonRfNavSigNavClockAndNavHpposllh) {
+// RF state), NAV-SIG (two bands a GPS satellite), NAV-CLOCK (a bias within +-0.5 ms),
+// NAV-HPPOSLLH (the high-precision parts) and NAV-TIMELS (18 s, valid), each answered with the
+// next solution.
+TEST(UbxGpsd, UbxtoolDecodesTheF9psMonRfNavSigNavClockNavHpposllhAndNavTimels) {
   if (!tools_present()) return;
   UbxGpsd run("mon", {"--noise", "none", "--rate", "5", "--receiver", "ublox-f9p"}, 30.0);
   ASSERT_TRUE(run.wait_for_ublox());
@@ -410,6 +411,9 @@ TEST(UbxGpsd, UbxtoolDecodesTheF9psMonRfNavSigNavClockAndNavHpposllh) {
   const std::string hp = decoded_answer(run.ubxtool({"-p", "NAV-HPPOSLLH", "-P", "27.31", "-w", "1", "-v", "2"}), "NAV-HPPOSLLH");
   EXPECT_TRUE(std::regex_search(hp, std::regex(R"(lonHp -?\d+ latHp -?\d+ heightHp -?\d+ hMSLHp -?\d+)"))) << hp;
   EXPECT_NE(hp.find("hAcc 5000 vAcc 7500"), std::string::npos) << hp;  // the floors, 0.1 mm
+  const std::string ls = decoded_answer(run.ubxtool({"-p", "NAV-TIMELS", "-P", "27.31", "-w", "1", "-v", "2"}), "NAV-TIMELS");
+  EXPECT_NE(ls.find("currLs 18"), std::string::npos) << ls;
+  EXPECT_NE(ls.find("valid (validCurrLs validTimeToLsEvent)"), std::string::npos) << ls;
   std::cout << rf << sig.substr(0, 200) << "\n" << clock << hp;
 }
 

@@ -218,6 +218,18 @@ TEST(UbxNav, ClockIsByteExact) {
   EXPECT_EQ(hex(nav_clock(fixed_fix(), x)), "9828000d" "40e20100" "06ffffff" "14000000" "f4010000");
 }
 
+TEST(UbxNav, TimelsIsByteExact) {
+  // iTOW, version 0, reserved, srcOfCurrLs GPS, currLs 18, srcOfLsChange GPS, lsChange 0,
+  // timeToLsEvent 0, dateOfLsGpsWn 1929, dateOfLsGpsDn 7, reserved, valid (both)
+  EXPECT_EQ(hex(nav_timels(fixed_fix(), fixed_extras())),
+            "9828000d" "00000000" "02120200" "00000000" "8907" "0700" "000000" "03");
+  NavExtras x = fixed_extras();
+  x.time = {true, false, false};
+  const std::string unresolved = nav_timels(fixed_fix(), x);
+  EXPECT_EQ(get_u1(unresolved, 8), 255);  // source unknown
+  EXPECT_EQ(get_u1(unresolved, 23), 0);   // nothing valid
+}
+
 TEST(UbxNav, HpposllhCarriesTheHighPrecisionParts) {
   nmea::Fix f = fixed_fix();
   f.lat_deg = 47.397741912;     // 47397741912e-9 deg: 473977419 and 12
