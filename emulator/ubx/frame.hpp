@@ -44,6 +44,7 @@ inline constexpr MessageId nav_timeutc{0x01, 0x21};
 inline constexpr MessageId nav_clock{0x01, 0x22};
 inline constexpr MessageId nav_timels{0x01, 0x26};
 inline constexpr MessageId nav_svinfo{0x01, 0x30};
+inline constexpr MessageId nav_sbas{0x01, 0x32};
 inline constexpr MessageId nav_sat{0x01, 0x35};
 inline constexpr MessageId nav_cov{0x01, 0x36};
 inline constexpr MessageId nav_svin{0x01, 0x3B};
