@@ -10,8 +10,10 @@ ReceiverOptions receiver_options(const ReceiverSettings& receiver) {
   ReceiverOptions options = receiver.model;
   options.noise_sigma_m = estimate_noise_sigma_m(receiver.noise, receiver.seed);
   options.sky_seed = receiver.seed;
+  // A u-blox port may be asked for NAV-SAT, NAV-SVINFO or NAV-SIG at any time: it always has them.
   options.satellite_details = receiver.format.sentences.contains(nmea::SentenceType::gsa) ||
-                              receiver.format.sentences.contains(nmea::SentenceType::gsv);
+                              receiver.format.sentences.contains(nmea::SentenceType::gsv) ||
+                              receiver.protocol != Protocol::nmea;
   return options;
 }
 

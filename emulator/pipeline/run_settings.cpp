@@ -32,13 +32,14 @@ std::optional<ubx::SessionSettings> ubx_settings(const ReceiverSettings& receive
   }
   s.format = receiver.format;
   s.speed_sigma_mps = 0.1 * std::hypot(options.noise_sigma_m.east_m, options.noise_sigma_m.north_m);
+  s.seed = receiver.seed;
   return s;
 }
 
 // The widest epoch of a receiver's protocols: its NMEA sentences, or the u-blox port's at start.
 std::size_t widest_epoch_bytes(const nmea::FormatOptions& format, const std::optional<ubx::SessionSettings>& ubx) {
   if (!ubx) return worst_case_epoch_bytes(format);
-  return widest_ubx_epoch_bytes(format, ubx::start_settings(ubx->start), ubx->start.port);
+  return widest_ubx_epoch_bytes(format, ubx::start_settings(ubx->start), ubx->start.port, ubx->start.model);
 }
 
 }  // namespace

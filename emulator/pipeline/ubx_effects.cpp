@@ -69,21 +69,22 @@ void change_period(const Channel& channel, ReceiverSchedule& schedule, std::chro
 
 }  // namespace
 
-std::size_t widest_ubx_epoch_bytes(const nmea::FormatOptions& format, const ubx::Settings& settings, ubx::Port port) {
+std::size_t widest_ubx_epoch_bytes(const nmea::FormatOptions& format, const ubx::Settings& settings, ubx::Port port,
+                                   ubx::ReceiverModel model) {
   nmea::FormatOptions nmea_part = format;
   nmea_part.sentences = {};
   for (const nmea::SentenceType type : nmea::all_sentence_types) {
     if (settings.rate(ubx::nmea_message(type), port) > 0) nmea_part.sentences.insert(type);
   }
   const std::size_t nmea_bytes = nmea_part.sentences.empty() ? 0 : worst_case_epoch_bytes(nmea_part);
-  return nmea_bytes + ubx::widest_solution_ubx_bytes(settings, port);
+  return nmea_bytes + ubx::widest_solution_ubx_bytes(settings, port, model);
 }
 
 std::size_t widest_ubx_epoch_bytes(const Channel& channel) {
   const UbxEncoder* ubx = channel.ubx_encoder();
   if (!ubx) return 0;
   const ubx::ConfigMachine& machine = ubx->session().machine();
-  return widest_ubx_epoch_bytes(channel.settings().format, machine.settings(), machine.port());
+  return widest_ubx_epoch_bytes(channel.settings().format, machine.settings(), machine.port(), machine.model());
 }
 
 UbxLine ubx_line_of(const std::vector<std::unique_ptr<transport::Output>>& outputs) {

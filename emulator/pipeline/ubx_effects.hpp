@@ -39,7 +39,7 @@ namespace gpsemu {
 /// The widest epoch of a u-blox port with `settings`: the NMEA sentences on for `port` (written as
 /// `format` says), then the UBX messages on.
 [[nodiscard]] std::size_t widest_ubx_epoch_bytes(const nmea::FormatOptions& format, const ubx::Settings& settings,
-                                                 ubx::Port port);
+                                                 ubx::Port port, ubx::ReceiverModel model);
 /// The widest epoch of `channel`'s u-blox port now (0 for an NMEA channel).
 [[nodiscard]] std::size_t widest_ubx_epoch_bytes(const Channel& channel);
 

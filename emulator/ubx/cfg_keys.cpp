@@ -13,23 +13,25 @@ struct MsgOut {
   MessageId id;
   std::uint32_t i2c_key;
 };
-constexpr std::array<MsgOut, 35> kMsgOut = {{
+constexpr std::array<MsgOut, 37> kMsgOut = {{
     {msg::nav_pvt, 0x20910006},      {msg::nav_posllh, 0x20910029},  {msg::nav_velned, 0x20910042},
     {msg::nav_status, 0x2091001A},   {msg::nav_dop, 0x20910038},     {msg::nav_sat, 0x20910015},
     {msg::nav_timeutc, 0x2091005B},  {msg::nav_timegps, 0x20910047}, {msg::nav_cov, 0x20910083},
     {msg::nav_posecef, 0x20910024},  // NAV-POSECEF
     {msg::nav_velecef, 0x2091003D},  // NAV-VELECEF
-    {{0x01, 0x14}, 0x20910033},      // NAV-HPPOSLLH
-    {{0x01, 0x22}, 0x20910065},      // NAV-CLOCK
-    {{0x01, 0x3B}, 0x20910088},      // NAV-SVIN
-    {{0x01, 0x3C}, 0x2091008D},      // NAV-RELPOSNED
-    {{0x01, 0x43}, 0x20910345},      // NAV-SIG
+    {msg::nav_hpposllh, 0x20910033},
+    {msg::nav_clock, 0x20910065},
+    {msg::nav_timels, 0x20910060},
+    {msg::nav_svin, 0x20910088},
+    {msg::nav_relposned, 0x2091008D},
+    {msg::nav_sig, 0x20910345},
     {msg::nav_eoe, 0x2091015F},      // NAV-EOE
     {{0x02, 0x13}, 0x20910231},      // RXM-SFRBX
     {{0x02, 0x15}, 0x209102A4},      // RXM-RAWX
     {{0x02, 0x32}, 0x20910268},      // RXM-RTCM
-    {{0x0A, 0x09}, 0x209101B4},      // MON-HW
-    {{0x0A, 0x38}, 0x20910359},      // MON-RF
+    {msg::mon_hw, 0x209101B4},
+    {msg::mon_hw2, 0x209101B9},
+    {msg::mon_rf, 0x20910359},
     {{0xF0, 0x00}, 0x209100BA},      // NMEA GGA
     {{0xF0, 0x01}, 0x209100C9},      // GLL
     {{0xF0, 0x02}, 0x209100BF},      // GSA
@@ -99,6 +101,12 @@ std::optional<std::uint32_t> msgout_key(MessageId id, Port port) {
   for (const MsgOut& m : kMsgOut) {
     if (m.id == id) return m.i2c_key + static_cast<std::uint32_t>(port);
   }
+  return std::nullopt;
+}
+
+std::optional<MessageId> msgout_message(std::uint32_t key) {
+  Port port = Port::i2c;
+  if (const auto m = msgout_of_key(key, port)) return m->id;
   return std::nullopt;
 }
 

@@ -37,5 +37,7 @@ inline constexpr std::uint32_t msgout_nmea_gga_i2c = 0x209100BA;
 [[nodiscard]] bool set_key(Settings& s, std::uint32_t key, std::uint64_t value);
 /// The CFG-MSGOUT key of message `id` on `port`, nullopt for a message without one here.
 [[nodiscard]] std::optional<std::uint32_t> msgout_key(MessageId id, Port port);
+/// The message a CFG-MSGOUT key sets the rate of (any port), nullopt for another key.
+[[nodiscard]] std::optional<MessageId> msgout_message(std::uint32_t key);
 
 }  // namespace gpsemu::ubx

@@ -38,10 +38,18 @@ inline constexpr MessageId nav_sol{0x01, 0x06};
 inline constexpr MessageId nav_pvt{0x01, 0x07};
 inline constexpr MessageId nav_velecef{0x01, 0x11};
 inline constexpr MessageId nav_velned{0x01, 0x12};
+inline constexpr MessageId nav_hpposllh{0x01, 0x14};
 inline constexpr MessageId nav_timegps{0x01, 0x20};
 inline constexpr MessageId nav_timeutc{0x01, 0x21};
+inline constexpr MessageId nav_clock{0x01, 0x22};
+inline constexpr MessageId nav_timels{0x01, 0x26};
+inline constexpr MessageId nav_svinfo{0x01, 0x30};
+inline constexpr MessageId nav_sbas{0x01, 0x32};
 inline constexpr MessageId nav_sat{0x01, 0x35};
 inline constexpr MessageId nav_cov{0x01, 0x36};
+inline constexpr MessageId nav_svin{0x01, 0x3B};
+inline constexpr MessageId nav_relposned{0x01, 0x3C};
+inline constexpr MessageId nav_sig{0x01, 0x43};
 inline constexpr MessageId nav_eoe{0x01, 0x61};
 inline constexpr MessageId ack_nak{0x05, 0x00};
 inline constexpr MessageId ack_ack{0x05, 0x01};
@@ -57,6 +65,9 @@ inline constexpr MessageId cfg_valset{0x06, 0x8A};
 inline constexpr MessageId cfg_valget{0x06, 0x8B};
 inline constexpr MessageId cfg_valdel{0x06, 0x8C};
 inline constexpr MessageId mon_ver{0x0A, 0x04};
+inline constexpr MessageId mon_hw{0x0A, 0x09};
+inline constexpr MessageId mon_hw2{0x0A, 0x0B};
+inline constexpr MessageId mon_rf{0x0A, 0x38};
 inline constexpr MessageId nmea_class_first{0xF0, 0x00};  ///< NMEA standard sentences: class 0xF0
 }  // namespace msg
 

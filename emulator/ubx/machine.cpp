@@ -6,13 +6,14 @@
 #include "emulator/ubx/bytes.hpp"
 #include "emulator/ubx/cfg_keys.hpp"
 #include "emulator/ubx/cfg_legacy.hpp"
-#include "emulator/ubx/nav.hpp"
+#include "emulator/ubx/output.hpp"
 #include "emulator/ubx/pubx.hpp"
 
 namespace gpsemu::ubx {
 namespace {
 
 constexpr std::uint8_t kClassNav = 0x01;
+constexpr std::uint8_t kClassMon = 0x0A;
 constexpr std::uint8_t kClassCfg = 0x06;
 constexpr std::size_t kMaxKeys = 64;  // keys in one CFG-VALSET/VALGET
 constexpr std::uint8_t kLayerRam = 0x01;
@@ -77,8 +78,9 @@ void ConfigMachine::handle_frame(const Frame& frame, Answer& answer) {
     }
     return;
   }
-  if (id.msg_class == kClassNav) {
-    if (frame.payload.empty() && nav_encodes(id)) {
+  if (id.msg_class == kClassNav || id.msg_class == kClassMon) {
+    // A poll of a message the model has is answered with the next solution; one it lacks is not.
+    if (frame.payload.empty() && solution_encodes(id) && model_has_message(start_.model, id)) {
       answer.effects.emplace_back(PollOnce{id});
     } else {
       ++stats_.ignored;
@@ -119,6 +121,7 @@ bool ConfigMachine::answer_cfg_poll(const Frame& frame, Answer& answer) {
     const Port port = size == 0 ? start_.port : static_cast<Port>(get_u1(frame.payload, 0));
     append_frame(answer.bytes, id, cfg_prt_payload(settings_, port));
   } else if (id == msg::cfg_msg && size == 2) {
+    if (!model_has_message(start_.model, {get_u1(frame.payload, 0), get_u1(frame.payload, 1)})) return false;
     append_frame(answer.bytes, id, cfg_msg_payload(settings_, {get_u1(frame.payload, 0), get_u1(frame.payload, 1)}));
   } else if (id == msg::cfg_rate && size == 0) {
     append_frame(answer.bytes, id, cfg_rate_payload(settings_));
@@ -138,7 +141,10 @@ bool ConfigMachine::apply_cfg(const Frame& frame) {
   const MessageId id = frame.id;
   const std::string_view p = frame.payload;
   if (id == msg::cfg_prt) return apply_cfg_prt(settings_, p);
-  if (id == msg::cfg_msg) return apply_cfg_msg(settings_, p, start_.port);
+  if (id == msg::cfg_msg) {
+    if (p.size() >= 2 && !model_has_message(start_.model, {get_u1(p, 0), get_u1(p, 1)})) return false;
+    return apply_cfg_msg(settings_, p, start_.port);
+  }
   if (id == msg::cfg_rate) return apply_cfg_rate(settings_, p);
   if (id == msg::cfg_nav5) return apply_cfg_nav5(settings_, p);
   if (id == msg::cfg_gnss) return apply_cfg_gnss(settings_, p);
@@ -165,6 +171,7 @@ bool ConfigMachine::apply_valset(std::string_view p) {
     const std::uint32_t key = get_u4(p, at);
     const std::size_t bytes = key_value_bytes(key);
     if (keys == kMaxKeys || at + 4 > p.size() || bytes == 0 || at + 4 + bytes > p.size()) return false;
+    if (!model_has_key(key)) return false;  // a message key the model does not have
     if (!set_key(next, key, get_le(p, at + 4, static_cast<int>(bytes)))) return false;
     at += 4 + bytes;
   }
@@ -189,7 +196,7 @@ void ConfigMachine::answer_valget(const Frame& frame, Answer& answer) {
   for (std::size_t at = 4; at < p.size(); at += 4) {
     const std::uint32_t key = get_u4(p, at);
     const std::optional<std::uint64_t> value = is_wildcard(key) ? std::nullopt : get_key(source, key);
-    if (!value || key_value_bytes(key) == 0) {
+    if (!value || key_value_bytes(key) == 0 || !model_has_key(key)) {
       ack(frame.id, false, answer);
       return;
     }
@@ -207,6 +214,11 @@ ConfigMachine::Snapshot ConfigMachine::snapshot() const {
   s.rates.reserve(settings_.rates.size());
   for (const auto& [id, rates] : settings_.rates) s.rates.emplace_back(id, rates[static_cast<std::size_t>(start_.port)]);
   return s;
+}
+
+bool ConfigMachine::model_has_key(std::uint32_t key) const {
+  const std::optional<MessageId> id = msgout_message(key);
+  return !id || model_has_message(start_.model, *id);
 }
 
 void ConfigMachine::diff(const Snapshot& before, Answer& answer) const {

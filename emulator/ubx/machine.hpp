@@ -4,6 +4,9 @@
 // current configuration and ACK-ACK; writes change the settings and are answered ACK-ACK, or
 // ACK-NAK (nothing changes) when the receiver would refuse them. MON-VER answers with the model's
 // version; an M8 NAKs the generation-9 CFG-VALSET/VALGET/VALDEL. CFG-RST and $PUBX get no answer.
+// A message the model does not have (model_has_message) is NAKed in CFG-MSG and CFG-VALSET/VALGET
+// and its poll gets no answer; a poll of a NAV or MON message it has is answered (PollOnce) with
+// the next solution.
 #pragma once
 
 #include <chrono>
@@ -97,6 +100,8 @@ class ConfigMachine {
     std::vector<std::pair<MessageId, std::uint8_t>> rates;  ///< by id, every listed message's rate
   };
   [[nodiscard]] Snapshot snapshot() const;
+  /// False for a CFG-MSGOUT key of a message the model does not have.
+  [[nodiscard]] bool model_has_key(std::uint32_t key) const;
   /// Appends the effects of the change from `before` to the current settings.
   void diff(const Snapshot& before, Answer& answer) const;
 

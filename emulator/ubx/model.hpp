@@ -10,6 +10,8 @@
 #include <string_view>
 #include <vector>
 
+#include "emulator/ubx/frame.hpp"
+
 namespace gpsemu::ubx {
 
 enum class ReceiverModel { generic, ublox_m8n, ublox_m9n, ublox_f9p };
@@ -27,6 +29,14 @@ struct ModelInfo {
 [[nodiscard]] const ModelInfo& model_info(ReceiverModel model);
 /// The model named `name` ("ublox-f9p"), nullopt for an unknown name.
 [[nodiscard]] std::optional<ReceiverModel> receiver_model_from_name(std::string_view name);
+/// Whether `model` has message `id` in its interface description: an M8 (protocol 18) has
+/// NAV-SVINFO and NAV-SBAS but no NAV-SIG, MON-RF, NAV-HPPOSLLH, NAV-RELPOSNED or NAV-SVIN; an M9N
+/// has NAV-SIG and MON-RF but none of NAV-SVINFO, NAV-SBAS (both removed in protocol 27),
+/// HPPOSLLH, RELPOSNED, SVIN; an F9P has all but NAV-SVINFO and NAV-SBAS. Any other message: true
+/// (not modelled per model).
+[[nodiscard]] bool model_has_message(ReceiverModel model, MessageId id);
+/// Whether `model` tracks a second band (L2/E5b/B2I): the F9P.
+[[nodiscard]] bool dual_band(ReceiverModel model);
 /// MON-VER's payload for `model`: swVersion[30], hwVersion[10], extension[30] each.
 [[nodiscard]] std::string mon_ver_payload(ReceiverModel model);
 

@@ -56,18 +56,35 @@ Solution solution_of(const nmea::Fix& fix) {
   return s;
 }
 
-double h_acc_m(const nmea::Fix& fix) { return std::hypot(fix.sigma_lat_m, fix.sigma_lon_m); }
+/// The fix's 1-sigma errors, each at least the floor of its quality.
+struct Sigmas {
+  double north_m = 0.0, east_m = 0.0, down_m = 0.0, speed_mps = 0.0;
+};
+Sigmas sigmas_of(const nmea::Fix& fix, double speed_sigma_mps) {
+  const AccuracyFloor floor = accuracy_floor(fix.quality);
+  const double per_axis_m = floor.horizontal_m / std::numbers::sqrt2;
+  return {std::max(fix.sigma_lat_m, per_axis_m), std::max(fix.sigma_lon_m, per_axis_m),
+          std::max(fix.sigma_alt_m, floor.vertical_m), std::max(speed_sigma_mps, floor.speed_mps)};
+}
+double h_acc_m(const nmea::Fix& fix) {
+  const Sigmas s = sigmas_of(fix, 0.0);
+  return std::hypot(s.north_m, s.east_m);
+}
+double v_acc_m(const nmea::Fix& fix) { return sigmas_of(fix, 0.0).down_m; }
+double speed_sigma_mps(const nmea::Fix& fix, const NavExtras& extras) {
+  return sigmas_of(fix, extras.speed_sigma_mps).speed_mps;
+}
 std::uint32_t h_acc_mm(const nmea::Fix& fix) { return fix.has_fix() ? round_u32(h_acc_m(fix) * 1000.0) : no_fix_accuracy_mm; }
-std::uint32_t v_acc_mm(const nmea::Fix& fix) {
-  return fix.has_fix() ? round_u32(fix.sigma_alt_m * 1000.0) : no_fix_accuracy_mm;
-}
+std::uint32_t v_acc_mm(const nmea::Fix& fix) { return fix.has_fix() ? round_u32(v_acc_m(fix) * 1000.0) : no_fix_accuracy_mm; }
 std::uint32_t s_acc_mm_s(const nmea::Fix& fix, const NavExtras& extras) {
-  return fix.has_fix() ? round_u32(extras.speed_sigma_mps * 1000.0) : no_fix_speed_accuracy_mm_s;
+  return fix.has_fix() ? round_u32(speed_sigma_mps(fix, extras) * 1000.0) : no_fix_speed_accuracy_mm_s;
 }
-/// Heading accuracy (degrees): the angle the speed error subtends, 180 when standing still.
+/// Heading accuracy (degrees): the angle the speed error subtends, 180 when standing still;
+/// never below 1e-5 degrees (its unit).
 double head_acc_deg(const nmea::Fix& fix, const NavExtras& extras) {
-  if (!fix.has_fix() || fix.speed_mps <= extras.speed_sigma_mps) return 180.0;
-  return std::min(180.0, std::atan2(extras.speed_sigma_mps, fix.speed_mps) / kDegToRad);
+  const double sigma_mps = speed_sigma_mps(fix, extras);
+  if (!fix.has_fix() || fix.speed_mps <= sigma_mps) return 180.0;
+  return std::clamp(std::atan2(sigma_mps, fix.speed_mps) / kDegToRad, 1e-5, 180.0);
 }
 
 /// North and east velocity (metres per second); 0 without a fix.
@@ -82,9 +99,9 @@ VelocityNed velocity_of(const nmea::Fix& fix) {
 
 std::uint32_t tow_ms(const nmea::Fix& fix) { return gps_time(fix.time_utc).tow_ms; }
 
-/// NAV-STATUS / NAV-SOL flags: gpsFixOK, diffSoln, WKNSET, TOWSET.
-std::uint8_t status_flags(const Solution& s) {
-  return static_cast<std::uint8_t>((s.fix_ok ? 0x01 : 0) | (s.differential ? 0x02 : 0) | 0x0C);
+/// NAV-STATUS / NAV-SOL flags: gpsFixOK, diffSoln, WKNSET, TOWSET (once the time is known).
+std::uint8_t status_flags(const Solution& s, const TimeValidity& time) {
+  return static_cast<std::uint8_t>((s.fix_ok ? 0x01 : 0) | (s.differential ? 0x02 : 0) | (time.valid ? 0x0C : 0));
 }
 
 struct UtcFields {
@@ -135,6 +152,15 @@ Ecef ecef_of(const nmea::Fix& fix) {
 }
 }  // namespace
 
+AccuracyFloor accuracy_floor(nmea::FixQuality quality) {
+  switch (quality) {
+    case nmea::FixQuality::rtk_fixed: return {0.01, 0.015, 0.02};
+    case nmea::FixQuality::rtk_float: return {0.05, 0.075, 0.02};
+    case nmea::FixQuality::dgps: return {0.3, 0.45, 0.05};
+    default: return {0.5, 0.75, 0.05};
+  }
+}
+
 GpsTime gps_time(nmea::UtcTime utc) {
   using namespace std::chrono;
   constexpr sys_days gps_epoch{year{1980} / January / 6};
@@ -152,12 +178,13 @@ std::string nav_pvt(const nmea::Fix& fix, const NavExtras& extras) {
   p.reserve(92);
   put_u4(p, tow_ms(fix));
   put_date_time(p, utc);
-  put_u1(p, 0x07);  // valid: validDate, validTime, fullyResolved
+  // valid: validDate, validTime, fullyResolved
+  put_u1(p, (extras.time.valid ? 0x03u : 0u) | (extras.time.valid && extras.time.resolved ? 0x04u : 0u));
   put_u4(p, fix.has_fix() ? kTimeAccuracyNs : kNoFixTimeAccuracyNs);
   put_i4(p, utc.nano);
   put_u1(p, s.fix_type);
   put_u1(p, (s.fix_ok ? 0x01u : 0u) | (s.differential ? 0x02u : 0u) | (static_cast<unsigned>(s.carrier) << 6));
-  put_u1(p, 0xE0);  // flags2: confirmedAvai, confirmedDate, confirmedTime
+  put_u1(p, 0x20u | (extras.time.confirmed ? 0xC0u : 0u));  // flags2: confirmedAvai, confirmedDate, confirmedTime
   put_u1(p, static_cast<std::uint32_t>(fix.has_fix() ? fix.satellites_used : 0));
   put_llh_position(p, fix);
   put_i4(p, round_i32(v.north_mps * 1000.0));
@@ -204,7 +231,7 @@ std::string nav_status(const nmea::Fix& fix, const NavExtras& extras) {
   std::string p;
   put_u4(p, tow_ms(fix));
   put_u1(p, s.fix_type);
-  put_u1(p, status_flags(s));
+  put_u1(p, status_flags(s, extras.time));
   put_u1(p, (s.differential ? 0x01u : 0u) | (s.carrier != 0 ? 0x02u : 0u));  // fixStat: diffCorr, carrSolnValid
   put_u1(p, static_cast<std::uint32_t>(s.carrier) << 6);                     // flags2: carrSoln
   put_u4(p, static_cast<std::uint32_t>(extras.time_to_first_fix.count()));
@@ -218,7 +245,7 @@ void put_ecef_position(std::string& p, const nmea::Fix& fix) {
   put_i4(p, round_i32(e.x_m * 100.0));
   put_i4(p, round_i32(e.y_m * 100.0));
   put_i4(p, round_i32(e.z_m * 100.0));
-  put_u4(p, fix.has_fix() ? round_u32(std::hypot(h_acc_m(fix), fix.sigma_alt_m) * 100.0) : no_fix_accuracy_mm / 10);
+  put_u4(p, fix.has_fix() ? round_u32(std::hypot(h_acc_m(fix), v_acc_m(fix)) * 100.0) : no_fix_accuracy_mm / 10);
 }
 
 /// The ECEF velocity (cm/s, rotated from NED) and the speed accuracy (cm/s): NAV-SOL's and
@@ -246,7 +273,7 @@ std::string nav_sol(const nmea::Fix& fix, const NavExtras& extras) {
   put_i4(p, 0);  // fTOW: epochs lie on whole milliseconds
   put_i2(p, t.week);
   put_u1(p, s.fix_type);
-  put_u1(p, status_flags(s));
+  put_u1(p, status_flags(s, extras.time));
   put_ecef_position(p, fix);
   put_ecef_velocity(p, fix, extras);
   put_u2(p, fix.has_fix() ? round_u16(fix.pdop * 100.0) : 9999);
@@ -272,11 +299,12 @@ std::string nav_velecef(const nmea::Fix& fix, const NavExtras& extras) {
 
 std::string nav_dop(const nmea::Fix& fix) {
   const bool ok = fix.has_fix();
-  const double tdop = 0.6 * fix.pdop;
+  const double tdop = fix.tdop > 0.0 ? fix.tdop : 0.6 * fix.pdop;
+  const double gdop = fix.gdop > 0.0 ? fix.gdop : std::hypot(fix.pdop, tdop);
   const auto dop = [ok](double value) { return ok ? round_u16(value * 100.0) : 9999u; };
   std::string p;
   put_u4(p, tow_ms(fix));
-  put_u2(p, dop(std::hypot(fix.pdop, tdop)));  // gDOP
+  put_u2(p, dop(gdop));
   put_u2(p, dop(fix.pdop));
   put_u2(p, dop(tdop));
   put_u2(p, dop(fix.vdop));
@@ -286,63 +314,29 @@ std::string nav_dop(const nmea::Fix& fix) {
   return p;
 }
 
-std::string nav_timeutc(const nmea::Fix& fix) {
+std::string nav_timeutc(const nmea::Fix& fix, const NavExtras& extras) {
   const UtcFields utc = utc_fields(fix.time_utc);
   std::string p;
   put_u4(p, tow_ms(fix));
   put_u4(p, fix.has_fix() ? kTimeAccuracyNs : kNoFixTimeAccuracyNs);
   put_i4(p, utc.nano);
   put_date_time(p, utc);
-  put_u1(p, 0x37);  // validTOW, validWKN, validUTC; utcStandard 3 (USNO)
+  // validTOW, validWKN, validUTC; utcStandard 3 (USNO) once UTC is known
+  const bool utc_known = extras.time.valid && extras.time.resolved;
+  put_u1(p, (extras.time.valid ? 0x03u : 0u) | (utc_known ? 0x34u : 0u));
   return p;
 }
 
-std::string nav_timegps(const nmea::Fix& fix) {
+std::string nav_timegps(const nmea::Fix& fix, const NavExtras& extras) {
   const GpsTime t = gps_time(fix.time_utc);
   std::string p;
   put_u4(p, t.tow_ms);
   put_i4(p, 0);  // fTOW
   put_i2(p, t.week);
   put_i1(p, gps_leap_seconds);
-  put_u1(p, 0x07);  // towValid, weekValid, leapSValid
+  // towValid, weekValid, leapSValid
+  put_u1(p, (extras.time.valid ? 0x03u : 0u) | (extras.time.valid && extras.time.resolved ? 0x04u : 0u));
   put_u4(p, fix.has_fix() ? kTimeAccuracyNs : kNoFixTimeAccuracyNs);
-  return p;
-}
-
-std::string nav_sat(const nmea::Fix& fix) {
-  const int count = std::clamp(fix.satellites_in_view, 0, static_cast<int>(nmea::max_satellites));
-  const bool differential = solution_of(fix).differential;
-  std::string p;
-  put_u4(p, tow_ms(fix));
-  put_u1(p, 1);  // version
-  put_u1(p, static_cast<std::uint32_t>(count));
-  put_zeros(p, 2);
-  for (int i = 0; i < count; ++i) {
-    const nmea::SatelliteInView& sat = fix.satellites[static_cast<std::size_t>(i)];
-    std::uint32_t gnss_id = 0;
-    int sv_id = sat.prn;
-    if (sat.prn >= 33 && sat.prn <= 64) {
-      gnss_id = 1;  // SBAS: NMEA 33..64 are PRN 120..151
-      sv_id = sat.prn + 87;
-    } else if (sat.prn >= 65 && sat.prn <= 96) {
-      gnss_id = 6;  // GLONASS: slot = NMEA id - 64
-      sv_id = sat.prn - 64;
-    }
-    const bool tracked = sat.snr_dbhz.has_value();
-    const bool used = sat.used && fix.has_fix();
-    // qualityInd: 7 code and carrier locked (used), 4 code locked, 1 searching.
-    const std::uint32_t quality = used ? 7 : tracked ? 4 : 1;
-    std::uint32_t flags = quality | (used ? 0x08u : 0u) | 0x10u;  // health 1: healthy
-    if (used && differential) flags |= 0x40u;                     // diffCorr
-    if (used) flags |= 0x100u | 0x800u;                           // orbitSource ephemeris, ephAvail
-    put_u1(p, gnss_id);
-    put_u1(p, static_cast<std::uint32_t>(sv_id));
-    put_u1(p, static_cast<std::uint32_t>(sat.snr_dbhz.value_or(0)));
-    put_i1(p, sat.elevation_deg);
-    put_i2(p, sat.azimuth_deg);
-    put_i2(p, 0);  // prRes
-    put_u4(p, flags);
-  }
   return p;
 }
 
@@ -355,11 +349,57 @@ std::string nav_cov(const nmea::Fix& fix, const NavExtras& extras) {
   put_u1(p, ok ? 1u : 0u);  // posCovValid
   put_u1(p, ok ? 1u : 0u);  // velCovValid
   put_zeros(p, 9);
-  for (const float v : {sq(fix.sigma_lat_m), 0.0f, 0.0f, sq(fix.sigma_lon_m), 0.0f, sq(fix.sigma_alt_m)}) {
+  const Sigmas sigma = sigmas_of(fix, extras.speed_sigma_mps);
+  for (const float v : {sq(sigma.north_m), 0.0f, 0.0f, sq(sigma.east_m), 0.0f, sq(sigma.down_m)}) {
     put_r4(p, ok ? v : 0.0f);
   }
-  const float s2 = sq(extras.speed_sigma_mps);
+  const float s2 = sq(sigma.speed_mps);
   for (const float v : {s2, 0.0f, 0.0f, s2, 0.0f, s2}) put_r4(p, ok ? v : 0.0f);
+  return p;
+}
+
+std::string nav_clock(const nmea::Fix& fix, const NavExtras& extras) {
+  std::string p;
+  put_u4(p, tow_ms(fix));
+  put_i4(p, extras.clock.bias_ns);
+  put_i4(p, extras.clock.drift_ns_per_s);
+  put_u4(p, extras.clock.time_accuracy_ns);
+  put_u4(p, extras.clock.frequency_accuracy_ps_per_s);
+  return p;
+}
+
+std::string nav_hpposllh(const nmea::Fix& fix) {
+  const bool ok = fix.has_fix();
+  // A value in units of 1e-7 deg (or mm) and its remainder in 1e-9 deg (0.1 mm), both rounded
+  // toward zero so that they add up: -99..99 (-9..9).
+  const auto split = [](double fine_units, int ratio, std::int32_t& coarse, std::int32_t& rest) {
+    const double total = std::clamp(std::round(fine_units), -9.2e18, 9.2e18);
+    const auto whole = static_cast<std::int64_t>(total);
+    coarse = static_cast<std::int32_t>(std::clamp<std::int64_t>(whole / ratio, INT32_MIN, INT32_MAX));
+    rest = static_cast<std::int32_t>(whole % ratio);
+  };
+  std::int32_t lon = 0, lon_hp = 0, lat = 0, lat_hp = 0, height = 0, height_hp = 0, msl = 0, msl_hp = 0;
+  if (ok && !std::isnan(fix.lat_deg + fix.lon_deg + fix.alt_msl_m + fix.geoid_sep_m)) {
+    split(fix.lon_deg * 1e9, 100, lon, lon_hp);
+    split(fix.lat_deg * 1e9, 100, lat, lat_hp);
+    split((fix.alt_msl_m + fix.geoid_sep_m) * 1e4, 10, height, height_hp);
+    split(fix.alt_msl_m * 1e4, 10, msl, msl_hp);
+  }
+  std::string p;
+  put_u1(p, 0);  // version
+  put_zeros(p, 2);
+  put_u1(p, ok ? 0u : 1u);  // flags: invalidLlh
+  put_u4(p, tow_ms(fix));
+  put_i4(p, lon);
+  put_i4(p, lat);
+  put_i4(p, height);
+  put_i4(p, msl);
+  put_i1(p, lon_hp);
+  put_i1(p, lat_hp);
+  put_i1(p, height_hp);
+  put_i1(p, msl_hp);
+  put_u4(p, ok ? round_u32(h_acc_m(fix) * 1e4) : no_fix_accuracy_mm);  // 0.1 mm
+  put_u4(p, ok ? round_u32(v_acc_m(fix) * 1e4) : no_fix_accuracy_mm);
   return p;
 }
 
@@ -372,7 +412,8 @@ std::string nav_eoe(const nmea::Fix& fix) {
 bool nav_encodes(MessageId id) {
   for (const MessageId m : {msg::nav_pvt, msg::nav_posllh, msg::nav_velned, msg::nav_status, msg::nav_sol,
                             msg::nav_posecef, msg::nav_velecef, msg::nav_dop, msg::nav_timeutc, msg::nav_timegps,
-                            msg::nav_sat, msg::nav_cov, msg::nav_eoe}) {
+                            msg::nav_sat, msg::nav_cov, msg::nav_eoe, msg::nav_clock, msg::nav_hpposllh,
+                            msg::nav_svinfo, msg::nav_sig, msg::nav_timels}) {
     if (m == id) return true;
   }
   return false;
@@ -387,9 +428,14 @@ std::optional<std::string> nav_payload(MessageId id, const nmea::Fix& fix, const
   if (id == msg::nav_posecef) return nav_posecef(fix);
   if (id == msg::nav_velecef) return nav_velecef(fix, extras);
   if (id == msg::nav_dop) return nav_dop(fix);
-  if (id == msg::nav_timeutc) return nav_timeutc(fix);
-  if (id == msg::nav_timegps) return nav_timegps(fix);
+  if (id == msg::nav_timeutc) return nav_timeutc(fix, extras);
+  if (id == msg::nav_timegps) return nav_timegps(fix, extras);
   if (id == msg::nav_sat) return nav_sat(fix);
+  if (id == msg::nav_svinfo) return nav_svinfo(fix);
+  if (id == msg::nav_sig) return nav_sig(fix, extras.model);
+  if (id == msg::nav_clock) return nav_clock(fix, extras);
+  if (id == msg::nav_timels) return nav_timels(fix, extras);
+  if (id == msg::nav_hpposllh) return nav_hpposllh(fix);
   if (id == msg::nav_cov) return nav_cov(fix, extras);
   if (id == msg::nav_eoe) return nav_eoe(fix);
   return std::nullopt;

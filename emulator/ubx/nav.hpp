@@ -4,8 +4,10 @@
 // AP_GPS_UBLOX.h. Pure: a fix and a few receiver values in, payload bytes out.
 //
 // Where the fix is silent: accuracies come from its GST sigmas (hAcc = hypot(sigma_lat,
-// sigma_lon), vAcc = sigma_alt) and NavExtras::speed_sigma_mps; the vertical velocity is 0; time
-// is UTC + gps_leap_seconds; TDOP = 0.6 PDOP (GDOP = hypot(PDOP, TDOP)), NDOP = EDOP = HDOP/sqrt 2.
+// sigma_lon), vAcc = sigma_alt) and NavExtras::speed_sigma_mps, never below the floor of the fix
+// quality (accuracy_floor: no receiver reports 0); the vertical velocity is 0; time is UTC +
+// gps_leap_seconds, its validity flags NavExtras::time's; TDOP and GDOP the fix's, or when it has
+// none (0) TDOP = 0.6 PDOP and GDOP = hypot(PDOP, TDOP); NDOP = EDOP = HDOP/sqrt 2.
 #pragma once
 
 #include <chrono>
@@ -14,6 +16,9 @@
 #include <string>
 
 #include "emulator/ubx/frame.hpp"
+#include "emulator/ubx/model.hpp"
+#include "emulator/ubx/nav_sat.hpp"
+#include "emulator/ubx/receiver_state.hpp"
 #include "nmea/fix.hpp"
 
 namespace gpsemu::ubx {
@@ -33,7 +38,18 @@ struct NavExtras {
   double speed_sigma_mps = 0.0;                  ///< 1-sigma speed error (sAcc), metres per second
   std::chrono::milliseconds since_start{0};      ///< since the receiver started (NAV-STATUS msss)
   std::chrono::milliseconds time_to_first_fix{0};  ///< NAV-STATUS ttff; 0 before the first fix
+  ReceiverModel model = ReceiverModel::generic;  ///< what NAV-SIG lists (bands) and MON-RF's blocks
+  TimeValidity time{};                           ///< how much of the time the receiver knows
+  ClockState clock{};                            ///< NAV-CLOCK
+  RfState rf{};                                  ///< MON-HW, MON-RF
 };
+
+/// The smallest accuracies a receiver reports with a fix of `quality` (1 sigma): horizontal and
+/// vertical position (metres) and speed (metres per second).
+struct AccuracyFloor {
+  double horizontal_m = 0.0, vertical_m = 0.0, speed_mps = 0.0;
+};
+[[nodiscard]] AccuracyFloor accuracy_floor(nmea::FixQuality quality);
 
 /// hAcc/vAcc/sAcc a u-blox reports without a fix (mm, mm, mm/s).
 inline constexpr std::uint32_t no_fix_accuracy_mm = 0xFFFFFFFF;
@@ -56,19 +72,23 @@ inline constexpr std::uint32_t no_fix_speed_accuracy_mm_s = 20000;
 /// NAV-DOP, 18 bytes.
 [[nodiscard]] std::string nav_dop(const nmea::Fix& fix);
 /// NAV-TIMEUTC, 20 bytes.
-[[nodiscard]] std::string nav_timeutc(const nmea::Fix& fix);
+[[nodiscard]] std::string nav_timeutc(const nmea::Fix& fix, const NavExtras& extras);
 /// NAV-TIMEGPS, 16 bytes.
-[[nodiscard]] std::string nav_timegps(const nmea::Fix& fix);
-/// NAV-SAT, 8 + 12 per satellite in view (the GSV satellites; GPS PRNs 1-32, SBAS 33-64,
-/// GLONASS 65-96 mapped to u-blox gnssId/svId).
-[[nodiscard]] std::string nav_sat(const nmea::Fix& fix);
+[[nodiscard]] std::string nav_timegps(const nmea::Fix& fix, const NavExtras& extras);
+/// NAV-TIMELS, 24 bytes (nav_time.cpp): the current leap seconds (18, from GPS) once UTC is
+/// resolved, no change announced; the last event (end of 2016-12-31, GPS week 1929 day 7).
+[[nodiscard]] std::string nav_timels(const nmea::Fix& fix, const NavExtras& extras);
+/// NAV-CLOCK, 20 bytes (NavExtras::clock).
+[[nodiscard]] std::string nav_clock(const nmea::Fix& fix, const NavExtras& extras);
+/// NAV-HPPOSLLH, 36 bytes (F9): NAV-POSLLH's position with the 1e-9 degree and 0.1 mm parts.
+[[nodiscard]] std::string nav_hpposllh(const nmea::Fix& fix);
 /// NAV-COV, 64 bytes (NED covariances from the sigmas; off-diagonal terms 0).
 [[nodiscard]] std::string nav_cov(const nmea::Fix& fix, const NavExtras& extras);
 /// NAV-EOE, 4 bytes (the epoch's iTOW): the end-of-epoch marker (protocol 18+), written after
 /// every other NAV message and the NMEA sentences of the epoch.
 [[nodiscard]] std::string nav_eoe(const nmea::Fix& fix);
 
-/// Whether `id` is one of the NAV messages above.
+/// Whether `id` is one of the NAV messages above or of nav_sat.hpp.
 [[nodiscard]] bool nav_encodes(MessageId id);
 /// The payload of NAV message `id` (one of the above), or nullopt for a message not encoded.
 [[nodiscard]] std::optional<std::string> nav_payload(MessageId id, const nmea::Fix& fix, const NavExtras& extras);

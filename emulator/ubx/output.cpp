@@ -3,6 +3,8 @@
 
 #include <algorithm>
 
+#include "emulator/ubx/mon.hpp"
+
 namespace gpsemu::ubx {
 namespace {
 
@@ -14,11 +16,22 @@ bool outputs(const Settings& s, Port port, std::uint16_t protocol) {
 
 }  // namespace
 
+bool solution_encodes(MessageId id) {
+  return nav_encodes(id) || id == msg::mon_hw || id == msg::mon_hw2 || id == msg::mon_rf;
+}
+
+std::optional<std::string> solution_payload(MessageId id, const nmea::Fix& fix, const NavExtras& extras) {
+  if (id == msg::mon_hw) return mon_hw(extras.rf);
+  if (id == msg::mon_hw2) return mon_hw2();
+  if (id == msg::mon_rf) return mon_rf(extras.rf, extras.model);
+  return nav_payload(id, fix, extras);
+}
+
 std::vector<MessageId> due_messages(const Settings& s, Port port, std::uint64_t solution_index) {
   std::vector<MessageId> ids;
   if (!outputs(s, port, proto_ubx)) return ids;
   for (const auto& [id, rates] : s.rates) {  // a std::map: class, then id order
-    if (due(rates[static_cast<std::size_t>(port)], solution_index) && nav_encodes(id)) {
+    if (due(rates[static_cast<std::size_t>(port)], solution_index) && solution_encodes(id)) {
       ids.push_back(id);
     }
   }
@@ -34,12 +47,18 @@ nmea::SentenceSet due_sentences(const Settings& s, Port port, std::uint64_t solu
   return set;
 }
 
-std::size_t widest_solution_ubx_bytes(const Settings& s, Port port) {
+std::size_t widest_solution_ubx_bytes(const Settings& s, Port port, ReceiverModel model) {
   nmea::Fix widest;
   widest.satellites_in_view = static_cast<int>(nmea::max_satellites);
+  for (nmea::SatelliteInView& sat : widest.satellites) {
+    sat.prn = 1;
+    sat.snr_dbhz = 45;  // every satellite tracked: NAV-SIG lists its signals
+  }
+  NavExtras extras;
+  extras.model = model;
   std::size_t bytes = 0;
   for (const MessageId id : due_messages(s, port, 0)) {
-    bytes += frame_overhead_bytes + nav_payload(id, widest, NavExtras{})->size();
+    bytes += frame_overhead_bytes + solution_payload(id, widest, extras)->size();
   }
   return bytes;
 }
@@ -52,7 +71,7 @@ void append_solution(std::string& out, const Settings& s, Port port, std::uint64
   }
   for (const MessageId id : ids) {
     if (id == msg::nav_eoe) continue;  // append_end_of_epoch()
-    if (const auto payload = nav_payload(id, fix, extras)) append_frame(out, id, *payload);
+    if (const auto payload = solution_payload(id, fix, extras)) append_frame(out, id, *payload);
   }
 }
 

@@ -4,12 +4,14 @@
 // messages first, then its NMEA sentences, and ends the epoch with NAV-EOE when that is on (the
 // recorded u-blox 8 and F9 streams of gpsd's regression logs; u-blox's interface description of
 // NAV-EOE): append_solution() writes the NAV messages by class, then id (NAV-POSECEF, POSLLH,
-// STATUS, DOP, SOL, PVT, VELECEF, VELNED, TIMEGPS, TIMEUTC, SAT, COV), polled messages once more;
+// STATUS, DOP, SOL, PVT, VELECEF, VELNED, HPPOSLLH, TIMEGPS, TIMEUTC, CLOCK, TIMELS, SVINFO, SAT, COV,
+// SIG, then MON-HW, MON-HW2, MON-RF), polled messages once more;
 // the caller writes the NMEA sentences after them, then append_end_of_epoch(). Pure.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -20,13 +22,21 @@
 
 namespace gpsemu::ubx {
 
+/// Whether `id` is a message written with a solution: the NAV messages (nav.hpp), MON-HW, MON-HW2,
+/// MON-RF.
+[[nodiscard]] bool solution_encodes(MessageId id);
+/// The payload of solution message `id`, nullopt for a message not encoded.
+[[nodiscard]] std::optional<std::string> solution_payload(MessageId id, const nmea::Fix& fix, const NavExtras& extras);
+
 /// UBX messages this library encodes that are due with solution `solution_index` (0, 1, ...).
 [[nodiscard]] std::vector<MessageId> due_messages(const Settings& s, Port port, std::uint64_t solution_index);
 /// NMEA sentences gpsemu writes that are due with solution `solution_index`.
 [[nodiscard]] nmea::SentenceSet due_sentences(const Settings& s, Port port, std::uint64_t solution_index);
 /// The most UBX bytes one solution can carry on `port` with these settings (every message that is
-/// on, NAV-SAT with max_satellites): the serial line budget's share of UBX.
-[[nodiscard]] std::size_t widest_solution_ubx_bytes(const Settings& s, Port port);
+/// on, NAV-SAT with max_satellites, NAV-SIG with each of their signals on `model`): the serial
+/// line budget's share of UBX.
+[[nodiscard]] std::size_t widest_solution_ubx_bytes(const Settings& s, Port port,
+                                                    ReceiverModel model = ReceiverModel::generic);
 /// Appends the frames of the due UBX messages but NAV-EOE, then those of `polled` not already
 /// written.
 void append_solution(std::string& out, const Settings& s, Port port, std::uint64_t solution_index,

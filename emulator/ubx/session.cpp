@@ -10,7 +10,8 @@
 
 namespace gpsemu::ubx {
 
-Session::Session(SessionSettings settings) : settings_(std::move(settings)), machine_(settings_.start) {}
+Session::Session(SessionSettings settings)
+    : settings_(std::move(settings)), machine_(settings_.start), state_(settings_.seed) {}
 
 Session::Client& Session::client(ClientId id) {
   if (clients_.size() >= max_clients && clients_.find(id) == clients_.end()) clients_.erase(clients_.begin());
@@ -57,6 +58,7 @@ void Session::handle(Answer answer, Client& c) {
         effects_.erase(same);
         ++stats_.effects_superseded;
       }
+      if (std::holds_alternative<ColdStart>(effect)) state_.restart();
       effects_.push_back(std::move(effect));
     }
     // Rates, sentences and protocols are in the settings append_solution() reads.
@@ -77,12 +79,15 @@ std::vector<Effect> Session::take_effects() { return std::exchange(effects_, std
 
 void Session::append_solution(const nmea::Fix& fix, std::string& out) {
   if (!on_solution_grid(fix.time_utc)) return;
-  if (!first_epoch_) first_epoch_ = fix.time_utc;
+  const ReceiverState::AtSolution now = state_.at(fix);
   NavExtras extras;
   extras.speed_sigma_mps = settings_.speed_sigma_mps;
-  extras.since_start = fix.time_utc - *first_epoch_;
-  if (!time_to_first_fix_ && fix.has_fix()) time_to_first_fix_ = extras.since_start;
-  extras.time_to_first_fix = time_to_first_fix_.value_or(std::chrono::milliseconds{0});
+  extras.since_start = now.since_start;
+  extras.time_to_first_fix = now.time_to_first_fix;
+  extras.model = machine_.model();
+  extras.time = now.time;
+  extras.clock = now.clock;
+  extras.rf = state_.rf();
 
   const Settings& s = machine_.settings();
   const Port port = machine_.port();

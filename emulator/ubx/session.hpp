@@ -2,8 +2,10 @@
 // receiver channel is a thin adapter over it): what the client writes goes in, the answers
 // (ACKs, poll answers) come out at once through take_reply() for the loop to write before the
 // next epoch, the effects the emulator must apply (measurement period, baud, cold start) through
-// take_effects(), and each epoch's bytes (NAV messages, NMEA sentences, then NAV-EOE, as the
-// settings turn them on: output.hpp) through append_solution().
+// take_effects(), and each epoch's bytes (NAV and MON messages, NMEA sentences, then NAV-EOE, as
+// the settings turn them on: output.hpp) through append_solution(). The receiver's own state
+// (run time, TTFF, time validity, clock, RF: receiver_state.hpp) advances with each solution and
+// starts again at a CFG-RST cold start.
 //
 // What waits for the next solution is bounded, as on a u-blox: a NAV poll waits once per message
 // kind (a second poll of a kind already waiting gets the same one answer, counted), and of the
@@ -27,6 +29,7 @@
 
 #include "emulator/ubx/machine.hpp"
 #include "emulator/ubx/nav.hpp"
+#include "emulator/ubx/receiver_state.hpp"
 #include "nmea/fix.hpp"
 
 namespace gpsemu::ubx {
@@ -35,6 +38,7 @@ struct SessionSettings {
   StartSettings start;           ///< model, port, start rate, NMEA sentences and UBX messages on
   nmea::FormatOptions format;    ///< how the NMEA part is written (its sentence set is ignored)
   double speed_sigma_mps = 0.0;  ///< 1-sigma speed error reported as sAcc (metres per second)
+  std::uint64_t seed = 1;        ///< seed of the receiver clock (NAV-CLOCK): the run's --seed
 };
 
 /// One connection to the port (a TCP client, or whoever has the pty or serial line open): its own
@@ -85,6 +89,8 @@ class Session {
   /// NAV polls and effects waiting for the next solution (at most one a kind of each).
   [[nodiscard]] std::size_t polls_waiting() const { return polled_.size(); }
   [[nodiscard]] std::size_t effects_waiting() const { return effects_.size(); }
+  /// The RF front end MON-HW and MON-RF report (a fault may change it).
+  [[nodiscard]] RfState& rf() { return state_.rf(); }
 
  private:
   struct Client {
@@ -103,8 +109,7 @@ class Session {
   std::vector<Effect> effects_;
   std::vector<MessageId> polled_;  ///< one a kind
   std::uint64_t solutions_ = 0;
-  std::optional<nmea::UtcTime> first_epoch_;
-  std::optional<std::chrono::milliseconds> time_to_first_fix_;
+  ReceiverState state_;
 };
 
 }  // namespace gpsemu::ubx

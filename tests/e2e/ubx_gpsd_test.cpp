@@ -4,6 +4,8 @@
 // 10 Hz with eph = NAV-PVT's hAcc, and ubxtool's polls (MON-VER, CFG-RATE, CFG-NAV5), writes
 // (CFG-NAV5 model, raw CFG-RATE, also asking 10 Hz at --rate 1) and generation-9 VALGET/VALSET
 // of CFG-RATE-MEAS are answered and take effect. With nmea+ubx, gpsd read-only (-b, so it leaves NMEA on) reads both parts.
+// gpsd's SKY reports, from the NAV-SAT its driver turns on, list the satellites of the emulator's
+// NAV-SAT with their systems.
 // gpsd or ubxtool missing is a failure, not a skip. Waits are poll() with timeouts.
 #include <gtest/gtest.h>
 
@@ -88,6 +90,7 @@ class UbxGpsd {
           }
         }
         if (j["class"] == "TPV") tpv.push_back(test::tpv_of(j));
+        if (j["class"] == "SKY" && j.contains("satellites")) sky.push_back(j);
       });
       return until();
     });
@@ -122,6 +125,7 @@ class UbxGpsd {
 
   std::string driver;
   std::vector<Tpv> tpv;
+  std::vector<nlohmann::json> sky;  ///< SKY reports with a satellite list
 
  private:
   fs::path dir_;
@@ -271,6 +275,68 @@ TEST(UbxGpsd, EphAndEpvAreTheHAccAndVAccOfNavPvtWhichFollowTheNoiseSigma) {
   EXPECT_NEAR(v_acc_m, kSigmaUp, 0.02 * kSigmaUp);
 }
 
+/// One satellite as NAV-SAT and gpsd's SKY give it.
+struct SkySatellite {
+  int gnss_id = 0, sv_id = 0;
+  bool used = false;
+  double elevation_deg = 0.0, snr_dbhz = 0.0;
+  auto operator<=>(const SkySatellite& o) const { return std::pair(gnss_id, sv_id) <=> std::pair(o.gnss_id, o.sv_id); }
+  bool operator==(const SkySatellite& o) const { return gnss_id == o.gnss_id && sv_id == o.sv_id; }
+};
+
+/// The satellites of the last NAV-SAT in a stream of UBX frames, and how many NAV-SATs there were.
+std::pair<std::set<SkySatellite>, int> last_nav_sat(const std::string& bytes) {
+  std::set<SkySatellite> sats;
+  int messages = 0;
+  ubx::FrameReader reader;
+  for (const ubx::ClientMessage& m : reader.feed(bytes)) {
+    const auto* f = std::get_if<ubx::Frame>(&m);
+    if (f == nullptr || f->id != ubx::msg::nav_sat) continue;
+    ++messages;
+    sats.clear();
+    for (std::size_t i = 0; i < ubx::get_u1(f->payload, 5); ++i) {
+      const std::size_t at = 8 + 12 * i;
+      sats.insert({ubx::get_u1(f->payload, at), ubx::get_u1(f->payload, at + 1), (ubx::get_u4(f->payload, at + 8) & 0x08) != 0,
+                   double(static_cast<std::int8_t>(ubx::get_u1(f->payload, at + 3))), double(ubx::get_u1(f->payload, at + 2))});
+    }
+  }
+  return {sats, messages};
+}
+
+// gpsd's u-blox driver turns NAV-SAT on (every 10th solution; NAV-SVINFO too while it does not
+// know the protocol version: an F9P NAKs that one); its SKY reports list the satellites of the
+// emulator's last NAV-SAT (read from a file copy of the same run) with their gnssid and svid, the
+// used ones marked, elevation and signal as sent.
+TEST(UbxGpsd, SkyFromNavSatListsTheSatellitesWithTheirSystems) {
+  if (!tools_present()) return;
+  Start start;
+  start.file_copy = true;
+  UbxGpsd run("sky", {"--noise", "none", "--rate", "5", "--receiver", "ublox-f9p"}, 10.0, start);
+  run.read_reports(seconds(8), [&] { return run.sky.size() >= 2; });
+  ASSERT_EQ(run.driver, "u-blox");
+  ASSERT_FALSE(run.sky.empty()) << "gpsd sent no SKY with satellites";
+  const auto [sent, nav_sats] = last_nav_sat(test::read_file(run.copy_path()));
+  ASSERT_GE(nav_sats, 1);
+  ASSERT_GE(sent.size(), 4u);
+  std::set<SkySatellite> reported;
+  for (const auto& s : run.sky.back()["satellites"]) {
+    reported.insert({s.value("gnssid", -1), s.value("svid", -1), s.value("used", false), s.value("el", -99.0),
+                     s.value("ss", -1.0)});
+  }
+  std::string systems;
+  for (const SkySatellite& s : reported) systems += fmt::format(" {}:{}{}", s.gnss_id, s.sv_id, s.used ? "u" : "");
+  std::cout << fmt::format("gpsd SKY ({} reports): {} satellites (gnssid:svid, u used):{}; NAV-SAT sent {} ({} messages)\n",
+                           run.sky.size(), reported.size(), systems, sent.size(), nav_sats);
+  EXPECT_EQ(reported, sent);
+  for (const SkySatellite& r : reported) {
+    const auto it = sent.find(r);
+    if (it == sent.end()) continue;
+    EXPECT_EQ(r.used, it->used) << r.gnss_id << ":" << r.sv_id;
+    EXPECT_NEAR(r.elevation_deg, it->elevation_deg, 1.0) << r.gnss_id << ":" << r.sv_id;
+    EXPECT_NEAR(r.snr_dbhz, it->snr_dbhz, 3.0) << r.gnss_id << ":" << r.sv_id;
+  }
+}
+
 /// dynModel and fixMode of ubxtool's CFG-NAV5 decode, or -1, -1.
 std::pair<int, int> nav5_of(const std::string& ubxtool_output) {
   std::smatch m;
@@ -305,6 +371,50 @@ TEST(UbxGpsd, UbxtoolThroughGpsdPollsMonVerCfgRateAndCfgNav5) {
   run.ubxtool_acked({"-p", "MODEL,4", "-P", "27.31", "-w", "1"}, "x24 (NAV5)");  // automotive
   const std::string after = run.ubxtool({"-p", "CFG-NAV5", "-P", "27.31", "-w", "1"});
   EXPECT_EQ(nav5_of(after), (std::pair<int, int>{4, expected.second})) << after;
+}
+
+/// ubxtool's decode of the answer to its poll of `message` (the second "UBX-<message>:" block: the
+/// first is its echo of the poll request), up to the next message.
+std::string decoded_answer(const std::string& ubxtool_output, const std::string& message) {
+  const std::string head = "UBX-" + message + ":\n";
+  const std::size_t request = ubxtool_output.find(head);
+  if (request == std::string::npos) return {};
+  const std::size_t answer = ubxtool_output.find(head, request + head.size());
+  if (answer == std::string::npos) return {};
+  const std::size_t next = ubxtool_output.find("\nUBX-", answer + head.size());
+  return ubxtool_output.substr(answer, next == std::string::npos ? std::string::npos : next - answer);
+}
+
+// ubxtool decodes, independently of gpsemu, the F9P's answers to polls of MON-RF (two blocks, the
+// RF state), NAV-SIG (two bands a GPS satellite), NAV-CLOCK (a bias within +-0.5 ms),
+// NAV-HPPOSLLH (the high-precision parts) and NAV-TIMELS (18 s, valid), each answered with the
+// next solution.
+TEST(UbxGpsd, UbxtoolDecodesTheF9psMonRfNavSigNavClockNavHpposllhAndNavTimels) {
+  if (!tools_present()) return;
+  UbxGpsd run("mon", {"--noise", "none", "--rate", "5", "--receiver", "ublox-f9p"}, 30.0);
+  ASSERT_TRUE(run.wait_for_ublox());
+  const std::string rf = decoded_answer(run.ubxtool({"-p", "MON-RF", "-P", "27.31", "-w", "1", "-v", "2"}), "MON-RF");
+  EXPECT_NE(rf.find("nBlocks 2"), std::string::npos) << rf;
+  EXPECT_NE(rf.find("noisePerMS 89 agcCnt 3140 jamInd 9"), std::string::npos) << rf;
+  EXPECT_NE(rf.find("jammingState (OK) antStatus (OK) antPower (On)"), std::string::npos) << rf;
+  const std::string sig = decoded_answer(run.ubxtool({"-p", "NAV-SIG", "-P", "27.31", "-w", "1", "-v", "2"}), "NAV-SIG");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(sig, m, std::regex(R"(numSigs (\d+))"))) << sig;
+  EXPECT_GE(std::stoi(m[1]), 8);
+  EXPECT_EQ(std::stoi(m[1]) % 2, 0) << "GPS only: L1C/A and L2 CL of each satellite";
+  EXPECT_NE(sig.find(":L1C/A)"), std::string::npos) << sig;
+  EXPECT_NE(sig.find(":L2 CL)"), std::string::npos) << sig;
+  const std::string clock = decoded_answer(run.ubxtool({"-p", "NAV-CLOCK", "-P", "27.31", "-w", "1", "-v", "2"}), "NAV-CLOCK");
+  ASSERT_TRUE(std::regex_search(clock, m, std::regex(R"(clkB (-?\d+) clkD (-?\d+) tAcc 20 fAcc 500)"))) << clock;
+  EXPECT_LE(std::abs(std::stol(m[1])), 500'000);
+  EXPECT_LE(std::abs(std::stol(m[2])), 600);
+  const std::string hp = decoded_answer(run.ubxtool({"-p", "NAV-HPPOSLLH", "-P", "27.31", "-w", "1", "-v", "2"}), "NAV-HPPOSLLH");
+  EXPECT_TRUE(std::regex_search(hp, std::regex(R"(lonHp -?\d+ latHp -?\d+ heightHp -?\d+ hMSLHp -?\d+)"))) << hp;
+  EXPECT_NE(hp.find("hAcc 5000 vAcc 7500"), std::string::npos) << hp;  // the floors, 0.1 mm
+  const std::string ls = decoded_answer(run.ubxtool({"-p", "NAV-TIMELS", "-P", "27.31", "-w", "1", "-v", "2"}), "NAV-TIMELS");
+  EXPECT_NE(ls.find("currLs 18"), std::string::npos) << ls;
+  EXPECT_NE(ls.find("valid (validCurrLs validTimeToLsEvent)"), std::string::npos) << ls;
+  std::cout << rf << sig.substr(0, 200) << "\n" << clock << hp;
 }
 
 // A raw CFG-RATE write (measRate 400 ms) is acknowledged and the solutions follow it: gpsd's

@@ -180,15 +180,24 @@ void fuzz_nav(std::string_view input) {
   fix.pdop = take<double>(input);
   fix.satellites_used = take<std::int8_t>(input);
   fix.satellites_in_view = take<std::int8_t>(input);
-  for (auto& sat : fix.satellites) sat.prn = take<std::uint8_t>(input);
+  for (auto& sat : fix.satellites) {
+    sat.prn = take<std::uint8_t>(input);
+    sat.sv_id = take<std::uint8_t>(input);
+    sat.system = static_cast<nmea::GnssSystem>(take<std::uint8_t>(input) % 7);
+    if (take<std::uint8_t>(input) % 2 == 0) sat.snr_dbhz = take<std::uint8_t>(input);
+  }
   NavExtras extras;
   extras.speed_sigma_mps = take<double>(input);
   const std::pair<MessageId, std::size_t> sizes[] = {{msg::nav_pvt, 92},    {msg::nav_posllh, 28}, {msg::nav_velned, 36},
                                                      {msg::nav_status, 16}, {msg::nav_sol, 52},    {msg::nav_dop, 18},
-                                                     {msg::nav_timeutc, 20}, {msg::nav_timegps, 16}, {msg::nav_cov, 64}};
+                                                     {msg::nav_timeutc, 20}, {msg::nav_timegps, 16}, {msg::nav_cov, 64},
+                                                     {msg::nav_clock, 20},   {msg::nav_hpposllh, 36}};
   for (const auto& [id, bytes] : sizes) GPSEMU_FUZZ_CHECK(nav_payload(id, fix, extras)->size() == bytes);
   const std::size_t sats = nav_sat(fix).size();
   GPSEMU_FUZZ_CHECK(sats >= 8 && (sats - 8) % 12 == 0 && sats <= 8 + 12 * nmea::max_satellites);
+  GPSEMU_FUZZ_CHECK(nav_svinfo(fix).size() == sats);
+  const std::size_t sigs = nav_sig(fix, ReceiverModel::ublox_f9p).size();
+  GPSEMU_FUZZ_CHECK(sigs >= 8 && (sigs - 8) % 16 == 0 && sigs <= 8 + 2 * 16 * nmea::max_satellites);
 }
 
 }  // namespace

@@ -107,7 +107,11 @@ class ArduPilotDriver {
     rate_step(msg::nav_posllh, 1);        // STEP_POSLLH
     rate_step(msg::nav_velned, 1);        // STEP_VELNED
     rate_step(msg::nav_timegps, 5);       // STEP_TIMEGPS
-    EXPECT_TRUE(send(m_, nav_svinfo).frames.empty());  // STEP_POLL_SVINFO: not encoded, no answer
+    {  // STEP_POLL_SVINFO: an M8 answers with the next solution, an F9 (protocol 27+) not at all
+      const auto got = send(m_, nav_svinfo);
+      EXPECT_TRUE(got.frames.empty());
+      EXPECT_EQ(effects_of<PollOnce>(got.effects).size(), f9 ? 0u : 1u);
+    }
     nav_settings_step();                  // STEP_POLL_NAV
     if (f9) {                             // STEP_TMODE (F9 config)
       const auto got = send(m_, msg::cfg_valget, test::valget({tmode_mode}));

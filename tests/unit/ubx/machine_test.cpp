@@ -236,5 +236,34 @@ TEST(UbxMachine, GarbageAndForeignMessagesAreIgnored) {
   EXPECT_EQ(m.stats().ignored, 2u);
 }
 
+// The table of docs/ublox.md: CFG-MSG of each gated message is ACKed by the models that have it
+// and NAKed by the others; a poll of it is answered (with the next solution) only where it exists.
+TEST(UbxMachine, EachModelHasItsMessagesAndNaksTheOthers) {
+  using M = ReceiverModel;
+  struct Row {
+    MessageId id;
+    bool m8n, m9n, f9p;
+  };
+  const Row rows[] = {{msg::nav_svinfo, true, false, false},   {msg::nav_sbas, true, false, false},
+                      {msg::nav_sig, false, true, true},       {msg::mon_rf, false, true, true},
+                      {msg::nav_hpposllh, false, false, true}, {msg::nav_relposned, false, false, true},
+                      {msg::mon_hw, true, true, true},         {msg::nav_clock, true, true, true},
+                      {msg::nav_sat, true, true, true},        {msg::nav_timels, true, true, true}};
+  for (const Row& r : rows) {
+    for (const auto& [model, has] : {std::pair{M::ublox_m8n, r.m8n}, std::pair{M::ublox_m9n, r.m9n},
+                                     std::pair{M::ublox_f9p, r.f9p}, std::pair{M::generic, r.m8n}}) {
+      ConfigMachine m = machine_of(model);
+      const std::string on{char(r.id.msg_class), char(r.id.msg_id), char(1)};
+      EXPECT_EQ(send(m, msg::cfg_msg, on).frames, std::vector<Frame>{has ? ack_of(msg::cfg_msg) : nak_of(msg::cfg_msg)})
+          << model_info(model).name << " " << int(r.id.msg_class) << "/" << int(r.id.msg_id);
+      EXPECT_EQ(m.settings().rate(r.id, Port::uart1), has ? 1 : 0);
+      const auto poll = send(m, r.id);
+      EXPECT_TRUE(poll.frames.empty());
+      const bool encoded = r.id != msg::nav_sbas && r.id != msg::nav_relposned;
+      EXPECT_EQ(effects_of<PollOnce>(poll.effects).size(), has && encoded ? 1u : 0u) << model_info(model).name;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace gpsemu::ubx

@@ -1,7 +1,9 @@
 // NAV messages from a fixed fix, byte for byte (golden frames; decoded independently with
 // gpsd's gpsdecode when they were made: TPV mode 3 at 47.3977419 N 8.5455938 E, altHAE 535.5,
 // altMSL 488, eph 1.0, epv 1.2, speed 5, track 45, eps 0.30; SKY with the three satellites),
-// then the fields that follow the receiver state: no fix, 2-D, DGPS and RTK flags, GPS time.
+// then the fields that follow the receiver state: no fix, 2-D, DGPS and RTK flags, GPS time, the
+// time validity flags of a cold start, the accuracy floors, NAV-CLOCK and NAV-HPPOSLLH byte for
+// byte (hand-checked), the fix's own TDOP and GDOP.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -169,6 +171,85 @@ TEST(UbxNav, SatellitesFollowTheFixAsGsvDoes) {
   EXPECT_EQ(get_u4(p, 20 + 8) & 0x08, 0u);   // PRN 13 not used
   EXPECT_EQ(get_u1(p, 32), 1);               // SBAS gnssId
   EXPECT_EQ(get_u1(p, 33), 120);             // PRN 120
+}
+
+TEST(UbxNav, WithoutTimeNothingIsValidOrConfirmed) {
+  NavExtras x = fixed_extras();
+  nmea::Fix f = fixed_fix();
+  f.quality = nmea::FixQuality::none;
+  x.time = {false, false, false};
+  EXPECT_EQ(get_u1(nav_pvt(f, x), 11), 0x00);       // valid: no date, no time, not resolved
+  EXPECT_EQ(get_u1(nav_pvt(f, x), 22), 0x20);       // flags2: confirmedAvai only
+  EXPECT_EQ(get_u1(nav_timeutc(f, x), 19), 0x00);   // no TOW, WKN, UTC; utcStandard unknown
+  EXPECT_EQ(get_u1(nav_timegps(f, x), 11), 0x00);
+  EXPECT_EQ(get_u1(nav_status(f, x), 5), 0x00);     // neither WKNSET nor TOWSET
+  x.time = {true, false, false};                     // a satellite tracked, no fix yet
+  EXPECT_EQ(get_u1(nav_pvt(f, x), 11), 0x03);
+  EXPECT_EQ(get_u1(nav_timeutc(f, x), 19), 0x03);
+  EXPECT_EQ(get_u1(nav_timegps(f, x), 11), 0x03);
+  EXPECT_EQ(get_u1(nav_status(f, x), 5), 0x0C);
+  x.time = {true, true, false};  // the first fix: UTC resolved, not yet confirmed
+  EXPECT_EQ(get_u1(nav_pvt(fixed_fix(), x), 11), 0x07);
+  EXPECT_EQ(get_u1(nav_pvt(fixed_fix(), x), 22), 0x20);
+  EXPECT_EQ(get_u1(nav_timeutc(fixed_fix(), x), 19), 0x37);
+}
+
+TEST(UbxNav, AccuracyIsNeverZero) {
+  nmea::Fix f = fixed_fix();  // --noise none: every sigma 0
+  f.sigma_lat_m = f.sigma_lon_m = f.sigma_alt_m = 0.0;
+  NavExtras x = fixed_extras();
+  x.speed_sigma_mps = 0.0;
+  const std::string p = nav_pvt(f, x);
+  EXPECT_EQ(get_u4(p, 40), 500u);      // hAcc: the autonomous floor 0.5 m
+  EXPECT_EQ(get_u4(p, 44), 750u);      // vAcc 0.75 m
+  EXPECT_EQ(get_u4(p, 68), 50u);       // sAcc 0.05 m/s
+  EXPECT_EQ(get_u4(p, 72), 57294u);    // headAcc: atan(0.05 / 5) = 0.57294 deg
+  f.quality = nmea::FixQuality::rtk_fixed;
+  EXPECT_EQ(get_u4(nav_pvt(f, x), 40), 10u);  // 1 cm
+  EXPECT_GT(get_u4(nav_posecef(f), 16), 0u);   // pAcc
+  const std::string cov = nav_cov(f, x);
+  EXPECT_GT(get_u4(cov, 16), 0u);  // posCovNN
+}
+
+TEST(UbxNav, ClockIsByteExact) {
+  NavExtras x = fixed_extras();
+  x.clock = {123456, -250, 20, 500};
+  // iTOW, clkB 123456 ns, clkD -250 ns/s, tAcc 20 ns, fAcc 500 ps/s
+  EXPECT_EQ(hex(nav_clock(fixed_fix(), x)), "9828000d" "40e20100" "06ffffff" "14000000" "f4010000");
+}
+
+TEST(UbxNav, TimelsIsByteExact) {
+  // iTOW, version 0, reserved, srcOfCurrLs GPS, currLs 18, srcOfLsChange GPS, lsChange 0,
+  // timeToLsEvent 0, dateOfLsGpsWn 1929, dateOfLsGpsDn 7, reserved, valid (both)
+  EXPECT_EQ(hex(nav_timels(fixed_fix(), fixed_extras())),
+            "9828000d" "00000000" "02120200" "00000000" "8907" "0700" "000000" "03");
+  NavExtras x = fixed_extras();
+  x.time = {true, false, false};
+  const std::string unresolved = nav_timels(fixed_fix(), x);
+  EXPECT_EQ(get_u1(unresolved, 8), 255);  // source unknown
+  EXPECT_EQ(get_u1(unresolved, 23), 0);   // nothing valid
+}
+
+TEST(UbxNav, HpposllhCarriesTheHighPrecisionParts) {
+  nmea::Fix f = fixed_fix();
+  f.lat_deg = 47.397741912;     // 47397741912e-9 deg: 473977419 and 12
+  f.lon_deg = -122.123456789;   // -122123456789e-9: -1221234567 and -89
+  f.alt_msl_m = 488.1237;       // 4881237e-4 m: 488123 mm and 7
+  // version 0, reserved, flags 0 (valid), iTOW, lon, lat, height 535.6237 m, hMSL, lonHp -89,
+  // latHp 12, heightHp 7, hMSLHp 7, hAcc 1.0 m and vAcc 1.2 m in 0.1 mm.
+  EXPECT_EQ(hex(nav_hpposllh(f)), "00000000" "9828000d" "797035b7" "4b52401c" "472c0800" "bb720700"
+                                  "a70c0707" "10270000" "e02e0000");
+  f.quality = nmea::FixQuality::none;
+  EXPECT_EQ(get_u1(nav_hpposllh(f), 3), 1);  // invalidLlh
+}
+
+TEST(UbxNav, DopUsesTheFixsTdopAndGdopWhenItHasThem) {
+  nmea::Fix f = fixed_fix();
+  f.tdop = 0.8;
+  f.gdop = 1.9;
+  const std::string p = nav_dop(f);
+  EXPECT_EQ(get_u2(p, 4), 190);  // gDOP
+  EXPECT_EQ(get_u2(p, 8), 80);   // tDOP
 }
 
 }  // namespace

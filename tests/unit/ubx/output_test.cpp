@@ -34,10 +34,11 @@ TEST(UbxOutput, RatesAndOrderFollowTheClientsConfiguration) {
   (void)send(m, msg::cfg_msg, unhex("0121 05"));  // NAV-TIMEUTC every 5th solution
   (void)send(m, msg::cfg_msg, unhex("0102 01"));  // NAV-POSLLH every solution
   (void)send(m, msg::cfg_msg, unhex("f003 00"));  // GSV off
-  (void)send(m, msg::cfg_msg, unhex("0a09 01"));  // MON-HW: not encoded, never written
-  const std::vector<MessageId> first = {msg::nav_posllh, msg::nav_pvt, msg::nav_timeutc};
+  (void)send(m, msg::cfg_msg, unhex("0a09 01"));  // MON-HW: after the NAV messages
+  (void)send(m, msg::cfg_msg, unhex("0215 01"));  // RXM-RAWX: not encoded, never written
+  const std::vector<MessageId> first = {msg::nav_posllh, msg::nav_pvt, msg::nav_timeutc, msg::mon_hw};
   EXPECT_EQ(due_messages(m.settings(), Port::uart1, 0), first);
-  const std::vector<MessageId> second = {msg::nav_posllh, msg::nav_pvt};
+  const std::vector<MessageId> second = {msg::nav_posllh, msg::nav_pvt, msg::mon_hw};
   EXPECT_EQ(due_messages(m.settings(), Port::uart1, 1), second);
   EXPECT_FALSE(due_sentences(m.settings(), Port::uart1, 0).contains(nmea::SentenceType::gsv));
   EXPECT_TRUE(due_sentences(m.settings(), Port::uart1, 0).contains(nmea::SentenceType::gga));

@@ -3,13 +3,20 @@
 // the state machine: an F9P takes the CFG-VALSET path, an M8N NAKs the first VALSET and gets the
 // classic CFG-PRT / CFG-RATE / CFG-NAV5 / CFG-MSG path. Every step PX4 waits for is answered
 // within the same call (PX4 waits UBX_CONFIG_TIMEOUT = 250 ms, 2 s for the first VALSET: the
-// loop must flush the answer before the next epoch), and the resulting rates are PX4's.
+// loop must flush the answer before the next epoch), and the resulting rates are PX4's. Then the
+// same bytes configure a u-blox port (ubx::Session) whose solutions a reader of PX4's fields
+// (written here from u-blox's descriptions and PX4's ubx.cpp semantics) decodes: satellite_info
+// from NAV-SAT (F9P) or NAV-SVINFO (M8N) lists the sky's satellites of every system, and the
+// noise, AGC and jamming fields of sensor_gps come from MON-RF (F9P) or MON-HW (M8N).
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "emulator/ubx/cfg_keys.hpp"
 #include "emulator/ubx/machine.hpp"
+#include "emulator/ubx/session.hpp"
 #include "tests/support/ubx_frames.hpp"
 
 namespace gpsemu::ubx {
@@ -19,8 +26,15 @@ using namespace std::chrono_literals;
 using test::ack_of;
 using test::effects_of;
 using test::nak_of;
-using test::send;
 using test::valset;
+
+std::string g_written;  // every frame the driver wrote, in order
+
+/// PX4 writes a frame; the machine answers.
+test::Exchange send(ConfigMachine& m, MessageId id, std::string_view payload = {}) {
+  g_written += frame_bytes(id, payload);
+  return test::send(m, id, payload);
+}
 
 // PX4's keys (src/ubx.h).
 constexpr std::uint32_t uart1_stopbits = 0x20520002, uart1_databits = 0x20520003, uart1_parity = 0x20520004;
@@ -39,6 +53,7 @@ constexpr std::uint32_t i2cinprot_ubx = 0x10710001, i2cinprot_nmea = 0x10710002,
 constexpr std::uint8_t uart1 = 1, usb = 3;  // cfgValsetPort() writes UART1 (+1) and USB (+3)
 
 ConfigMachine machine_of(ReceiverModel model) {
+  g_written.clear();
   StartSettings start;
   start.model = model;
   start.baud = 38400;  // the first baud PX4 tries
@@ -69,6 +84,95 @@ std::string cfg_prt_pair(std::uint32_t baud) {
 std::string cfg_msg_3(MessageId id, std::uint8_t rate) {
   return std::string{static_cast<char>(id.msg_class), static_cast<char>(id.msg_id), static_cast<char>(rate)};
 }
+
+/// What PX4's GPSDriverUBX keeps of a u-blox stream: satellite_info (svid in NAV-SVINFO's
+/// numbering, used, snr, elevation, azimuth) and sensor_gps's noise_per_ms,
+/// automatic_gain_control, jamming_indicator and jamming_state.
+struct Px4Satellite {
+  int svid = 0, used = 0, snr = 0, elevation = 0, azimuth = 0;
+  friend bool operator==(const Px4Satellite&, const Px4Satellite&) = default;
+};
+struct Px4View {
+  std::vector<Px4Satellite> satellites;
+  int satellite_messages = 0;
+  std::optional<int> noise_per_ms, automatic_gain_control, jamming_indicator, jamming_state;
+};
+
+/// gnssId/svId -> NAV-SVINFO's svid (u-blox 8 numbering), as PX4 converts NAV-SAT.
+int svinfo_number(int gnss_id, int sv_id) {
+  switch (gnss_id) {
+    case 0: return sv_id;
+    case 1: return sv_id;
+    case 2: return sv_id + 210;
+    case 3: return sv_id <= 5 ? sv_id + 158 : sv_id + 27;
+    case 5: return sv_id + 192;
+    case 6: return sv_id + 64;
+    default: return 255;
+  }
+}
+
+Px4View read_like_px4(std::string_view bytes) {
+  Px4View v;
+  for (const Frame& f : test::frames_in(bytes)) {
+    const std::string_view p = f.payload;
+    if (f.id == MessageId{0x01, 0x35} && p.size() >= 8 && (p.size() - 8) % 12 == 0) {  // NAV-SAT
+      ++v.satellite_messages;
+      v.satellites.clear();
+      for (std::size_t i = 0; i < get_u1(p, 5); ++i) {
+        const std::size_t at = 8 + 12 * i;
+        v.satellites.push_back({svinfo_number(get_u1(p, at), get_u1(p, at + 1)), int((get_u4(p, at + 8) >> 3) & 1),
+                                get_u1(p, at + 2), static_cast<std::int8_t>(get_u1(p, at + 3)),
+                                static_cast<std::int16_t>(get_u2(p, at + 4))});
+      }
+    } else if (f.id == MessageId{0x01, 0x30} && p.size() >= 8 && (p.size() - 8) % 12 == 0) {  // NAV-SVINFO
+      ++v.satellite_messages;
+      v.satellites.clear();
+      for (std::size_t i = 0; i < get_u1(p, 4); ++i) {
+        const std::size_t at = 8 + 12 * i;
+        v.satellites.push_back({get_u1(p, at + 1), get_u1(p, at + 2) & 1, get_u1(p, at + 4),
+                                static_cast<std::int8_t>(get_u1(p, at + 5)), static_cast<std::int16_t>(get_u2(p, at + 6))});
+      }
+    } else if (f.id == MessageId{0x0A, 0x09} && p.size() == 60) {  // MON-HW, u-blox 7+ layout
+      v.noise_per_ms = get_u2(p, 16);
+      v.automatic_gain_control = get_u2(p, 18);
+      v.jamming_indicator = get_u1(p, 45);
+    } else if (f.id == MessageId{0x0A, 0x38} && p.size() >= 28 && (p.size() - 4) % 24 == 0) {  // MON-RF block 0
+      v.noise_per_ms = get_u2(p, 4 + 12);
+      v.jamming_indicator = get_u1(p, 4 + 16);
+      v.jamming_state = get_u1(p, 4 + 1);
+    }
+  }
+  return v;
+}
+
+/// A second of solutions at 5 Hz from a u-blox port configured by what the driver wrote: a sky of
+/// GPS 5 and 13, GLONASS slot 2 and Galileo 11, all but GPS 13 used.
+std::string solutions_after_configuration(ReceiverModel model) {
+  SessionSettings settings;
+  settings.start.model = model;
+  settings.start.baud = 38400;
+  Session session(settings);
+  session.client_wrote(g_written);
+  (void)session.take_reply();
+  nmea::Fix fix;
+  fix.quality = nmea::FixQuality::gps;
+  fix.dimension = nmea::FixDimension::three_d;
+  fix.satellites_used = 3;
+  fix.satellites_in_view = 4;
+  fix.satellites[0] = {5, 45, 120, 42, true, nmea::GnssSystem::gps, 5};
+  fix.satellites[1] = {13, 10, 300, 30, false, nmea::GnssSystem::gps, 13};
+  fix.satellites[2] = {66, 33, 45, 39, true, nmea::GnssSystem::glonass, 2};
+  fix.satellites[3] = {11, 60, 10, 47, true, nmea::GnssSystem::galileo, 11};
+  std::string out;
+  for (int k = 0; k < 5; ++k) {
+    fix.time_utc = std::chrono::sys_days{std::chrono::year{2026} / 11 / 24} + std::chrono::hours{12} + k * 200ms;
+    session.append_solution(fix, out);
+  }
+  return out;
+}
+
+const std::vector<Px4Satellite> px4_sky = {{5, 1, 42, 45, 120}, {13, 0, 30, 10, 300}, {66, 1, 39, 33, 45},
+                                           {221, 1, 47, 60, 10}};
 
 TEST(UbxPx4Sequence, F9pAnswersTheValsetPathAndEndsUbxOnlyAt5HzAnd115200) {
   ConfigMachine m = machine_of(ReceiverModel::ublox_f9p);
@@ -131,6 +235,13 @@ TEST(UbxPx4Sequence, F9pAnswersTheValsetPathAndEndsUbxOnlyAt5HzAnd115200) {
   EXPECT_EQ(s.rate(msg::nav_sat, Port::uart1), 10);
   EXPECT_EQ(s.rate(msg::nav_posllh, Port::uart1), 0);
   EXPECT_EQ(m.stats().naks, 0u);
+
+  const Px4View px4 = read_like_px4(solutions_after_configuration(ReceiverModel::ublox_f9p));
+  EXPECT_EQ(px4.satellite_messages, 1);  // NAV-SAT every 10th solution
+  EXPECT_EQ(px4.satellites, px4_sky);
+  EXPECT_EQ(px4.noise_per_ms, 89);       // MON-RF every solution
+  EXPECT_EQ(px4.jamming_indicator, 9);
+  EXPECT_EQ(px4.jamming_state, 1);       // ok
 }
 
 TEST(UbxPx4Sequence, M8nNaksValsetAndAnswersTheClassicPathEndingAt5HzAnd115200) {
@@ -180,6 +291,13 @@ TEST(UbxPx4Sequence, M8nNaksValsetAndAnswersTheClassicPathEndingAt5HzAnd115200) 
   EXPECT_EQ(s.rate(msg::nav_status, Port::uart1), 1);
   EXPECT_EQ(s.rate(msg::nav_dop, Port::uart1), 1);
   EXPECT_EQ(m.stats().naks, 1u);
+
+  const Px4View px4 = read_like_px4(solutions_after_configuration(ReceiverModel::ublox_m8n));
+  EXPECT_EQ(px4.satellite_messages, 1);  // NAV-SVINFO every 5th solution
+  EXPECT_EQ(px4.satellites, px4_sky);
+  EXPECT_EQ(px4.noise_per_ms, 89);       // MON-HW every solution
+  EXPECT_EQ(px4.automatic_gain_control, 3140);
+  EXPECT_EQ(px4.jamming_indicator, 9);
 }
 
 }  // namespace

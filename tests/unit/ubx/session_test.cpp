@@ -2,7 +2,9 @@
 // off answers at once (before any epoch), then writes only NAV-PVT frames on the 200 ms grid of
 // a 10 Hz epoch stream; polls are answered with the next solution; a baud change and a cold
 // reset reach the caller as effects; NAV-STATUS counts time to first fix; an epoch is its NAV
-// messages, its NMEA sentences, then NAV-EOE.
+// messages, its NMEA sentences, then NAV-EOE. Each model writes and answers the messages it has
+// (M8: NAV-SVINFO, MON-HW; M9/F9: NAV-SIG, MON-RF; F9: NAV-HPPOSLLH) and NAKs the others; a cold
+// reset starts the receiver's run time again.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -218,6 +220,85 @@ TEST(UbxSession, PollsAndEffectsWaitingForASolutionAreBoundedAndCounted) {
   EXPECT_EQ(pvt, 1u);
   EXPECT_EQ(dop, 1u);
   EXPECT_EQ(session.polls_waiting(), 0u);
+}
+
+SessionSettings model_session(ReceiverModel model) {
+  SessionSettings s;
+  s.start.model = model;
+  s.start.sentences = {};
+  return s;
+}
+
+std::vector<MessageId> ids_of(const std::string& bytes) {
+  std::vector<MessageId> ids;
+  for (const Frame& f : frames_in(bytes)) ids.push_back(f.id);
+  return ids;
+}
+
+std::string cfg_msg(MessageId id, std::uint8_t rate) {
+  return frame_bytes(msg::cfg_msg, std::string{char(id.msg_class), char(id.msg_id), char(rate)});
+}
+
+TEST(UbxSession, M8WritesSvinfoAndMonHwAndNaksWhatItLacks) {
+  Session session(model_session(ReceiverModel::ublox_m8n));
+  for (const MessageId id : {msg::nav_svinfo, msg::mon_hw, msg::nav_clock, msg::nav_sig, msg::mon_rf, msg::nav_hpposllh}) {
+    session.client_wrote(cfg_msg(id, 1));
+  }
+  const auto reply = frames_in(session.take_reply());
+  ASSERT_EQ(reply.size(), 6u);
+  for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(reply[i], test::ack_of(msg::cfg_msg)) << i;
+  for (std::size_t i = 3; i < 6; ++i) EXPECT_EQ(reply[i], test::nak_of(msg::cfg_msg)) << i;
+  session.client_wrote(frame_bytes(msg::mon_rf, "") + frame_bytes(msg::nav_sig, ""));  // polls: no answer
+  std::string out;
+  session.append_solution(fix_at(hours{12}), out);
+  EXPECT_EQ(ids_of(out), (std::vector<MessageId>{msg::nav_clock, msg::nav_svinfo, msg::mon_hw}));
+}
+
+TEST(UbxSession, F9pWritesSigRfHpposllhAndNaksSvinfo) {
+  Session session(model_session(ReceiverModel::ublox_f9p));
+  constexpr std::uint32_t uart1 = 1;
+  session.client_wrote(frame_bytes(msg::cfg_valset, valset({{*msgout_key(msg::nav_sig, Port::i2c) + uart1, 1},
+                                                             {*msgout_key(msg::mon_rf, Port::i2c) + uart1, 1},
+                                                             {*msgout_key(msg::nav_hpposllh, Port::i2c) + uart1, 1}})));
+  session.client_wrote(cfg_msg(msg::nav_svinfo, 1));
+  session.client_wrote(frame_bytes(msg::nav_svinfo, "") + frame_bytes(msg::mon_hw, ""));  // SVINFO: no answer
+  const auto reply = frames_in(session.take_reply());
+  ASSERT_EQ(reply.size(), 2u);
+  EXPECT_EQ(reply[0], test::ack_of(msg::cfg_valset));
+  EXPECT_EQ(reply[1], test::nak_of(msg::cfg_msg));
+  std::string out;
+  session.append_solution(fix_at(hours{12}), out);
+  // The messages on, by class and id, then the polled MON-HW.
+  EXPECT_EQ(ids_of(out), (std::vector<MessageId>{msg::nav_hpposllh, msg::nav_sig, msg::mon_rf, msg::mon_hw}));
+}
+
+TEST(UbxSession, M9nNaksTheHighPrecisionKeys) {
+  StartSettings start;
+  start.model = ReceiverModel::ublox_m9n;
+  ConfigMachine m(start);
+  const std::uint32_t hpposllh_uart1 = *msgout_key(msg::nav_hpposllh, Port::uart1);
+  EXPECT_EQ(test::send(m, msg::cfg_valset, valset({{key::msgout_nav_pvt_i2c + 1, 1}, {hpposllh_uart1, 1}})).frames,
+            std::vector<Frame>{test::nak_of(msg::cfg_valset)});
+  EXPECT_EQ(m.settings().rate(msg::nav_pvt, Port::i2c), 0);  // nothing of the refused VALSET applied
+  EXPECT_EQ(test::send(m, msg::cfg_valget, test::valget({hpposllh_uart1})).frames,
+            std::vector<Frame>{test::nak_of(msg::cfg_valget)});
+  EXPECT_EQ(test::send(m, msg::cfg_valset, valset({{*msgout_key(msg::nav_sig, Port::uart1), 1}})).frames,
+            std::vector<Frame>{test::ack_of(msg::cfg_valset)});
+}
+
+TEST(UbxSession, ColdResetStartsTheRunTimeAgain) {
+  Session session(f9p_nmea_only());
+  session.client_wrote(frame_bytes(msg::cfg_msg, test::unhex("0103 01")));
+  std::string out;
+  session.append_solution(fix_at(hours{12}), out);
+  EXPECT_EQ(get_u4(frames_in(out).at(0).payload, 12), 1000u);  // hot: on a second before
+  session.client_wrote(frame_bytes(msg::cfg_rst, test::unhex("ffff 0200")));
+  out.clear();
+  session.append_solution(fix_at(hours{12} + milliseconds{100}, false), out);
+  const std::string status = frames_in(out).at(0).payload;
+  EXPECT_EQ(get_u4(status, 12), 0u);  // msss
+  EXPECT_EQ(get_u4(status, 8), 0u);   // no fix since the reset
+  EXPECT_EQ(get_u1(status, 5) & 0x0C, 0);  // no time
 }
 
 }  // namespace
