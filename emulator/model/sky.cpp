@@ -29,8 +29,9 @@ int system_rank(nmea::GnssSystem s) {
   return 6;
 }
 
-/// NMEA 4.1 satellite ID of a satellite (u-blox's numbering in NMEA 4.1 mode): GPS 1-32, SBAS
-/// 33-64 (PRN - 87), GLONASS 65-96 (slot + 64), Galileo 1-36, BeiDou 1-63, QZSS 1-10.
+/// NMEA 4.11 satellite ID of a satellite (u-blox's numbering in NMEA 4.11 mode, each system under
+/// its own GSV talker): GPS 1-32, SBAS 33-64 (PRN - 87), GLONASS 65-96 (slot + 64), Galileo 1-36,
+/// BeiDou 1-63, QZSS 1-10.
 int nmea_id(const sky::SatelliteId& id) {
   switch (id.system) {
     case nmea::GnssSystem::sbas: return id.sv_id - 87;
