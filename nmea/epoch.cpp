@@ -1,4 +1,5 @@
 // One epoch's sentences in receiver order (table-driven dispatch by SentenceType).
+#include <algorithm>
 #include <array>
 #include <string>
 
@@ -20,7 +21,46 @@ std::string format_sentences(SentenceType type, const Fix& fix, const FormatOpti
   return formatters[static_cast<std::size_t>(type)](fix, options);
 }
 
-void append_epoch(const Fix& fix, const FormatOptions& options, std::string& out) {
+namespace {
+
+bool same_satellite(const SatelliteInView& a, const SatelliteInView& b) {
+  return a.prn == b.prn && a.elevation_deg == b.elevation_deg && a.azimuth_deg == b.azimuth_deg &&
+         a.snr_dbhz == b.snr_dbhz && a.used == b.used && a.system == b.system && a.sv_id == b.sv_id;
+}
+
+/// Brings `memo` up to date with `fix`: what is still valid stays, the rest is formatted again.
+void refresh(const Fix& fix, const FormatOptions& options, SatelliteTextMemo& memo) {
+  const int n = std::clamp(fix.satellites_in_view, 0, static_cast<int>(max_satellites));
+  bool same = memo.in_view == n;
+  for (int i = 0; same && i < n; ++i) same = same_satellite(memo.satellites[static_cast<std::size_t>(i)], fix.satellites[static_cast<std::size_t>(i)]);
+  if (!same) {
+    memo.gsv_valid = memo.gsa_valid = false;
+    memo.in_view = n;
+    std::copy_n(fix.satellites.begin(), n, memo.satellites.begin());
+  }
+  if (memo.quality != fix.quality || memo.dimension != fix.dimension || memo.pdop != fix.pdop || memo.hdop != fix.hdop ||
+      memo.vdop != fix.vdop) {
+    memo.gsa_valid = false;
+    memo.quality = fix.quality;
+    memo.dimension = fix.dimension;
+    memo.pdop = fix.pdop;
+    memo.hdop = fix.hdop;
+    memo.vdop = fix.vdop;
+  }
+  if (!memo.gsv_valid && options.sentences.contains(SentenceType::gsv)) {
+    memo.gsv.clear();
+    append_gsv(fix, options, memo.gsv);
+    memo.gsv_valid = true;
+  }
+  if (!memo.gsa_valid && options.sentences.contains(SentenceType::gsa)) {
+    memo.gsa.clear();
+    append_gsa(fix, options, memo.gsa);
+    memo.gsa_valid = true;
+  }
+}
+
+void append_epoch_with(const Fix& fix, const FormatOptions& options, std::string& out, SatelliteTextMemo* memo) {
+  if (memo) refresh(fix, options, *memo);
   // GGA and RMC share the time and position fields: formatted once, written straight into `out`.
   const bool with_gga = options.sentences.contains(SentenceType::gga);
   const bool with_rmc = options.sentences.contains(SentenceType::rmc);
@@ -29,11 +69,21 @@ void append_epoch(const Fix& fix, const FormatOptions& options, std::string& out
     switch (type) {
       case SentenceType::gga: append_gga(fix, options, fields, out); break;
       case SentenceType::rmc: append_rmc(fix, options, fields, out); break;
-      case SentenceType::gsa: append_gsa(fix, options, out); break;
-      case SentenceType::gsv: append_gsv(fix, options, out); break;
+      case SentenceType::gsa: memo ? void(out += memo->gsa) : append_gsa(fix, options, out); break;
+      case SentenceType::gsv: memo ? void(out += memo->gsv) : append_gsv(fix, options, out); break;
       default: out += format_sentences(type, fix, options); break;
     }
   });
+}
+
+}  // namespace
+
+void append_epoch(const Fix& fix, const FormatOptions& options, std::string& out) {
+  append_epoch_with(fix, options, out, nullptr);
+}
+
+void append_epoch(const Fix& fix, const FormatOptions& options, std::string& out, SatelliteTextMemo& memo) {
+  append_epoch_with(fix, options, out, &memo);
 }
 
 }  // namespace gpsemu::nmea

@@ -74,6 +74,10 @@ struct Fix {
   std::array<SatelliteInView, max_satellites> satellites{};
   int satellites_in_view = 0;  ///< valid entries of `satellites`, 0..max_satellites
 
+  /// False while the receiver does not know the time (a cold start before its first satellite):
+  /// time and date fields are written empty, as a u-blox does.
+  bool time_valid = true;
+
   [[nodiscard]] bool has_fix() const { return quality != FixQuality::none; }
 };
 

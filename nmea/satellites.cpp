@@ -99,7 +99,7 @@ void append_gsa_of(const Fix& fix, const FormatOptions& options, std::string_vie
     for (int i = 0; i < n; ++i) {
       const SatelliteInView& sat = fix.satellites[static_cast<std::size_t>(i)];
       if (sat.used && (system < 0 || nmea_system_index(sat.system) == static_cast<std::size_t>(system))) {
-        prns[static_cast<std::size_t>(used++)] = std::clamp(sat.prn, 0, 99);
+        prns[static_cast<std::size_t>(used++)] = std::clamp(sat.prn, 0, 999);
       }
     }
   }
@@ -153,7 +153,7 @@ void append_gsv_group(const Fix& fix, const FormatOptions& options, std::size_t 
     for (int j = k * gsv_per_sentence; j < std::min(n, (k + 1) * gsv_per_sentence); ++j) {
       const SatelliteInView& sat = fix.satellites[index[static_cast<std::size_t>(j)]];
       out += ',';
-      text::append_uint(out, static_cast<std::uint64_t>(std::clamp(sat.prn, 0, 99)), 2);
+      text::append_uint(out, static_cast<std::uint64_t>(std::clamp(sat.prn, 0, 999)), 2);
       out += ',';
       text::append_uint(out, static_cast<std::uint64_t>(std::clamp(sat.elevation_deg, 0, 90)), 2);
       out += ',';

@@ -2,6 +2,7 @@
 // Every function returns one complete sentence: "$" talker type "," fields "*hh" CR LF.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <string>
 #include <string_view>
@@ -89,5 +90,21 @@ void append_gsv(const Fix& fix, const FormatOptions& options, std::string& out);
 
 /// Appends every sentence type in options.sentences, in receiver order, to `out` (not cleared).
 void append_epoch(const Fix& fix, const FormatOptions& options, std::string& out);
+
+/// The GSA and GSV text of an earlier epoch and what it was made from. A caller that keeps one per
+/// stream (with the same FormatOptions) passes it to append_epoch, which reuses the text while the
+/// satellites (and, for GSA, the fix state and DOPs) are unchanged: the sky's integer degrees
+/// change every few seconds, and GSA/GSV are most of an epoch's bytes. Plain data, no hidden state.
+struct SatelliteTextMemo {
+  bool gsv_valid = false, gsa_valid = false;
+  int in_view = 0;
+  std::array<SatelliteInView, max_satellites> satellites{};
+  FixQuality quality = FixQuality::none;
+  FixDimension dimension = FixDimension::none;
+  double pdop = 0.0, hdop = 0.0, vdop = 0.0;
+  std::string gsa, gsv;
+};
+/// append_epoch, reusing and updating `memo` (same output bytes).
+void append_epoch(const Fix& fix, const FormatOptions& options, std::string& out, SatelliteTextMemo& memo);
 
 }  // namespace gpsemu::nmea

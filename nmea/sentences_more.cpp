@@ -29,7 +29,7 @@ std::string format_vtg(const Fix& fix, const FormatOptions& options) {
 }
 
 std::string format_gll(const Fix& fix, const FormatOptions& options) {
-  const std::string time = fields::format_time_of_day(fix.time_utc, options.time_decimals);
+  const std::string time = fix.time_valid ? fields::format_time_of_day(fix.time_utc, options.time_decimals) : "";
   if (!fix.has_fix()) return frame(fmt::format("{}GLL,,,,,{},V,N", options.talker, time));
   const fields::CoordinateFields lat = fields::format_latitude(fix.lat_deg, options.minute_decimals);
   const fields::CoordinateFields lon = fields::format_longitude(fix.lon_deg, options.minute_decimals);
@@ -39,6 +39,7 @@ std::string format_gll(const Fix& fix, const FormatOptions& options) {
 
 std::string format_zda(const Fix& fix, const FormatOptions& options) {
   using namespace std::chrono;
+  if (!fix.time_valid) return frame(fmt::format("{}ZDA,,,,,00,00", options.talker));
   const year_month_day date{floor<days>(fix.time_utc)};
   return frame(fmt::format("{}ZDA,{},{:02},{:02},{:04},00,00", options.talker,
                            fields::format_time_of_day(fix.time_utc, options.time_decimals),
@@ -47,7 +48,7 @@ std::string format_zda(const Fix& fix, const FormatOptions& options) {
 }
 
 std::string format_gst(const Fix& fix, const FormatOptions& options) {
-  const std::string time = fields::format_time_of_day(fix.time_utc, options.time_decimals);
+  const std::string time = fix.time_valid ? fields::format_time_of_day(fix.time_utc, options.time_decimals) : "";
   if (!fix.has_fix()) return frame(fmt::format("{}GST,{},,,,,,,", options.talker, time));
   const double major_m = std::fmax(fix.sigma_lat_m, fix.sigma_lon_m);
   const double minor_m = std::fmin(fix.sigma_lat_m, fix.sigma_lon_m);

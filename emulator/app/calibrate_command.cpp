@@ -1,6 +1,8 @@
 // `gpsemu calibrate LOG`, and the arguments it shares with `gpsemu compare`.
 #include <cstdio>
+#include <cmath>
 #include <fstream>
+#include <iterator>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -42,6 +44,12 @@ calibration::Calibration run_calibration(const CalibrationArgs& args, std::uint6
   return calibration::calibrate(calibration::read_receiver_log_file(args.log), o);
 }
 
+calibration::ReceiverState learned_receiver_state(const std::string& log, const calibration::Calibration& c) {
+  std::ifstream in(log, std::ios::binary);
+  const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  return calibration::with_uere(calibration::learn_receiver_state(bytes), std::hypot(c.real[0].sd_m, c.real[1].sd_m));
+}
+
 Subcommand add_calibrate_command(CLI::App& app) {
   auto args = std::make_shared<CalibrationArgs>();
   CLI::App* sub = add_calibration_subcommand(app, "calibrate", kHelp, args);
@@ -51,8 +59,10 @@ Subcommand add_calibrate_command(CLI::App& app) {
       ->option_text("FILE");
   return {sub, [args](const Config& config, const std::atomic<bool>&) {
             const calibration::Calibration c = run_calibration(*args, config.receiver().seed);
-            const std::string toml = calibration::config_toml(c, args->log);
-            const std::string summary = calibration::log_summary(c, args->log) + calibration::calibration_summary(c);
+            const calibration::ReceiverState state = learned_receiver_state(args->log, c);
+            const std::string toml = calibration::config_toml(c, args->log) + calibration::receiver_state_toml(state);
+            const std::string summary = calibration::log_summary(c, args->log) + calibration::receiver_state_summary(state) +
+                                        calibration::calibration_summary(c);
             if (args->out.empty()) {
               std::fputs(toml.c_str(), stdout);
               std::fputs(summary.c_str(), stderr);

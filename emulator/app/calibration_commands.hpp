@@ -12,6 +12,7 @@
 
 #include "emulator/app/subcommands.hpp"
 #include "emulator/calibration/calibrate.hpp"
+#include "emulator/calibration/receiver_state.hpp"
 
 namespace gpsemu {
 
@@ -31,6 +32,10 @@ struct CalibrationArgs {
                                                    const std::shared_ptr<CalibrationArgs>& args);
 /// Reads the log and calibrates every model, runs seeded from `seed`.
 [[nodiscard]] calibration::Calibration run_calibration(const CalibrationArgs& args, std::uint64_t seed);
+
+/// The log's receiver state (satellites, DOPs, C/N0, mask, UERE from the calibration's horizontal
+/// sigma): calibration/receiver_state.hpp.
+[[nodiscard]] calibration::ReceiverState learned_receiver_state(const std::string& log, const calibration::Calibration& c);
 
 [[nodiscard]] Subcommand add_calibrate_command(CLI::App& app);  // calibrate_command.cpp
 [[nodiscard]] Subcommand add_compare_command(CLI::App& app);    // compare_command.cpp

@@ -26,6 +26,7 @@ Subcommand add_compare_command(CLI::App& app) {
             const std::uint64_t seed = config.receiver().seed;
             const calibration::Calibration c = run_calibration(*args, seed);
             std::string out = calibration::log_summary(c, args->log);
+            out += calibration::receiver_state_summary(learned_receiver_state(args->log, c));
             out += fmt::format("{} runs per model, seeds {}..{}; models simulated at the log's rate, length, "
                                "gaps and resolution\n",
                                args->runs, seed, seed + static_cast<std::uint64_t>(args->runs) - 1);

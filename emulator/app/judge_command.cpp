@@ -37,6 +37,7 @@ Subcommand add_judge_command(CLI::App& app) {
             const calibration::Calibration c = calibration::calibrate(log, o);
             const calibration::Judgement j =
                 calibration::judge(c, calibration::stated_sigma_m(log, c), args->runs, seed);
+            std::fputs(calibration::receiver_state_summary(learned_receiver_state(args->log, c)).c_str(), stdout);
             std::fputs(calibration::judgement_table(j).c_str(), stdout);
             if (!args->json.empty()) {
               std::ofstream f(args->json);

@@ -111,6 +111,8 @@ nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) 
   tracking.solving = truth && (two_d || phase == ReceiverPhase::three_d);
   if (two_d) tracking.max_used = kTwoDSatellites;
   const SkyState sky = sky_.fill(t, tracking, fix);
+  // A cold receiver learns the time from its first satellite.
+  if (phase == ReceiverPhase::acquiring) fix.time_valid = sky.listed > 0;
   if (!tracking.solving) return fix;
   // A 3-D fix needs the geometry to determine position and clocks; a 2-D start holds the height.
   if (!two_d && !sky.dops.valid()) return fix;

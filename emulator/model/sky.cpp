@@ -29,8 +29,9 @@ int system_rank(nmea::GnssSystem s) {
   return 6;
 }
 
-/// NMEA 4.1 satellite ID of a satellite (u-blox's numbering in NMEA 4.1 mode): GPS 1-32, SBAS
-/// 33-64 (PRN - 87), GLONASS 65-96 (slot + 64), Galileo 1-36, BeiDou 1-63, QZSS 1-10.
+/// NMEA 4.11 satellite ID of a satellite (u-blox's numbering in NMEA 4.11 mode, each system under
+/// its own GSV talker): GPS 1-32, SBAS 33-64 (PRN - 87), GLONASS 65-96 (slot + 64), Galileo 1-36,
+/// BeiDou 1-63, QZSS 1-10.
 int nmea_id(const sky::SatelliteId& id) {
   switch (id.system) {
     case nmea::GnssSystem::sbas: return id.sv_id - 87;
@@ -177,6 +178,57 @@ void Sky::advance_to(std::int64_t second) {
   second_ = second;
 }
 
+int Sky::clock_of(const Entry& e) const {
+  switch (orbits_->satellites()[tracked_[e.sat]].system) {
+    case nmea::GnssSystem::glonass: return 1;
+    case nmea::GnssSystem::galileo: return 2;
+    case nmea::GnssSystem::beidou: return 3;
+    default: return 0;
+  }
+}
+
+void Sky::select_used(int limit) {
+  std::vector<std::size_t> usable;
+  for (std::size_t i = 0; i < entries_.size(); ++i) {
+    if (entries_[i].usable) usable.push_back(i);
+  }
+  if (static_cast<int>(usable.size()) <= limit) return;
+  for (Entry& e : entries_) e.usable = false;
+  if (limit <= 0) return;
+  // Few satellites: one system's, so no clock is spent on a second (the system with the most).
+  if (limit <= 8) {
+    std::array<int, 4> per_clock{};
+    for (const std::size_t i : usable) ++per_clock[static_cast<std::size_t>(clock_of(entries_[i]))];
+    const auto best = static_cast<int>(std::max_element(per_clock.begin(), per_clock.end()) - per_clock.begin());
+    if (per_clock[static_cast<std::size_t>(best)] >= limit) {
+      std::erase_if(usable, [&](std::size_t i) { return clock_of(entries_[i]) != best; });
+    }
+  }
+  // A geometry a receiver would choose: drop, one at a time, the satellite whose loss raises the
+  // PDOP least, until `limit` remain (greedy; only when the model's channels or --satellites cap).
+  const auto pdop_without = [&](std::size_t skip) {
+    std::array<sky::UsedSatellite, nmea::max_satellites> u{};
+    std::size_t m = 0;
+    for (std::size_t k = 0; k < usable.size(); ++k) {
+      if (k == skip) continue;
+      const Entry& e = entries_[usable[k]];
+      u[m++] = {e.az0, e.el0, orbits_->satellites()[tracked_[e.sat]].system};
+    }
+    const sky::Dops d = sky::multi_clock_dops(std::span(u.data(), m));
+    return d.valid() ? d.pdop : 1e9;
+  };
+  while (static_cast<int>(usable.size()) > limit) {
+    std::size_t drop = 0;
+    double best_pdop = 2e9;
+    for (std::size_t k = 0; k < usable.size(); ++k) {
+      const double p = pdop_without(k);
+      if (p < best_pdop) best_pdop = p, drop = k;
+    }
+    usable.erase(usable.begin() + static_cast<std::ptrdiff_t>(drop));
+  }
+  for (const std::size_t i : usable) entries_[i].usable = true;
+}
+
 SkyState Sky::fill(UtcNs t, const Tracking& tracking, nmea::Fix& fix) {
   const double gps = gps_seconds_of(t);
   const auto second = static_cast<std::int64_t>(std::floor(gps));
@@ -219,23 +271,10 @@ SkyState Sky::fill(UtcNs t, const Tracking& tracking, nmea::Fix& fix) {
       std::erase_if(entries_, [&](const Entry& e) { return e.el0 < cut || (e.el0 == cut && kept++ >= cap); });
       if (entries_.size() > cap) entries_.resize(cap);
     }
-    // Used: the usable ones, at most max_used (highest first); none when not solving.
+    // Used: the usable ones, at most max_used; none when not solving.
     int limit = tracking.solving ? tracking.max_used : 0;
     if (options_.max_used) limit = std::min(limit, *options_.max_used);
-    int usable = 0;
-    for (const Entry& e : entries_) usable += e.usable;
-    if (usable > limit) {
-      std::vector<float> els;
-      for (const Entry& e : entries_) if (e.usable) els.push_back(e.el0);
-      std::nth_element(els.begin(), els.begin() + (limit > 0 ? limit - 1 : 0), els.end(), std::greater<>());
-      const float cut = limit > 0 ? els[static_cast<std::size_t>(limit - 1)] : 1000.0f;
-      int taken = 0;
-      for (Entry& e : entries_) {
-        if (!e.usable) continue;
-        e.usable = e.el0 >= cut && taken < limit;
-        taken += e.usable;
-      }
-    }
+    select_used(limit);
     std::array<sky::UsedSatellite, nmea::max_satellites> used{};
     used_ = 0;
     for (const Entry& e : entries_) {

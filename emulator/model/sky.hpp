@@ -76,6 +76,9 @@ class Sky {
     bool usable = false;             // above the mask, strong enough
   };
   void advance_to(std::int64_t second);
+  /// Keeps at most `limit` of the usable entries used (a spread geometry).
+  void select_used(int limit);
+  [[nodiscard]] int clock_of(const Entry& e) const;
   void snapshot(std::int64_t second, std::vector<std::array<float, 2>>& azel);
   [[nodiscard]] std::optional<sky::Ecef> position(std::size_t sat, double mapped_t);
   [[nodiscard]] bool obstructed(double az_deg, double el_deg) const;

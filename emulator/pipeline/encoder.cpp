@@ -4,6 +4,6 @@
 
 namespace gpsemu {
 
-void NmeaEncoder::encode(const nmea::Fix& fix, std::string& out) { nmea::append_epoch(fix, options_, out); }
+void NmeaEncoder::encode(const nmea::Fix& fix, std::string& out) { nmea::append_epoch(fix, options_, out, memo_); }
 
 }  // namespace gpsemu

@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "nmea/fix.hpp"
+#include "nmea/sentences.hpp"
 #include "transport/output.hpp"
 
 namespace gpsemu {
@@ -36,6 +37,7 @@ class NmeaEncoder final : public Encoder {
 
  private:
   nmea::FormatOptions options_;
+  nmea::SatelliteTextMemo memo_;  ///< GSA/GSV text reused while the sky is unchanged
 };
 
 }  // namespace gpsemu

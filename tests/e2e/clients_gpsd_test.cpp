@@ -54,6 +54,11 @@ struct GpsdRun {
   std::map<std::int64_t, Emitted> epochs;        ///< the GGA of each epoch gpsemu wrote, by ms of day
   std::int64_t first_epoch_ms = 0;
   int sky_reports = 0;
+  json last_sky;                                 ///< the last SKY with a satellite list
+  int last_gga_satellites_used = 0;              ///< GGA field 7 of the last epoch written
+  /// The satellites of the last epoch's GSV: (talker, position of the sentence in its group, index) ->
+  /// (u-blox gnssId, svid) as gpsemu meant them.
+  std::map<std::pair<std::string, int>, std::pair<int, int>> last_written;
 };
 
 /// Runs gpsemu for `duration_s` on a pty with gpsd attached; returns gpsd's TPVs and the NMEA.
@@ -90,7 +95,10 @@ GpsdRun run_with_gpsd(const std::string& name, std::vector<std::string> args, do
   const milliseconds reading{std::llround(duration_s * 1000.0) + 1500};
   test::read_with_deadline(sock, {reading}, [&](std::string_view chunk) {
     lines.feed(chunk, [&](const json& j) {
-      if (j["class"] == "SKY") ++run.sky_reports;
+      if (j["class"] == "SKY") {
+        ++run.sky_reports;
+        if (j.contains("satellites") && !j["satellites"].empty()) run.last_sky = j;
+      }
       if (j["class"] == "TPV") run.tpv.push_back(test::tpv_of(j));
     });
     return false;
@@ -106,10 +114,23 @@ GpsdRun run_with_gpsd(const std::string& name, std::vector<std::string> args, do
   nmea::StreamReader reader;
   bool first = true;
   for (const auto& s : reader.feed(text.str())) {
+    if (s.type == "GSV" && s.fields.size() >= 3) {
+      if (s.talker == "GP" && s.fields[1] == "1") run.last_written.clear();  // a new epoch's sky
+      const int part = std::stoi(s.fields[1]) - 1;
+      for (std::size_t f = 3; f + 3 < s.fields.size(); f += 4) {
+        if (s.fields[f].empty()) continue;
+        const int id = std::stoi(s.fields[f]);
+        const int gnss = s.talker == "GL" ? 6 : s.talker == "GA" ? 2 : s.talker == "GB" ? 3 : s.talker == "GQ" ? 5
+                         : id > 32 ? 1 : 0;
+        const int sv = gnss == 6 ? id - 64 : gnss == 1 ? id + 87 : id;
+        run.last_written[{s.talker + std::to_string(id), part}] = {gnss, sv};
+      }
+    }
     if (s.type != "GGA") continue;
     const auto gga = nmea::parse_gga(s);
     if (!gga.ok() || !gga->time_of_day) continue;
     const std::int64_t ms = gga->time_of_day->count();
+    run.last_gga_satellites_used = gga->satellites.value_or(0);
     if (first) run.first_epoch_ms = ms;
     first = false;
     run.epochs[ms] = {gga->quality != nmea::FixQuality::none && gga->lat_deg.has_value(),
@@ -222,6 +243,45 @@ TEST(Gpsd, OutageShowsAsNoFixForItsDurationAndTheFixReturns) {
   EXPECT_GE(outage_reports, 15) << "3 s at 5 Hz";
   ASSERT_TRUE(first_fix_after.has_value()) << "the fix did not return";
   EXPECT_EQ(*first_fix_after, 7000);
+}
+
+// The sky of an M9N (GPS, GLONASS, Galileo, BeiDou, QZSS, SBAS): gpsd's SKY lists every satellite
+// gpsemu's per-system GSV sent, with its u-blox gnssId and own number, and the used ones of GSA.
+// Debian 12's gpsd 3.22 reads the system from the talker only in the first GSV sentence of a
+// system: in the later ones a Galileo or BeiDou number above 32 is taken for an SBAS NMEA ID
+// (33-64), so those are expected as gpsd 3.22 reads them (later gpsd releases read the talker).
+TEST(Gpsd, SkyReportsListTheSatellitesWithTheirSystems) {
+  const auto run = run_with_gpsd("sky", {"--receiver", "ublox-m9n", "--start-time", "2024-05-01T12:00:00Z",
+                                         "--clock", "scaled:1"}, 4.0);
+  ASSERT_FALSE(run.last_sky.is_null()) << "no SKY with satellites";
+  std::map<std::pair<int, int>, bool> in_sky;  // (gnssId, svid) -> used
+  int used = 0;
+  for (const auto& sat : run.last_sky["satellites"]) {
+    ASSERT_TRUE(sat.contains("gnssid")) << sat.dump();
+    in_sky[{sat["gnssid"].get<int>(), sat["svid"].get<int>()}] = sat.value("used", false);
+    used += sat.value("used", false);
+  }
+  std::map<int, int> per_gnss;
+  int misread_by_322 = 0;
+  for (const auto& [key, gnss_sv] : run.last_written) {
+    auto [gnss, sv] = gnss_sv;
+    if ((gnss == 2 || gnss == 3) && sv > 32 && key.second > 0) {  // not the group's first sentence
+      gnss = 1, sv += 87, ++misread_by_322;
+    }
+    EXPECT_TRUE(in_sky.count({gnss, sv})) << "gnssId " << gnss << " svid " << sv << " missing from SKY";
+    ++per_gnss[gnss];
+  }
+  std::cout << "gpsd SKY: " << run.last_sky["satellites"].size() << " satellites, " << used << " used, "
+            << misread_by_322 << " read as SBAS by gpsd 3.22; per gnssId:";
+  for (const auto& [g, n] : per_gnss) std::cout << " " << g << ":" << n;
+  std::cout << "\n";
+  EXPECT_EQ(run.last_sky["satellites"].size(), run.last_written.size());
+  std::cout << "GGA satellites used " << run.last_gga_satellites_used << ", gpsd's SKY used " << used << "\n";
+  EXPECT_GE(per_gnss[0], 6) << "GPS";
+  EXPECT_GE(per_gnss[2], 4) << "Galileo";
+  EXPECT_GE(per_gnss[3], 4) << "BeiDou";
+  EXPECT_GE(per_gnss[6], 4) << "GLONASS";
+  EXPECT_GE(used, 16);
 }
 
 // NMEA 2.3: gpsd 3.22 reads NMEA 4.1's GSA system ID as a thirteenth PRN slot (it counts the

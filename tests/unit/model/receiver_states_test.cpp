@@ -83,6 +83,10 @@ TEST(ReceiverStates, ColdStartAcquiresThenTwoDThenThreeD) {
     EXPECT_EQ(phase_at(o, s), s < 20 ? ReceiverPhase::acquiring : s < 25 ? ReceiverPhase::two_d : ReceiverPhase::three_d);
     if (s < 20) {
       EXPECT_FALSE(fix.has_fix()) << s;
+      EXPECT_EQ(fix.time_valid, fix.satellites_in_view > 0) << "the time comes with the first satellite";
+      if (s == 0) {
+        EXPECT_FALSE(fix.time_valid);
+      }
       EXPECT_GE(fix.satellites_in_view, last_in_view) << "satellites are acquired one by one";
       EXPECT_LE(fix.satellites_in_view, g.satellites_in_view);
       EXPECT_EQ(used_flags(fix), 0);

@@ -250,6 +250,8 @@ TEST(NmeaSentences, EveryTypeFits82CharactersAtTheWidestValues) {
   EXPECT_EQ(lines(format_sentences(SentenceType::gsa, fix, FormatOptions{})).size(), (max_satellites + 11) / 12);
 }
 
+std::string first_line_of(const std::string& text) { return text.substr(0, text.find('\r')); }
+
 Fix multi_gnss_sky() {
   Fix fix;
   fix.quality = FixQuality::gps;
@@ -287,6 +289,23 @@ TEST(NmeaSentences, GsvPerSystemWithItsTalkerAndSignalId) {
   EXPECT_EQ(both[7].substr(both[7].size() - 5, 2), ",B") << "BeiDou B2I: " << both[7];
   // NMEA 2.3 has no signal ID: one group per system.
   EXPECT_EQ(lines(format_gsv(fix, {.talker = "GN", .version = NmeaVersion::v2_3, .gsv_second_signal = true})).size(), 5u);
+}
+
+TEST(NmeaSentences, TimeFieldsAreEmptyUntilTheReceiverKnowsTheTime) {
+  Fix fix;
+  fix.time_utc = UtcTime{std::chrono::sys_days{std::chrono::year{2024} / 5 / 1}} + std::chrono::hours{12};
+  fix.time_valid = false;
+  const FormatOptions o = options("GN", NmeaVersion::v4_1);
+  const auto rmc = parse_sentence(first_line_of(format_rmc(fix, o)));
+  ASSERT_TRUE(rmc.ok());
+  EXPECT_EQ(rmc->fields[0], "") << "time";
+  EXPECT_EQ(rmc->fields[8], "") << "date";
+  EXPECT_EQ(parse_sentence(first_line_of(format_gga(fix, o)))->fields[0], "");
+  EXPECT_EQ(parse_sentence(first_line_of(format_gll(fix, o)))->fields[4], "");
+  EXPECT_EQ(parse_sentence(first_line_of(format_zda(fix, o)))->fields[0], "");
+  EXPECT_EQ(parse_sentence(first_line_of(format_gst(fix, o)))->fields[0], "");
+  fix.time_valid = true;
+  EXPECT_EQ(parse_sentence(first_line_of(format_rmc(fix, o)))->fields[0], "120000.00");
 }
 
 TEST(NmeaSentences, GsaPerSystemWithTheNmea41SystemId) {

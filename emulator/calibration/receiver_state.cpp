@@ -1,0 +1,147 @@
+#include "emulator/calibration/receiver_state.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "nmea/parse.hpp"
+
+namespace gpsemu::calibration {
+namespace {
+
+std::optional<Spread> spread_of(std::vector<double> v) {
+  if (v.empty()) return std::nullopt;
+  std::sort(v.begin(), v.end());
+  const auto at = [&](double q) { return v[static_cast<std::size_t>(std::lround(q * static_cast<double>(v.size() - 1)))]; };
+  return Spread{at(0.5), at(0.1), at(0.9), v.size()};
+}
+
+std::optional<double> number(const std::vector<std::string>& f, std::size_t i) {
+  if (i >= f.size() || f[i].empty()) return std::nullopt;
+  char* end = nullptr;
+  const double v = std::strtod(f[i].c_str(), &end);
+  if (end == f[i].c_str() || *end != '\0' || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
+/// A GSV satellite's key: its talker (system) and NMEA ID. GSA lists IDs without a talker when it
+/// is GN; its 4.1 system ID names the system then.
+std::string key(std::string_view system, int id) { return fmt::format("{}{}", system, id); }
+
+std::string_view system_of_gsv(std::string_view talker, int id) {
+  if (talker == "GP" || talker == "GN") return id >= 65 && id <= 96 ? "GL" : "GP";
+  return talker;
+}
+
+std::string_view system_of_gsa(const nmea::Sentence& s, int id) {
+  static constexpr std::string_view by_id[] = {"", "GP", "GL", "GA", "GB", "GQ"};
+  if (s.fields.size() >= 18) {
+    const auto sys = number(s.fields, 17);
+    if (sys && *sys >= 1 && *sys <= 5) return by_id[static_cast<int>(*sys)];
+  }
+  return system_of_gsv(s.talker, id);
+}
+
+}  // namespace
+
+ReceiverState learn_receiver_state(std::string_view bytes) {
+  nmea::StreamReader reader;
+  std::vector<nmea::Sentence> sentences = reader.feed(bytes);
+  if (auto last = reader.finish()) sentences.push_back(std::move(*last));
+  std::vector<double> used, hdop, pdop, cn0;
+  std::map<std::string, double> elevation;  // the latest GSV elevation of each satellite
+  std::set<std::string> used_ids;           // GSA's used satellites since the last GGA
+  std::optional<double> lowest_used;
+  bool pdop_taken = false;
+  for (const nmea::Sentence& s : sentences) {
+    if (s.type == "GGA") {
+      const auto quality = number(s.fields, 5);
+      if (quality && *quality > 0) {
+        if (const auto n = number(s.fields, 6)) used.push_back(*n);
+        if (const auto h = number(s.fields, 7); h && *h > 0 && *h < 99) hdop.push_back(*h);
+      }
+      for (const std::string& k : used_ids) {
+        const auto e = elevation.find(k);
+        if (e != elevation.end() && e->second > 0.0) lowest_used = lowest_used ? std::min(*lowest_used, e->second) : e->second;
+      }
+      used_ids.clear();
+      pdop_taken = false;
+    } else if (s.type == "GSA" && s.fields.size() >= 17) {
+      const auto mode = number(s.fields, 1);
+      if (!mode || *mode < 2) continue;
+      for (std::size_t i = 2; i < 14; ++i) {
+        if (const auto id = number(s.fields, i)) used_ids.insert(key(system_of_gsa(s, static_cast<int>(*id)), static_cast<int>(*id)));
+      }
+      if (!pdop_taken) {
+        if (const auto p = number(s.fields, 14); p && *p > 0 && *p < 99) pdop.push_back(*p);
+        pdop_taken = true;
+      }
+    } else if (s.type == "GSV") {
+      for (std::size_t i = 3; i + 2 < s.fields.size(); i += 4) {
+        const auto id = number(s.fields, i);
+        if (!id) continue;
+        const auto el = number(s.fields, i + 1);
+        if (el) elevation[key(system_of_gsv(s.talker, static_cast<int>(*id)), static_cast<int>(*id))] = *el;
+        if (const auto c = number(s.fields, i + 3); c && *c > 0) cn0.push_back(*c);
+      }
+    }
+  }
+  ReceiverState st;
+  st.satellites_used = spread_of(used);
+  st.hdop = spread_of(hdop);
+  st.pdop = spread_of(pdop);
+  st.cn0_dbhz = spread_of(cn0);
+  st.lowest_used_elevation_deg = lowest_used;
+  return st;
+}
+
+ReceiverState with_uere(ReceiverState state, double sigma_h_m) {
+  if (state.hdop && state.hdop->median > 0.0 && sigma_h_m > 0.0) {
+    state.uere_m = std::clamp(sigma_h_m / state.hdop->median, 0.05, 50.0);
+  }
+  return state;
+}
+
+std::string receiver_state_toml(const ReceiverState& s) {
+  std::string out;
+  const auto spread = [](const char* what, const std::optional<Spread>& v, int decimals) {
+    if (!v) return fmt::format("# {}: not in the log\n", what);
+    return fmt::format("# {}: median {:.{}f}, 10-90% {:.{}f}..{:.{}f} ({} values)\n", what, v->median, decimals, v->p10,
+                       decimals, v->p90, decimals, v->count);
+  };
+  out += "# The receiver's state in the log (GGA, GSA, GSV):\n";
+  out += spread("satellites used", s.satellites_used, 0);
+  out += spread("HDOP", s.hdop, 2);
+  out += spread("PDOP", s.pdop, 2);
+  out += spread("C/N0 dB-Hz", s.cn0_dbhz, 0);
+  if (s.lowest_used_elevation_deg) {
+    out += fmt::format("# lowest elevation used: {:.0f} degrees\n", *s.lowest_used_elevation_deg);
+    out += fmt::format("elevation-mask = {:.0f}\n", std::clamp(std::floor(*s.lowest_used_elevation_deg), 0.0, 60.0));
+  }
+  if (s.uere_m) {
+    out += "# UERE = the position's horizontal sigma / median HDOP: reported accuracy = HDOP x UERE\n";
+    out += fmt::format("uere = {:.3f}\n", *s.uere_m);
+  }
+  if (s.satellites_used) {
+    out += "# at most the log's median of satellites used (the sky's geometry gives the DOPs)\n";
+    out += fmt::format("satellites = {}\n", std::clamp(static_cast<int>(std::lround(s.satellites_used->median)), 4, 64));
+  }
+  return out;
+}
+
+std::string receiver_state_summary(const ReceiverState& s) {
+  std::string out = "receiver state:";
+  if (s.satellites_used) out += fmt::format(" {:.0f} satellites used ({:.0f}..{:.0f})", s.satellites_used->median, s.satellites_used->p10, s.satellites_used->p90);
+  if (s.hdop) out += fmt::format(", HDOP {:.2f} ({:.2f}..{:.2f})", s.hdop->median, s.hdop->p10, s.hdop->p90);
+  if (s.pdop) out += fmt::format(", PDOP {:.2f}", s.pdop->median);
+  if (s.cn0_dbhz) out += fmt::format(", C/N0 {:.0f} dB-Hz ({:.0f}..{:.0f})", s.cn0_dbhz->median, s.cn0_dbhz->p10, s.cn0_dbhz->p90);
+  if (s.lowest_used_elevation_deg) out += fmt::format(", lowest elevation used {:.0f} deg", *s.lowest_used_elevation_deg);
+  if (s.uere_m) out += fmt::format(", UERE {:.2f} m", *s.uere_m);
+  return out + "\n";
+}
+
+}  // namespace gpsemu::calibration
