@@ -4,6 +4,7 @@
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -36,12 +37,25 @@ CLI::App* add_calibration_subcommand(CLI::App& app, const std::string& name, con
   return sub;
 }
 
-calibration::Calibration run_calibration(const CalibrationArgs& args, std::uint64_t seed) {
+calibration::CalibrateOptions calibration_options(const CalibrationArgs& args, std::uint64_t seed) {
   calibration::CalibrateOptions o;
   o.seed = seed;
   o.runs = args.runs;
   o.detrend = args.detrend;
-  return calibration::calibrate(calibration::read_receiver_log_file(args.log), o);
+  std::ifstream meminfo("/proc/meminfo");
+  for (std::string line; std::getline(meminfo, line);) {
+    unsigned long long kib = 0;  // "MemAvailable:   12345678 kB"
+    if (std::sscanf(line.c_str(), "MemAvailable: %llu kB", &kib) != 1) continue;
+    o.max_epochs = calibration::max_epochs_for_memory(kib * 1024);
+    o.max_epochs_reason = fmt::format("{} bytes an epoch in at most half of the {:.0f} MB of memory available",
+                                      calibration::kCalibrationBytesPerEpoch, static_cast<double>(kib) / 1024.0);
+    break;
+  }
+  return o;
+}
+
+calibration::Calibration run_calibration(const CalibrationArgs& args, std::uint64_t seed) {
+  return calibration::calibrate(calibration::read_receiver_log_file(args.log), calibration_options(args, seed));
 }
 
 calibration::ReceiverState learned_receiver_state(const std::string& log, const calibration::Calibration& c) {

@@ -30,6 +30,9 @@ struct CalibrationArgs {
 /// Adds the subcommand `name` to `app` with LOG and --runs, stored in `args`.
 [[nodiscard]] CLI::App* add_calibration_subcommand(CLI::App& app, const std::string& name, const std::string& description,
                                                    const std::shared_ptr<CalibrationArgs>& args);
+/// The options of `args` with runs seeded from `seed`, and at most the epochs the memory
+/// available now holds (MemAvailable of /proc/meminfo; kMaxCalibrationEpochs without it).
+[[nodiscard]] calibration::CalibrateOptions calibration_options(const CalibrationArgs& args, std::uint64_t seed);
 /// Reads the log and calibrates every model, runs seeded from `seed`.
 [[nodiscard]] calibration::Calibration run_calibration(const CalibrationArgs& args, std::uint64_t seed);
 

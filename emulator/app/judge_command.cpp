@@ -30,11 +30,7 @@ Subcommand add_judge_command(CLI::App& app) {
   return {sub, [args](const Config& config, const std::atomic<bool>&) {
             const std::uint64_t seed = config.receiver().seed;
             calibration::ReceiverLog log = calibration::read_receiver_log_file(args->log);
-            calibration::CalibrateOptions o;
-            o.seed = seed;
-            o.runs = args->runs;
-            o.detrend = args->detrend;
-            const calibration::Calibration c = calibration::calibrate(log, o);
+            const calibration::Calibration c = calibration::calibrate(log, calibration_options(*args, seed));
             const calibration::Judgement j =
                 calibration::judge(c, calibration::stated_sigma_m(log, c), args->runs, seed);
             std::fputs(calibration::receiver_state_summary(learned_receiver_state(args->log, c)).c_str(), stdout);

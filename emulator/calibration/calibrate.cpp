@@ -95,14 +95,19 @@ std::string model_label(const noise::NoiseConfig& config) {
   return noise::to_string(config.model);
 }
 
+std::size_t max_epochs_for_memory(std::uint64_t available_bytes) {
+  return static_cast<std::size_t>(
+      std::min<std::uint64_t>(available_bytes / 2 / kCalibrationBytesPerEpoch, kMaxCalibrationEpochs));
+}
+
 Calibration calibrate(ReceiverLog log, const CalibrateOptions& options) {
   if (options.runs < 1) throw std::invalid_argument("runs must be >= 1");
   Calibration c;
-  c.series = to_enu_series(log);
+  c.series = to_enu_series(log, options.max_epochs, options.max_epochs_reason);
   c.counts = log.counts;
   EnuSeries& s = c.series;
   c.window_samples = std::min<std::size_t>(s.size(), static_cast<std::size_t>(noise::kCgrwMaxWindowSamples));
-  c.motion = check_motion(s);
+  c.motion = check_motion(s, log.speeds);
   if (options.detrend) {
     const Detrended d = detrend(s);
     c.notes.push_back(fmt::format("detrended: a smooth trajectory (local quadratic over {:.0f} s) removed first: "
@@ -160,11 +165,11 @@ Calibration calibrate(ReceiverLog log, const CalibrateOptions& options) {
   configs.push_back(gaussian);
   configs.push_back(gm1);
   configs.push_back(gm2);
-  configs.push_back(fit_composite(s, c.real, c.window_samples));
+  configs.push_back(fit_composite(s, c.real, c.window_samples, &c.notes));
   c.composite.gm2 = configs.back();
   c.composite.cgrw_score = std::numeric_limits<double>::infinity();
   try {
-    configs.push_back(fit_composite_cgrw(s, c.real, c.window_samples));
+    configs.push_back(fit_composite_cgrw(s, c.real, c.window_samples, &c.notes));
     (void)noise::make_noise_model(configs.back(), 1);
   } catch (const std::exception& e) {
     if (configs.back().model == noise::Model::composite && configs.back().composite.smooth == noise::CompositeSmooth::cgrw)
@@ -282,6 +287,12 @@ std::string config_toml(const Calibration& c, const std::string& log_name) {
         line("composite-jump-rate = " + three(x[0].jump_rate_hz, x[1].jump_rate_hz, x[2].jump_rate_hz));
         line("composite-jump-size = " + three(x[0].jump_sigma_m, x[1].jump_sigma_m, x[2].jump_sigma_m));
         line("composite-jump-decay = " + three(x[0].jump_decay_s, x[1].jump_decay_s, x[2].jump_decay_s));
+        if (x[0].slow_sigma_m > 0.0 || x[1].slow_sigma_m > 0.0 || x[2].slow_sigma_m > 0.0) {
+          line("composite-slow-sigma = " + three(x[0].slow_sigma_m, x[1].slow_sigma_m, x[2].slow_sigma_m));
+          line("composite-slow-tau = " + three(x[0].slow_tau_s > 0.0 ? x[0].slow_tau_s : 1.0,
+                                               x[1].slow_tau_s > 0.0 ? x[1].slow_tau_s : 1.0,
+                                               x[2].slow_tau_s > 0.0 ? x[2].slow_tau_s : 1.0));
+        }
         break;
       }
       case noise::Model::none: break;

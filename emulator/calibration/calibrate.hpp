@@ -26,7 +26,18 @@ struct CalibrateOptions {
                            ///< log of a few minutes vary by 20% between seed sets)
   /// Remove a smooth trajectory first (motion.hpp) instead of refusing a log that moves.
   bool detrend = false;
+  /// At most this many grid epochs (to_enu_series); `max_epochs_reason` says why, in its message.
+  std::size_t max_epochs = kMaxCalibrationEpochs;
+  std::string max_epochs_reason = "";
 };
+
+/// Peak memory of calibrate, compare and judge per grid epoch of the log (bytes; measured with
+/// /usr/bin/time -v on 880 000 epochs, docs/performance.md), the file itself not held.
+inline constexpr std::size_t kCalibrationBytesPerEpoch = 600;
+
+/// The epochs `available_bytes` of memory calibrate (at kCalibrationBytesPerEpoch, half the memory
+/// left for the rest of the machine), at most kMaxCalibrationEpochs.
+[[nodiscard]] std::size_t max_epochs_for_memory(std::uint64_t available_bytes);
 
 /// One model with its calibrated parameters and how it compares.
 struct ModelResult {

@@ -17,11 +17,6 @@ namespace gpsemu::calibration {
 namespace {
 
 const char* const kAxisNames[3] = {"east", "north", "up"};
-// Least fraction of a Gauss-Markov process's variance a log is taken to show about its mean:
-// sigma is at most 5x the log's standard deviation (a log much shorter than tau says little
-// about sigma).
-constexpr double kMinKept = 1.0 / 25.0;
-
 // Downhill simplex (Nelder & Mead 1965) on a deterministic objective; returns the best vertex.
 template <class F>
 std::array<double, 3> nelder_mead(F f, std::array<double, 3> x0, double step, int evaluations) {
@@ -85,7 +80,7 @@ noise::GaussMarkovAxis fit_gauss_markov(std::span<const double> x, double rate_h
 }
 
 noise::GaussMarkovAxis fit_gauss_markov(double sd_m, double d1_sd_m, std::size_t n, double rate_hz,
-                                        int order) {
+                                        int order, double max_tau_s, double min_kept) {
   struct {
     double sd_m, d1_sd_m;
   } s{sd_m, d1_sd_m};
@@ -104,7 +99,8 @@ noise::GaussMarkovAxis fit_gauss_markov(double sd_m, double d1_sd_m, std::size_t
     return (1.0 - noise::gauss_markov_autocorrelation(order, dt, tau)) / kept(tau);
   };
   const double want = s.sd_m > 0.0 ? s.d1_sd_m * s.d1_sd_m / (2.0 * s.sd_m * s.sd_m) : 1.0;
-  double lo = std::log(0.05 * dt), hi = std::log(10.0 * static_cast<double>(n) * dt);
+  double lo = std::log(0.05 * dt), hi = std::log(max_tau_s > 0.0 ? std::max(max_tau_s, 0.1 * dt)
+                                                                   : 10.0 * static_cast<double>(n) * dt);
   double tau = 0.0;
   if (want >= ratio(std::exp(lo))) {
     tau = std::exp(lo);
@@ -117,7 +113,7 @@ noise::GaussMarkovAxis fit_gauss_markov(double sd_m, double d1_sd_m, std::size_t
     }
     tau = std::exp(0.5 * (lo + hi));
   }
-  return {s.sd_m / std::sqrt(std::max(kept(tau), kMinKept)), tau};
+  return {s.sd_m / std::sqrt(std::max(kept(tau), min_kept)), tau};
 }
 
 noise::ChronoParams fit_chrono(const EnuSeries& series, const std::array<AxisStats, 3>& real) {
@@ -353,24 +349,176 @@ noise::NoiseConfig refit_composite(noise::NoiseConfig c, const EnuSeries& s, con
 
 }  // namespace
 
-noise::NoiseConfig fit_composite(const EnuSeries& s, const std::array<AxisStats, 3>& real, std::size_t window) {
+namespace {
+
+// Fraction of a first-order Gauss-Markov process's variance lost to the mean of n samples:
+// (1 + 2 sum_{k<n} (1 - k/n) phi^k) / n with phi = exp(-dt / tau), in closed form.
+double mean_share(double tau_s, std::size_t n, double dt) {
+  const double phi = std::exp(-dt / tau_s), nn = static_cast<double>(n);
+  const double sum = phi / (1.0 - phi) - phi * (1.0 - std::pow(phi, nn)) / (nn * (1.0 - phi) * (1.0 - phi));
+  return std::clamp((1.0 + 2.0 * sum) / nn, 0.0, 1.0 - 1e-9);
+}
+
+struct SlowChoice {
+  double share = 0.0, tau_s = 0.0, sigma_m = 0.0;
+  bool tau_at_bound = false, sigma_at_bound = false;
+};
+
+// Slow parts of one axis, best first (at most `count`): the share w of the log's sample variance
+// (0.1 .. 0.8) and the time constant tau (10 s .. 4x the log's length) whose predicted sample
+// autocorrelation at 10 and 30 s, (1 - w) rho_fast(L) + w (exp(-L / tau) - m) / (1 - m) with m the
+// share lost to the mean, is nearer the log's than the fast part's alone; none when none is.
+std::vector<SlowChoice> choose_slow(const AxisStats& real, const AxisStats& fast, std::size_t n, double rate_hz,
+                                    std::size_t count) {
+  std::vector<std::pair<double, SlowChoice>> ranked;
+  if (!real.acf_s[0] || !real.acf_s[1] || !fast.acf_s[0] || !fast.acf_s[1] || !(real.sd_m > 0.0)) return {};
+  const double dt = 1.0 / rate_hz, length_s = static_cast<double>(n) * dt;
+  const double max_tau = kCompositeMaxTauInLogs * length_s;
+  const auto error = [&](double w, double tau) {
+    double e = 0.0;
+    const double m = w > 0.0 ? mean_share(tau, n, dt) : 0.0;
+    for (std::size_t i = 0; i < 2; ++i) {
+      double slow = 0.0;
+      if (w > 0.0) slow = (std::exp(-kAcfTimes_s[i] / tau) - m) / (1.0 - m);
+      const double predicted = (1.0 - w) * *fast.acf_s[i] + w * slow;
+      e += (predicted - *real.acf_s[i]) * (predicted - *real.acf_s[i]);
+    }
+    return e;
+  };
+  const double none = error(0.0, 1.0);
+  if (none < 0.03 * 0.03) return {};  // within 0.03 at both lags already
+  for (int wi = 2; wi <= 16; wi += 2) {
+    const double w = 0.05 * wi;
+    for (int ti = 0; ti <= 12; ++ti) {
+      const double tau = std::exp(std::log(10.0) + (std::log(std::max(max_tau, 10.0)) - std::log(10.0)) * ti / 12.0);
+      const double e = error(w, tau);
+      if (e >= none) continue;
+      SlowChoice c;
+      c.share = w, c.tau_s = tau;
+      const double m = mean_share(tau, n, dt);
+      c.sigma_m = real.sd_m * std::sqrt(w / (1.0 - m));
+      c.sigma_at_bound = c.sigma_m > kCompositeMaxSigmaInSd * real.sd_m;
+      c.sigma_m = std::min(c.sigma_m, kCompositeMaxSigmaInSd * real.sd_m);
+      c.tau_at_bound = tau >= 0.999 * max_tau;
+      ranked.emplace_back(e, c);
+    }
+  }
+  std::sort(ranked.begin(), ranked.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  std::vector<SlowChoice> out;
+  for (const auto& [e, c] : ranked) {
+    // Distinct candidates: another share or a time constant at least 1.5x away.
+    const bool near = std::any_of(out.begin(), out.end(), [&](const SlowChoice& o) {
+      return std::abs(o.share - c.share) < 0.15 && std::abs(std::log(o.tau_s / c.tau_s)) < std::log(1.5);
+    });
+    if (!near) out.push_back(c);
+    if (out.size() == count) break;
+  }
+  return out;
+}
+
+// Adds a slow part to a fitted composite `c` and refits the rest with `refit(c, fast_share)`
+// (fast_share: the share of each axis's sample variance left to the smooth part), for the three
+// best candidates by the predicted autocorrelation; keeps whichever scores best on the simulation,
+// `c` itself included. Notes what was fitted and what hit a bound.
+template <class Refit>
+noise::NoiseConfig with_slow_part(const noise::NoiseConfig& c, const EnuSeries& s, const std::array<AxisStats, 3>& real,
+                                  std::size_t window, std::vector<std::string>* notes, Refit refit) {
+  constexpr std::size_t kCandidates = 3;
+  const int runs = static_cast<int>(std::clamp<std::size_t>(400000 / std::max<std::size_t>(s.size(), 1), 8, 32));
+  const auto fast = simulated_stats(c, s, window, 0x736c6f77ULL, runs, nullptr);
+  std::array<std::vector<SlowChoice>, 2> choices;
+  for (std::size_t a = 0; a < 2; ++a)  // horizontal axes: the vertical keeps its fit
+    choices[a] = choose_slow(real[a], fast[a], s.size(), s.rate_hz, kCandidates);
+  const double without = score(real, fast);
+  noise::NoiseConfig best = c;
+  double best_score = without;
+  std::string best_parts;
+  for (std::size_t k = 0; k < kCandidates; ++k) {
+    noise::NoiseConfig slow = c;
+    std::array<double, 3> fast_share{1.0, 1.0, 1.0};
+    std::string parts;
+    for (std::size_t a = 0; a < 2; ++a) {
+      if (choices[a].empty()) continue;
+      const SlowChoice& x = choices[a][std::min(k, choices[a].size() - 1)];
+      slow.composite.axes[a].slow_sigma_m = x.sigma_m;
+      slow.composite.axes[a].slow_tau_s = x.tau_s;
+      fast_share[a] = 1.0 - x.share;
+      parts += fmt::format("; {} {:.0f}% of the variance, tau {:.3g} s{}{}", kAxisNames[a], 100 * x.share, x.tau_s,
+                           x.tau_at_bound ? " (at its bound, 4x the log's length)" : "",
+                           x.sigma_at_bound ? " (sigma at its bound, 5x the log's sd)" : "");
+    }
+    if (parts.empty()) break;
+    slow = refit(slow, fast_share);
+    const double with = score(real, simulated_stats(slow, s, window, 0x736c6f77ULL, runs, nullptr));
+    if (with < best_score) best_score = with, best = slow, best_parts = parts;
+  }
+  if (notes && (!choices[0].empty() || !choices[1].empty())) {
+    const char* smooth = c.composite.smooth == noise::CompositeSmooth::cgrw ? "cgrw" : "gauss-markov-2";
+    notes->push_back(best_parts.empty()
+                         ? fmt::format("composite ({} smooth part): no slow part scored better than none ({:.3f})",
+                                       smooth, without)
+                         : fmt::format("composite ({} smooth part): slow part fitted on the autocorrelation at 10 and "
+                                       "30 s{}: score {:.3f} with it, {:.3f} without", smooth, best_parts, best_score,
+                                       without));
+  }
+  return best;
+}
+
+// Notes a smooth gauss-markov-2 part whose tau or sigma hit the composite's bounds.
+void note_smooth_bounds(const noise::NoiseConfig& c, const EnuSeries& s, const std::array<AxisStats, 3>& real,
+                        std::vector<std::string>* notes) {
+  if (!notes || c.composite.smooth != noise::CompositeSmooth::gauss_markov_2) return;
+  const double length_s = s.duration_s();
+  for (std::size_t a = 0; a < 3; ++a) {
+    const auto& g = c.composite.smooth_gm[a];
+    if (!(real[a].sd_m > 0.0)) continue;
+    if (g.tau_s >= 0.999 * kCompositeMaxTauInLogs * length_s || g.sigma_m >= 0.999 * kCompositeMaxSigmaInSd * real[a].sd_m)
+      notes->push_back(fmt::format("composite {}: smooth part at its bound (tau {:.3g} s of at most {:.3g} s, 4x the log's "
+                                   "length; sigma {:.3g} m of at most {:.3g} m, 5x the log's sd): the log is "
+                                   "drift-dominated, and runs longer than it stay within that spread",
+                                   kAxisNames[a], g.tau_s, kCompositeMaxTauInLogs * length_s, g.sigma_m,
+                                   kCompositeMaxSigmaInSd * real[a].sd_m));
+  }
+}
+
+}  // namespace
+
+noise::NoiseConfig fit_composite(const EnuSeries& s, const std::array<AxisStats, 3>& real, std::size_t window,
+                                 std::vector<std::string>* notes) {
   noise::NoiseConfig c = composite_start(s, real);
   std::array<double, 3> sd_target{}, d1_target{};
+  const double max_tau_s = kCompositeMaxTauInLogs * s.duration_s();
+  constexpr double kMinKeptBounded = 1.0 / (kCompositeMaxSigmaInSd * kCompositeMaxSigmaInSd);
   const auto smooth = [&](std::size_t a, noise::NoiseConfig& k) {
-    k.composite.smooth_gm[a] = fit_gauss_markov(sd_target[a], d1_target[a], s.size(), s.rate_hz, 2);
+    k.composite.smooth_gm[a] =
+        fit_gauss_markov(sd_target[a], d1_target[a], s.size(), s.rate_hz, 2, max_tau_s, kMinKeptBounded);
+    k.composite.smooth_gm[a].sigma_m = std::min(k.composite.smooth_gm[a].sigma_m, kCompositeMaxSigmaInSd * real[a].sd_m);
     if (k.composite.axes[a].jump_rate_hz > 0.0) k.composite.axes[a].jump_decay_s = k.composite.smooth_gm[a].tau_s;
   };
-  for (std::size_t a = 0; a < 3; ++a)
-    if (real[a].sd_m > 0.0) sd_target[a] = real[a].sd_m, d1_target[a] = real[a].d1_sd_m, smooth(a, c);
-  return refit_composite(c, s, real, window, 8, false, [&](std::size_t a, const AxisStats& sim, noise::NoiseConfig& k) {
-    sd_target[a] = std::clamp(sd_target[a] * ratio_clamped(real[a].sd_m, sim.sd_m), 0.2 * real[a].sd_m, 3.0 * real[a].sd_m);
+  std::array<double, 3> share{1.0, 1.0, 1.0};
+  const auto adjust = [&](std::size_t a, const AxisStats& sim, noise::NoiseConfig& k) {
+    const double sd_real = std::sqrt(share[a]) * real[a].sd_m;
+    sd_target[a] = std::clamp(sd_target[a] * ratio_clamped(real[a].sd_m, sim.sd_m), 0.2 * sd_real, 3.0 * sd_real);
     d1_target[a] = std::clamp(d1_target[a] * ratio_clamped(real[a].d1_sd_m, sim.d1_sd_m), 0.02 * real[a].d1_sd_m,
                               3.0 * real[a].d1_sd_m);
     smooth(a, k);
+  };
+  for (std::size_t a = 0; a < 3; ++a)
+    if (real[a].sd_m > 0.0) sd_target[a] = real[a].sd_m, d1_target[a] = real[a].d1_sd_m, smooth(a, c);
+  c = refit_composite(c, s, real, window, 8, false, adjust);
+  const std::array<double, 3> sd_fast = sd_target, d1_fast = d1_target;
+  noise::NoiseConfig out = with_slow_part(c, s, real, window, notes, [&](noise::NoiseConfig k, const std::array<double, 3>& fast) {
+    share = fast;
+    for (std::size_t a = 0; a < 3; ++a)
+      if (real[a].sd_m > 0.0) sd_target[a] = std::sqrt(fast[a]) * sd_fast[a], d1_target[a] = d1_fast[a], smooth(a, k);
+    return refit_composite(k, s, real, window, 8, false, adjust);
   });
+  note_smooth_bounds(out, s, real, notes);
+  return out;
 }
 
-noise::NoiseConfig fit_composite_cgrw(const EnuSeries& s, const std::array<AxisStats, 3>& real, std::size_t window) {
+noise::NoiseConfig fit_composite_cgrw(const EnuSeries& s, const std::array<AxisStats, 3>& real, std::size_t window,
+                                      std::vector<std::string>* notes) {
   noise::NoiseConfig c = composite_start(s, real);
   c.composite.smooth = noise::CompositeSmooth::cgrw;
   c.cgrw.rate_hz = s.rate_hz;
@@ -394,13 +542,24 @@ noise::NoiseConfig fit_composite_cgrw(const EnuSeries& s, const std::array<AxisS
   }
   // The walk is scale-invariant: all four statistics scale the spread, the three of the
   // differences the first differences, the two of the second differences the second differences.
-  return refit_composite(c, s, real, window, 8, true, [&](std::size_t a, const AxisStats& sim, noise::NoiseConfig& k) {
+  const auto adjust = [&](std::size_t a, const AxisStats& sim, noise::NoiseConfig& k) {
     const double k_sd = ratio_clamped(real[a].sd_m, sim.sd_m);
     const double k_d1 = ratio_clamped(real[a].d1_sd_m, sim.d1_sd_m) / k_sd;
     const double k_d2 = ratio_clamped(real[a].d2_sd_m, sim.d2_sd_m) / (k_sd * k_d1);
     target[a] = {target[a].width_m * k_sd, target[a].width_d1_m * k_sd * k_d1,
                  target[a].width_d2_m * k_sd * k_d1 * k_d2, target[a].sigma_d2_m * k_sd * k_d1 * k_d2};
     smooth(a, k);
+  };
+  c = refit_composite(c, s, real, window, 8, true, adjust);
+  const auto fitted = target;
+  return with_slow_part(c, s, real, window, notes, [&](noise::NoiseConfig k, const std::array<double, 3>& fast) {
+    for (std::size_t a = 0; a < 3; ++a) {
+      if (!(real[a].sd_m > 0.0)) continue;
+      const double f = std::sqrt(fast[a]);  // the walk's spread shrinks to the fast share
+      target[a] = {fitted[a].width_m * f, fitted[a].width_d1_m, fitted[a].width_d2_m, fitted[a].sigma_d2_m};
+      smooth(a, k);
+    }
+    return refit_composite(k, s, real, window, 8, true, adjust);
   });
 }
 

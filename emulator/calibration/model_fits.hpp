@@ -33,8 +33,11 @@ namespace gpsemu::calibration {
 [[nodiscard]] noise::GaussMarkovAxis fit_gauss_markov(std::span<const double> x, double rate_hz,
                                                       int order);
 /// The same from the two statistics of a series of `n` samples.
+/// `max_tau_s` bounds tau (default: 10 x the log's length) and `min_kept` the variance share the
+/// log is taken to show (default 1/25: sigma at most 5 x the log's standard deviation).
 [[nodiscard]] noise::GaussMarkovAxis fit_gauss_markov(double sd_m, double d1_sd_m, std::size_t n,
-                                                      double rate_hz, int order);
+                                                      double rate_hz, int order, double max_tau_s = 0.0,
+                                                      double min_kept = 1.0 / 25.0);
 
 /// Gauss-markov parameters of `order` refitted until their simulation at the log's rate, length,
 /// gaps and resolution has the log's standard deviation and first-difference standard deviation
@@ -56,13 +59,26 @@ namespace gpsemu::calibration {
 /// the smooth component's tau), then the smooth component's sigma and tau and the white jitter
 /// refitted together until the rounded simulation has the log's standard deviation, first- and
 /// second-difference standard deviations. Deterministic.
+/// Then the slow part (composite_model.hpp): where the log keeps more correlation at 10 and 30 s
+/// than that fit, a share of its variance goes to a first-order Gauss-Markov whose share and time
+/// constant are chosen to match the autocorrelation at 10 and 30 s (the fast part's own
+/// autocorrelation taken from its simulation), the rest refitted as before; kept when it scores
+/// better. Bounded so a run longer than the log stays within a few times its spread: every time
+/// constant at most 4 times the log's length, every standard deviation at most 5 times the log's
+/// (a drift-dominated log shows only a small share of a slow process's variance: tighter bounds
+/// miss the Telit HE910's east sd by 31%). `notes` (if given)
+/// gets what was fitted and every parameter that hit a bound.
 [[nodiscard]] noise::NoiseConfig fit_composite(const EnuSeries& series, const std::array<AxisStats, 3>& real,
-                                               std::size_t window);
+                                               std::size_t window, std::vector<std::string>* notes = nullptr);
+/// Composite time constants and standard deviations stay within these multiples of the log's
+/// length and standard deviation (bounded extrapolation).
+inline constexpr double kCompositeMaxTauInLogs = 4.0;
+inline constexpr double kCompositeMaxSigmaInSd = 5.0;
 /// The same with the cgrw walk as the smooth component (composite.smooth = cgrw, the walk's
 /// statistics in config.cgrw): the walk's four statistics start at the log's and are scaled
 /// (the walk is scale-invariant) until the rounded simulation, jitter and jumps included, has the
 /// log's standard deviation, first- and second-difference standard deviations. Deterministic.
 [[nodiscard]] noise::NoiseConfig fit_composite_cgrw(const EnuSeries& series, const std::array<AxisStats, 3>& real,
-                                                    std::size_t window);
+                                                    std::size_t window, std::vector<std::string>* notes = nullptr);
 
 }  // namespace gpsemu::calibration

@@ -84,16 +84,45 @@ double first_difference_sd(const std::vector<double>& x) {
 }  // namespace
 
 std::string MotionCheck::describe() const {
-  return fmt::format("net displacement {:.1f} m, sustained speed {:.2f} m/s (median over {:.0f} s windows)",
-                     displacement_m, speed_mps, window_s);
+  std::string out = fmt::format("net displacement {:.1f} m, sustained speed {:.2f} m/s (median over {:.0f} s windows)",
+                                displacement_m, speed_mps, window_s);
+  if (reported_speed_mps)
+    out += fmt::format(", reported speed over ground {:.3f} m/s (median of {:.0f} s means, {} reports)",
+                       *reported_speed_mps, window_s, speed_reports);
+  return out;
 }
 
 std::string MotionCheck::describe_limits() const {
+  if (reported_speed_mps)
+    return fmt::format("limits read from the receiver: a reported speed of {:.2f} m/s with a track at least {:.0f}% "
+                       "as fast and {:.2f} m/s", kReportedSpeedLimit_mps, 100 * kTrackShareOfReported,
+                       kMinTrackSpeed_mps);
   return fmt::format("limits for this log's noise ({:.2f} m about a straight line, {:.3f} m first differences): "
                      "{:.1f} m and {:.2f} m/s", noise_sd_m, noise_d1_sd_m, displacement_limit_m, speed_limit_mps);
 }
 
-MotionCheck check_motion(const EnuSeries& s) {
+namespace {
+
+// Median over windows of `window_s` of the mean reported speed in each window.
+std::optional<double> sustained_reported_speed(std::span<const SpeedReport> speeds, double window_s) {
+  if (speeds.empty() || !(window_s > 0.0)) return std::nullopt;
+  std::vector<double> means;
+  double sum = 0.0, count = 0.0;
+  auto bucket = static_cast<long long>(std::floor(speeds.front().time_s / window_s));
+  for (const SpeedReport& r : speeds) {
+    const auto b = static_cast<long long>(std::floor(r.time_s / window_s));
+    if (b != bucket && count > 0.0) means.push_back(sum / count), sum = count = 0.0;
+    bucket = b;
+    sum += r.speed_mps, count += 1.0;
+  }
+  if (count > 0.0) means.push_back(sum / count);
+  std::nth_element(means.begin(), means.begin() + static_cast<std::ptrdiff_t>(means.size() / 2), means.end());
+  return means[means.size() / 2];
+}
+
+}  // namespace
+
+MotionCheck check_motion(const EnuSeries& s, std::span<const SpeedReport> reports) {
   MotionCheck m;
   const std::size_t n = s.size();
   const std::size_t tenth = std::max<std::size_t>(1, n / 10);
@@ -118,7 +147,14 @@ MotionCheck check_motion(const EnuSeries& s) {
   m.displacement_limit_m = std::max(kMinDisplacementLimit_m, kDisplacementInSd * m.noise_sd_m);
   m.speed_limit_mps = std::max(kMinSpeedLimit_mps, kSpeedInWalks * m.noise_d1_sd_m *
                                                        std::sqrt(static_cast<double>(lag)) / m.window_s);
-  m.moving = m.displacement_m > m.displacement_limit_m || m.speed_mps > m.speed_limit_mps;
+  m.speed_reports = reports.size();
+  m.reported_speed_mps = sustained_reported_speed(reports, m.window_s);
+  if (m.reported_speed_mps) {
+    m.moving = *m.reported_speed_mps >= kReportedSpeedLimit_mps &&
+               m.speed_mps >= std::max(kMinTrackSpeed_mps, kTrackShareOfReported * *m.reported_speed_mps);
+  } else {
+    m.moving = m.displacement_m > m.displacement_limit_m || m.speed_mps > m.speed_limit_mps;
+  }
   return m;
 }
 

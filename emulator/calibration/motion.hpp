@@ -1,10 +1,16 @@
 // Is a receiver's log stationary? Calibration fits noise to a receiver that does not move: a
-// driving log would be calibrated as noise as wide as the route. A track moves when its net
-// displacement or its sustained speed is well beyond what the log's own noise explains (limits
-// scaled by the noise, see check_motion and docs/noise-and-calibration.md). With --detrend a
+// driving log would be calibrated as noise as wide as the route. When the log states speeds over
+// ground (RMC, VTG: the receiver's Doppler velocity, which its slow position wander does not
+// show, while the velocity's own noise does not add up to a track), the receiver is read: it moves
+// when its reported speed, sustained over windows, is at least kReportedSpeedLimit_mps and its
+// track goes at least kTrackShareOfReported as fast and kMinTrackSpeed_mps. Otherwise a track moves
+// when its net displacement or its sustained speed is well beyond what the log's own noise
+// explains (limits scaled by the noise, see check_motion and docs/noise-and-calibration.md). With --detrend a
 // smooth trajectory (local quadratic least squares over a 10 s window) is removed first instead.
 #pragma once
 
+#include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 
@@ -23,6 +29,15 @@ inline constexpr double kDisplacementInSd = 25.0;
 /// window (the real logs reach 2.7 of them).
 inline constexpr double kSpeedInWalks = 6.0;
 inline constexpr double kSpeedWindow_s = 30.0;
+/// A sustained reported speed over ground at least this is motion when the track's own sustained
+/// speed is at least kTrackShareOfReported of it and kMinTrackSpeed_mps. Stationary receivers
+/// report 0-6 cm/s (tests/data/real: Quectel 0, Telit 0.5 cm/s, ZED-F9P 6 cm/s of undirected
+/// velocity noise) while their track goes 0-3 cm/s; on a drifting boat or a creeping vehicle the
+/// track goes as fast as the reported speed. (A receiver that reports 0 below a threshold, u-blox's
+/// static hold, hides motion slower than it.)
+inline constexpr double kReportedSpeedLimit_mps = 0.05;
+inline constexpr double kTrackShareOfReported = 0.6;
+inline constexpr double kMinTrackSpeed_mps = 0.04;
 /// The detrending window (seconds): the trajectory is smooth over it, the noise's faster part is not.
 inline constexpr double kDetrendWindow_s = 10.0;
 
@@ -38,15 +53,20 @@ struct MotionCheck {
   double displacement_limit_m = 0.0;
   /// max(kMinSpeedLimit_mps, kSpeedInWalks x noise_d1_sd_m x sqrt(samples in window_s) / window_s).
   double speed_limit_mps = 0.0;
-  bool moving = false;          ///< beyond either limit
+  /// The receiver's own speed over ground: median over windows of window_s of the mean reported
+  /// speed in each; empty when the log states none (the noise's limits decide then).
+  std::optional<double> reported_speed_mps;
+  std::size_t speed_reports = 0;
+  bool moving = false;          ///< beyond the limits (the reported speed's when there is one)
   /// "net displacement 123 m, sustained speed 2.0 m/s (median over 30 s windows)".
   [[nodiscard]] std::string describe() const;
   /// "limits for this log's noise (0.12 m about a line, 0.034 m first differences): 3.0 m and 0.05 m/s".
   [[nodiscard]] std::string describe_limits() const;
 };
 
-/// The motion statistics of the series' horizontal axes (gaps are skipped).
-[[nodiscard]] MotionCheck check_motion(const EnuSeries& series);
+/// The motion statistics of the series' horizontal axes (gaps are skipped), and of the speeds over
+/// ground the receiver reported (ReceiverLog::speeds; none: the noise's limits decide).
+[[nodiscard]] MotionCheck check_motion(const EnuSeries& series, std::span<const SpeedReport> speeds = {});
 
 /// What detrend removed.
 struct Detrended {

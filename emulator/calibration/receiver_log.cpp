@@ -4,63 +4,107 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
-#include <map>
-#include <sstream>
+#include <cstdlib>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
 namespace gpsemu::calibration {
 
-ReceiverLog read_receiver_log(std::string_view bytes) {
-  ReceiverLog log;
-  nmea::StreamReader reader;
-  std::vector<nmea::Sentence> sentences = reader.feed(bytes);
-  if (auto last = reader.finish()) sentences.push_back(std::move(*last));
-  log.counts.stream = reader.stats();
+namespace {
 
-  std::map<int, std::size_t> decimals;  // minute decimals -> fixes
-  double first_tod_s = 0.0, prev_s = -std::numeric_limits<double>::infinity(), day_offset_s = 0.0;
-  double prev_tod_s = 0.0;
-  for (const nmea::Sentence& s : sentences) {
-    if (s.type != "GGA") continue;
-    ++log.counts.gga;
-    const auto gga = nmea::parse_gga(s);
-    if (!gga) {
-      ++log.counts.gga_malformed;
-      continue;
+// A VTG's speed over ground: field 6 (km/h), else field 4 (knots); nullopt when neither parses.
+std::optional<double> vtg_speed_mps(const nmea::Sentence& s) {
+  const auto number = [&](std::size_t i) -> std::optional<double> {
+    if (s.fields.size() <= i || s.fields[i].empty()) return std::nullopt;
+    char* end = nullptr;
+    const double v = std::strtod(s.fields[i].c_str(), &end);
+    if (end != s.fields[i].c_str() + s.fields[i].size() || !std::isfinite(v) || v < 0.0) return std::nullopt;
+    return v;
+  };
+  if (const auto kmh = number(6)) return *kmh / 3.6;
+  if (const auto knots = number(4)) return *knots * 1852.0 / 3600.0;
+  return std::nullopt;
+}
+
+}  // namespace
+
+void ReceiverLogReader::feed(std::string_view bytes) {
+  for (const nmea::Sentence& s : stream_.feed(bytes)) take(s);
+}
+
+void ReceiverLogReader::take(const nmea::Sentence& s) {
+  const double now_s = log_.fixes.empty() ? 0.0 : log_.fixes.back().time_s;
+  if (s.type == "RMC") {
+    const auto rmc = nmea::parse_rmc(s);
+    if (rmc && rmc->status_active && rmc->speed_mps) {
+      log_.speeds.push_back({now_s, static_cast<float>(*rmc->speed_mps)});
+      ++log_.counts.speed_reports;
     }
-    if (gga->quality == nmea::FixQuality::none || !gga->lat_deg || !gga->lon_deg ||
-        !gga->alt_msl_m || !gga->time_of_day) {
-      ++log.counts.gga_no_fix;
-      continue;
-    }
-    const double tod_s = static_cast<double>(gga->time_of_day->count()) / 1000.0;
-    if (!log.fixes.empty() && tod_s < prev_tod_s - 43200.0) day_offset_s += 86400.0;  // midnight
-    prev_tod_s = tod_s;
-    if (log.fixes.empty()) first_tod_s = tod_s;
-    const double t = tod_s + day_offset_s - first_tod_s;
-    if (t <= prev_s) {
-      ++log.counts.repeated_time;
-      continue;
-    }
-    prev_s = t;
-    log.fixes.push_back({t, {*gga->lat_deg, *gga->lon_deg, *gga->alt_msl_m}, gga->hdop});
-    ++decimals[gga->minute_decimals];
+    return;
   }
+  if (s.type == "VTG") {
+    if (const auto v = vtg_speed_mps(s)) {
+      vtg_speeds_.push_back({now_s, static_cast<float>(*v)});
+      ++log_.counts.speed_reports;
+    }
+    return;
+  }
+  if (s.type != "GGA") return;
+  ++log_.counts.gga;
+  const auto gga = nmea::parse_gga(s);
+  if (!gga) {
+    ++log_.counts.gga_malformed;
+    return;
+  }
+  if (gga->quality == nmea::FixQuality::none || !gga->lat_deg || !gga->lon_deg || !gga->alt_msl_m ||
+      !gga->time_of_day) {
+    ++log_.counts.gga_no_fix;
+    return;
+  }
+  const double tod_s = static_cast<double>(gga->time_of_day->count()) / 1000.0;
+  if (!log_.fixes.empty() && tod_s < prev_tod_s_ - 43200.0) day_offset_s_ += 86400.0;  // midnight
+  prev_tod_s_ = tod_s;
+  if (log_.fixes.empty()) first_tod_s_ = tod_s;
+  const double t = tod_s + day_offset_s_ - first_tod_s_;
+  if (!log_.fixes.empty() && t <= prev_s_) {
+    ++log_.counts.repeated_time;
+    return;
+  }
+  prev_s_ = t;
+  log_.fixes.push_back({t, {*gga->lat_deg, *gga->lon_deg, *gga->alt_msl_m}, gga->hdop});
+  ++decimals_[static_cast<std::size_t>(std::clamp(gga->minute_decimals, 0, 9))];
+}
+
+ReceiverLog ReceiverLogReader::finish() {
+  if (auto last = stream_.finish()) take(*last);
+  log_.counts.stream = stream_.stats();
+  if (log_.speeds.empty()) log_.speeds = std::move(vtg_speeds_);
+  log_.counts.speed_reports = log_.speeds.size();
   std::size_t best = 0;
-  for (const auto& [d, n] : decimals) {
-    if (n > best) best = n, log.minute_decimals = d;
-  }
-  return log;
+  for (std::size_t d = 0; d < decimals_.size(); ++d)
+    if (decimals_[d] > best) best = decimals_[d], log_.minute_decimals = static_cast<int>(d);
+  log_.fixes.shrink_to_fit();
+  return std::move(log_);
+}
+
+ReceiverLog read_receiver_log(std::string_view bytes) {
+  ReceiverLogReader reader;
+  reader.feed(bytes);
+  return reader.finish();
 }
 
 ReceiverLog read_receiver_log_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(fmt::format("cannot read receiver log '{}'", path));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return read_receiver_log(text.str());
+  ReceiverLogReader reader;
+  std::string chunk(1 << 20, '\0');
+  while (in) {
+    in.read(chunk.data(), static_cast<std::streamsize>(chunk.size()));
+    if (in.gcount() > 0) reader.feed(std::string_view(chunk.data(), static_cast<std::size_t>(in.gcount())));
+  }
+  if (in.bad()) throw std::runtime_error(fmt::format("cannot read receiver log '{}'", path));
+  return reader.finish();
 }
 
 double snap_rate_hz(double rate_hz) {
@@ -77,7 +121,7 @@ double snap_rate_hz(double rate_hz) {
   return best;
 }
 
-EnuSeries to_enu_series(ReceiverLog& log) {
+EnuSeries to_enu_series(ReceiverLog& log, std::size_t max_epochs, std::string_view why_limit) {
   constexpr std::size_t kMinFixes = 16;
   if (log.fixes.size() < kMinFixes) {
     throw std::invalid_argument(fmt::format(
@@ -105,13 +149,14 @@ EnuSeries to_enu_series(ReceiverLog& log) {
   out.centre = {c.lat_deg / n, wrap_lon_deg(lon0 + c.lon_deg / n), c.alt_m / n};
 
   // Every grid epoch from the first fix to the last gets a sample: refuse a span (a log whose times
-  // jump ahead by days, or a corrupt one) that would take gigabytes.
-  constexpr double kMaxEpochs = 1e7;
+  // jump ahead by days, or a corrupt one) that would take more memory than there is.
   const double span_epochs = log.fixes.back().time_s * out.rate_hz;
-  if (!(span_epochs < kMaxEpochs)) {
+  const auto max_epochs_d = static_cast<double>(std::min(max_epochs, kMaxCalibrationEpochs));
+  if (!(span_epochs < max_epochs_d)) {
     throw std::invalid_argument(fmt::format(
         "the log's fixes span {:.0f} s, {:.0f} epochs at {} Hz: calibration takes at most {:.0f} epochs of one "
-        "continuous recording", log.fixes.back().time_s, span_epochs, out.rate_hz, kMaxEpochs));
+        "continuous recording{}", log.fixes.back().time_s, span_epochs, out.rate_hz, max_epochs_d,
+        why_limit.empty() ? std::string() : fmt::format(" ({})", why_limit)));
   }
   const auto last = static_cast<std::size_t>(std::llround(span_epochs));
   for (auto& a : out.axis_m) a.assign(last + 1, std::numeric_limits<double>::quiet_NaN());

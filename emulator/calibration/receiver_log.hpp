@@ -1,7 +1,9 @@
 // A stationary receiver's NMEA log as calibration input: the fixes of its GGA sentences with their
-// times, the log's epoch rate and coordinate resolution, and what was skipped (binary protocols,
-// bad checksums, malformed sentences, no-fix epochs, repeated times), then the fixes as local
-// East/North/Up metres about their mean position on the log's epoch grid (gaps left empty).
+// times, the speeds over ground the receiver reported (RMC, VTG), the log's epoch rate and
+// coordinate resolution, and what was skipped (binary protocols, bad checksums, malformed
+// sentences, no-fix epochs, repeated times), then the fixes as local East/North/Up metres about
+// their mean position on the log's epoch grid (gaps left empty). A file is read in chunks: memory
+// is the fixes (about 70 bytes each), not the file.
 #pragma once
 
 #include <array>
@@ -24,6 +26,7 @@ struct LogCounts {
   std::uint64_t gga_no_fix = 0;      ///< GGA with quality 0 or empty position / time / altitude
   std::uint64_t repeated_time = 0;   ///< fixes whose time does not advance (dropped)
   std::uint64_t missing_epochs = 0;  ///< grid epochs between the first and last fix without a fix
+  std::uint64_t speed_reports = 0;   ///< speeds over ground read (active RMC, VTG)
 };
 
 struct LogFix {
@@ -32,15 +35,41 @@ struct LogFix {
   std::optional<double> hdop;  ///< the HDOP the receiver stated with the fix, if any
 };
 
+/// A speed over ground the receiver stated, at the time of the latest fix before it.
+struct SpeedReport {
+  double time_s = 0.0;     ///< seconds since the first fix (0 before it)
+  float speed_mps = 0.0f;  ///< metres per second
+};
+
 struct ReceiverLog {
   std::vector<LogFix> fixes;  ///< in time order, strictly increasing times
+  /// The receiver's own speeds over ground: the active RMCs' when the log has any, else the VTGs'
+  /// (one source, so an epoch with both counts once); empty when it states none.
+  std::vector<SpeedReport> speeds;
   LogCounts counts;
   int minute_decimals = 0;    ///< most common decimals of minutes in the fixes' latitudes
 };
 
+/// Reads a log incrementally: feed bytes in any chunks (a sentence may straddle two), then finish.
+class ReceiverLogReader {
+ public:
+  void feed(std::string_view bytes);
+  /// The log read so far (the reader is spent).
+  [[nodiscard]] ReceiverLog finish();
+
+ private:
+  void take(const nmea::Sentence& s);
+
+  nmea::StreamReader stream_;
+  ReceiverLog log_;
+  std::vector<SpeedReport> vtg_speeds_;
+  std::array<std::size_t, 10> decimals_{};  // fixes per minute decimals 0..9
+  double first_tod_s_ = 0.0, prev_s_ = 0.0, day_offset_s_ = 0.0, prev_tod_s_ = 0.0;
+};
+
 /// Reads NMEA text (any bytes: binary protocols and junk are skipped and counted).
 [[nodiscard]] ReceiverLog read_receiver_log(std::string_view bytes);
-/// Reads a file; throws std::runtime_error naming the path when it cannot be read.
+/// Reads a file in chunks of 1 MiB; throws std::runtime_error naming the path when it cannot be read.
 [[nodiscard]] ReceiverLog read_receiver_log_file(const std::string& path);
 
 /// The epoch rates the emulator offers (design: 1..50 whole, 0.5/0.25/0.2/0.1), nearest in ratio.
@@ -57,10 +86,15 @@ struct EnuSeries {
   [[nodiscard]] double duration_s() const { return static_cast<double>(size()) / rate_hz; }
 };
 
+/// At most this many grid epochs are calibrated, whatever the memory (calibrate.hpp derives a
+/// lower limit from the memory available).
+inline constexpr std::size_t kMaxCalibrationEpochs = 10'000'000;
+
 /// Puts the fixes on their grid: rate from the median interval between fixes, index
 /// round((t - t0) * rate); a second fix on an index already taken counts as repeated. Fills
 /// `log.counts.missing_epochs`. Throws std::invalid_argument when fewer than 16 fixes remain or
-/// the fixes span 10 million grid epochs or more.
-[[nodiscard]] EnuSeries to_enu_series(ReceiverLog& log);
+/// the fixes span `max_epochs` grid epochs or more (`why_limit` says where the limit comes from).
+[[nodiscard]] EnuSeries to_enu_series(ReceiverLog& log, std::size_t max_epochs = kMaxCalibrationEpochs,
+                                      std::string_view why_limit = "");
 
 }  // namespace gpsemu::calibration

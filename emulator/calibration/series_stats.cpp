@@ -81,6 +81,11 @@ AxisStats measure_axis(std::span<const double> x, double rate_hz, std::size_t wi
   s.d1_sd_m = noise::standard_deviation(d1);
   s.d2_sd_m = noise::standard_deviation(noise::differences(d1));
   for (std::size_t i = 0; i < kLags.size(); ++i) s.acf[i] = noise::autocorrelation(x, kLags[i]);
+  for (std::size_t i = 0; i < kAcfTimes_s.size(); ++i) {
+    const double lag = kAcfTimes_s[i] * rate_hz;
+    if (std::abs(lag - std::round(lag)) < 1e-9 && lag >= 1.0 && 3.0 * lag <= static_cast<double>(x.size()))
+      s.acf_s[i] = noise::autocorrelation(x, static_cast<std::size_t>(std::llround(lag)));
+  }
   const std::vector<double> filled = fill_gaps(x);
   for (std::size_t i = 0; i < kAllanTimes_s.size(); ++i) {
     const double samples = kAllanTimes_s[i] * rate_hz;
@@ -115,6 +120,10 @@ const std::vector<StatDef>& stat_defs() {
        [](const AxisStats& s) -> O { return s.acf[0]; }},
       {"lag-10 acf", [](const AxisStats& s) -> O { return 1.0 - s.acf[1]; },
        [](const AxisStats& s) -> O { return s.acf[1]; }},
+      {"acf 10 s", [](const AxisStats& s) -> O { return s.acf_s[0] ? O(1.0 - *s.acf_s[0]) : std::nullopt; },
+       [](const AxisStats& s) -> O { return s.acf_s[0]; }},
+      {"acf 30 s", [](const AxisStats& s) -> O { return s.acf_s[1] ? O(1.0 - *s.acf_s[1]) : std::nullopt; },
+       [](const AxisStats& s) -> O { return s.acf_s[1]; }},
       {"adev 1 s (m)", [](const AxisStats& s) { return s.allan_m[0]; },
        [](const AxisStats& s) { return s.allan_m[0]; }},
       {"adev 10 s (m)", [](const AxisStats& s) { return s.allan_m[1]; },
@@ -133,17 +142,23 @@ AxisStats mean_stats(const std::vector<AxisStats>& runs) {
   m.cgrw = {0, 0, 0, 0};
   std::array<double, 3> allan_sum{};
   std::array<int, 3> allan_count{};
+  std::array<double, 2> acf_sum{};
+  std::array<int, 2> acf_count{};
   for (const AxisStats& r : runs) {
     m.range_m += r.range_m / n, m.sd_m += r.sd_m / n, m.d1_sd_m += r.d1_sd_m / n,
         m.d2_sd_m += r.d2_sd_m / n;
     for (std::size_t i = 0; i < m.acf.size(); ++i) m.acf[i] += r.acf[i] / n;
     for (std::size_t i = 0; i < 3; ++i)
       if (r.allan_m[i]) allan_sum[i] += *r.allan_m[i], ++allan_count[i];
+    for (std::size_t i = 0; i < 2; ++i)
+      if (r.acf_s[i]) acf_sum[i] += *r.acf_s[i], ++acf_count[i];
     m.cgrw.width_m += r.cgrw.width_m / n, m.cgrw.width_d1_m += r.cgrw.width_d1_m / n,
         m.cgrw.width_d2_m += r.cgrw.width_d2_m / n, m.cgrw.sigma_d2_m += r.cgrw.sigma_d2_m / n;
   }
   for (std::size_t i = 0; i < 3; ++i)
     if (allan_count[i] == static_cast<int>(runs.size())) m.allan_m[i] = allan_sum[i] / n;
+  for (std::size_t i = 0; i < 2; ++i)
+    if (acf_count[i] == static_cast<int>(runs.size())) m.acf_s[i] = acf_sum[i] / n;
   return m;
 }
 

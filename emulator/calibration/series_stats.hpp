@@ -20,6 +20,8 @@ namespace gpsemu::calibration {
 inline constexpr std::array<double, 3> kAllanTimes_s{1.0, 10.0, 100.0};
 /// Autocorrelation lags (samples of the grid).
 inline constexpr std::array<std::size_t, 2> kLags{1, 10};
+/// Autocorrelation lags in time (seconds): the correlation a receiver keeps beyond its smooth part.
+inline constexpr std::array<double, 2> kAcfTimes_s{10.0, 30.0};
 
 struct AxisStats {
   double range_m = 0;     ///< max - min
@@ -27,6 +29,9 @@ struct AxisStats {
   double d1_sd_m = 0;     ///< standard deviation of the first difference (metres per sample)
   double d2_sd_m = 0;     ///< standard deviation of the second difference (metres per sample^2)
   std::array<double, 2> acf{};  ///< autocorrelation at kLags
+  /// Autocorrelation at kAcfTimes_s; empty when the lag is not a whole number of samples or the
+  /// series is shorter than 3 lags.
+  std::array<std::optional<double>, 2> acf_s{};
   /// Overlapping Allan deviation of the position at kAllanTimes_s (metres); empty when the
   /// series is shorter than 3 averaging times or the time is not a whole number of samples.
   std::array<std::optional<double>, 3> allan_m{};
@@ -50,7 +55,8 @@ struct StatDef {
   std::optional<double> (*get)(const AxisStats&);
   std::optional<double> (*show)(const AxisStats&);  ///< the value printed
 };
-/// range, sd, d1 sd, d2 sd, lag-1 and lag-10 autocorrelation, Allan deviation at 1, 10, 100 s.
+/// range, sd, d1 sd, d2 sd, lag-1 and lag-10 autocorrelation, autocorrelation at 10 and 30 s,
+/// Allan deviation at 1, 10, 100 s.
 [[nodiscard]] const std::vector<StatDef>& stat_defs();
 
 /// Mean of each statistic over several runs (missing ones stay missing).

@@ -279,7 +279,13 @@ std::vector<OptionDef> make_option_table() {
                         "east,north,up (normal), metres (default 0,0,0)", "metres", &noise::CompositeAxis::jump_sigma_m},
            CompositeKey{"composite-jump-decay", "T[,TN,TU]", "composite model: time constant a jump decays back "
                         "with, east,north,up, seconds; 0 = jumps stay (default 0,0,0)", "seconds",
-                        &noise::CompositeAxis::jump_decay_s}}) {
+                        &noise::CompositeAxis::jump_decay_s},
+           CompositeKey{"composite-slow-sigma", "S[,SN,SU]", "composite model: slow first-order Gauss-Markov "
+                        "wander's standard deviation east,north,up, metres; 0 = none (default 0,0,0)", "metres",
+                        &noise::CompositeAxis::slow_sigma_m},
+           CompositeKey{"composite-slow-tau", "T[,TN,TU]", "composite model: slow wander's correlation time "
+                        "east,north,up, seconds (> 0 where composite-slow-sigma is)", "seconds",
+                        &noise::CompositeAxis::slow_tau_s}}) {
     add(k.name, k.value_name, k.help, [k](ConfigDraft& d, V v) {
       const auto x = parse_per_axis(k.name, v.back(), false, k.unit);
       for (std::size_t i = 0; i < 3; ++i) d.receiver.settings.noise.composite.axes[i].*k.field = x[i];

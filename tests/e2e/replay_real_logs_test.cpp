@@ -1,5 +1,4 @@
-// `gpsemu replay --speed 10` on the real receivers' logs (shared/data/real beside the repository,
-// when present; skipped otherwise: the folder is not part of the repository). Every epoch comes
+// `gpsemu replay --speed 10` on the real receivers' logs (tests/data/real). Every epoch comes
 // out, in order, content unchanged (the output is exactly the log's valid sentences, found here
 // by a scan of our own), each epoch's spacing is the log's spacing / 10 (100 ms at 1 Hz). The
 // spacing figures are reported (mean, 95th percentile, worst, share within +-5 ms); asserted are the
@@ -28,7 +27,7 @@ namespace {
 namespace fs = std::filesystem;
 using namespace std::chrono;
 
-const std::string kDir = GPSEMU_SOURCE_DIR "/../shared/data/real";
+const std::string kDir = GPSEMU_SOURCE_DIR "/tests/data/real";
 
 using test::read_file;
 
@@ -68,9 +67,7 @@ std::string valid_sentences(const std::string& log) {
 
 void replay_real_log(const std::string& name, std::size_t expected_epochs) {
   const fs::path path = fs::path(kDir) / name;
-  if (!fs::exists(path)) {
-    GTEST_SKIP() << "real receiver log " << path << " not found (shared/data/real is not part of the repository)";
-  }
+  ASSERT_TRUE(fs::exists(path)) << "real receiver log " << path << " is part of the repository";
   const std::string log_bytes = read_file(path);
   const ReplayLog log = parse_replay_log(log_bytes);
   ASSERT_EQ(log.epochs.size(), expected_epochs);

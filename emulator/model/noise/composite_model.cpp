@@ -18,6 +18,18 @@ std::unique_ptr<NoiseModel> make_smooth(const NoiseConfig& config, std::uint64_t
   return std::make_unique<GaussMarkovNoise>(config.composite.smooth_gm, seed, 2);
 }
 
+std::unique_ptr<NoiseModel> make_slow(const CompositeParams& p, std::uint64_t seed) {
+  std::array<GaussMarkovAxis, 3> axes{};
+  bool any = false;
+  for (std::size_t i = 0; i < 3; ++i) {
+    const bool on = p.axes[i].slow_sigma_m > 0.0;
+    axes[i] = {on ? p.axes[i].slow_sigma_m : 0.0, on ? p.axes[i].slow_tau_s : 1.0};
+    any = any || on;
+  }
+  if (!any) return nullptr;
+  return std::make_unique<GaussMarkovNoise>(axes, stream_seed(seed, 9), 1);
+}
+
 }  // namespace
 
 void validate_composite(const CompositeParams& p) {
@@ -27,11 +39,18 @@ void validate_composite(const CompositeParams& p) {
     const std::pair<const char*, double> fields[] = {{"jitter_sigma_m", a.jitter_sigma_m},
                                                       {"jump_rate_hz", a.jump_rate_hz},
                                                       {"jump_sigma_m", a.jump_sigma_m},
-                                                      {"jump_decay_s", a.jump_decay_s}};
+                                                      {"jump_decay_s", a.jump_decay_s},
+                                                      {"slow_sigma_m", a.slow_sigma_m},
+                                                      {"slow_tau_s", a.slow_tau_s}};
     for (const auto& [field, value] : fields) {
       if (value >= 0.0 && std::isfinite(value)) continue;
       std::ostringstream os;
       os << "composite." << names[i] << "." << field << " must be finite and >= 0 (got " << value << ")";
+      throw std::invalid_argument(os.str());
+    }
+    if (a.slow_sigma_m > 0.0 && !(a.slow_tau_s > 0.0)) {
+      std::ostringstream os;
+      os << "composite." << names[i] << ".slow_tau_s must be > 0 when slow_sigma_m is (got " << a.slow_tau_s << ")";
       throw std::invalid_argument(os.str());
     }
   }
@@ -41,6 +60,7 @@ void validate_composite(const CompositeParams& p) {
 CompositeNoise::CompositeNoise(const NoiseConfig& config, std::uint64_t seed)
     : axes_(config.composite.axes),
       smooth_((validate_composite(config.composite), make_smooth(config, seed))),
+      slow_(make_slow(config.composite, seed)),
       jitter_rngs_{Rng(seed, 3), Rng(seed, 4), Rng(seed, 5)},
       jump_rngs_{Rng(seed, 6), Rng(seed, 7), Rng(seed, 8)} {}
 
@@ -84,6 +104,10 @@ Enu CompositeNoise::offset_at(std::chrono::nanoseconds since_start) {
   if (!started_ || t_s < last_s_) restart();
   const Enu smooth = smooth_->offset_at(since_start);
   std::array<double, 3> out{smooth.east_m, smooth.north_m, smooth.up_m};
+  if (slow_) {
+    const Enu slow = slow_->offset_at(since_start);
+    out[0] += slow.east_m, out[1] += slow.north_m, out[2] += slow.up_m;
+  }
   for (std::size_t i = 0; i < 3; ++i) {
     advance_jumps(i, t_s);
     out[i] += jump_m_[i] + axes_[i].jitter_sigma_m * jitter_rngs_[i].normal();

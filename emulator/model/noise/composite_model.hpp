@@ -1,10 +1,11 @@
 // The `composite` noise model: what a real receiver's stationary error looks like on each axis,
 //   smooth wander (second-order Gauss-Markov, or the cgrw walk)
+//   + slow wander (first-order Gauss-Markov with a longer time constant; optional)
 //   + white jitter (one independent normal draw per epoch)
 //   + jumps (a Poisson process: at rate r a step of normal size sigma_j, each decaying back with
 //     time constant T, or staying when T = 0: then the jumps add up as a random walk).
 // Each part has its own random streams under the seed (smooth: streams 0-2 as its model alone;
-// jitter 3-5; jumps 6-8), so the same seed and query times give the same values everywhere.
+// jitter 3-5; jumps 6-8; slow: streams 0-2 under stream_seed(seed, 9)), so the same seed and query times give the same values everywhere.
 #pragma once
 
 #include <array>
@@ -37,6 +38,7 @@ class CompositeNoise final : public NoiseModel {
 
   std::array<CompositeAxis, 3> axes_;
   std::unique_ptr<NoiseModel> smooth_;
+  std::unique_ptr<NoiseModel> slow_;  // null when no axis has a slow part
   std::array<Rng, 3> jitter_rngs_, jump_rngs_;
   std::array<double, 3> jump_m_{};       // the jump process's offset at last_s_
   std::array<double, 3> next_jump_s_{};  // time of each axis's next jump

@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "emulator/calibration/calibrate.hpp"
 #include "emulator/calibration/receiver_log.hpp"
 #include "emulator/calibration/series_stats.hpp"
 #include "emulator/model/noise/cgrw_fit.hpp"
@@ -90,6 +91,62 @@ TEST(CalibrationLog, ASpanOfDaysIsRefusedNotAllocated) {
     ADD_FAILURE() << "a span of days at 50 Hz was accepted";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("epochs at 50 Hz: calibration takes at most 10000000 epochs"),
+              std::string::npos) << e.what();
+  }
+}
+
+// Issue 22 point 9: a 503 MB log took 7.4 GB to calibrate (the whole file, then every sentence, in
+// memory). The reader now takes the file in chunks: fed in pieces of any size, sentences cut
+// anywhere, it finds exactly what it finds in the whole text.
+TEST(CalibrationLog, ReadingInChunksFindsWhatTheWholeTextHas) {
+  const test::MessyLog made = test::make_log(5.0, 400, 6, true);
+  const ReceiverLog whole = read_receiver_log(made.text);
+  for (const std::size_t chunk : {std::size_t{1}, std::size_t{7}, std::size_t{100}, std::size_t{4096}}) {
+    ReceiverLogReader reader;
+    for (std::size_t i = 0; i < made.text.size(); i += chunk)
+      reader.feed(std::string_view(made.text).substr(i, chunk));
+    const ReceiverLog pieces = reader.finish();
+    ASSERT_EQ(pieces.fixes.size(), whole.fixes.size()) << chunk;
+    for (std::size_t k = 0; k < whole.fixes.size(); ++k) {
+      EXPECT_EQ(pieces.fixes[k].time_s, whole.fixes[k].time_s);
+      EXPECT_EQ(pieces.fixes[k].position.lat_deg, whole.fixes[k].position.lat_deg);
+    }
+    EXPECT_EQ(pieces.speeds.size(), whole.speeds.size());
+    EXPECT_EQ(pieces.counts.stream.garbage_bytes, whole.counts.stream.garbage_bytes);
+    EXPECT_EQ(pieces.counts.repeated_time, whole.counts.repeated_time);
+    EXPECT_EQ(pieces.minute_decimals, 6);
+  }
+}
+
+// The receiver's speeds over ground: the active RMCs' (one a fix here, knots to m/s), else VTG's
+// km/h; never both for one epoch.
+TEST(CalibrationLog, ReadsTheReportedSpeedOverGround) {
+  const test::MessyLog made = test::make_log(1.0, 60, 5, false);
+  const ReceiverLog rmc = read_receiver_log(made.text);
+  EXPECT_EQ(rmc.speeds.size(), made.fixes);
+  EXPECT_EQ(rmc.counts.speed_reports, made.fixes);
+  std::string vtg_only;
+  for (int i = 0; i < 20; ++i) {
+    vtg_only += nmea::frame(fmt::format("GPGGA,1200{:02}.00,4304.33935,N,08924.74923,W,1,08,1.0,260.0,M,0.0,M,,", i));
+    vtg_only += nmea::frame("GPVTG,,T,,M,0.214,N,0.396,K,A");
+  }
+  const ReceiverLog vtg = read_receiver_log(vtg_only);
+  ASSERT_EQ(vtg.speeds.size(), 20u);
+  EXPECT_NEAR(vtg.speeds[5].speed_mps, 0.396 / 3.6, 1e-6);
+  EXPECT_EQ(vtg.speeds[5].time_s, 5.0);
+}
+
+// The epoch limit follows the memory: a limit below the log's span is refused with the reason.
+TEST(CalibrationLog, TheEpochLimitComesFromTheMemoryAvailable) {
+  EXPECT_EQ(max_epochs_for_memory(0), 0u);
+  EXPECT_EQ(max_epochs_for_memory(std::uint64_t{1} << 40), kMaxCalibrationEpochs);
+  EXPECT_EQ(max_epochs_for_memory(1'000'000'000), 1'000'000'000 / 2 / kCalibrationBytesPerEpoch);
+  ReceiverLog log = read_receiver_log(test::make_log(1.0, 300, 5, false).text);
+  try {
+    (void)to_enu_series(log, 100, "the reason");
+    ADD_FAILURE() << "300 epochs went into a limit of 100";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("at most 100 epochs of one continuous recording (the reason)"),
               std::string::npos) << e.what();
   }
 }

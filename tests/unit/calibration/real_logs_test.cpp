@@ -1,7 +1,6 @@
-// Calibration on real receivers' logs (shared/data/real beside the repository, when present:
-// they are not part of it). Reading must agree with the logs' independently computed statistics,
+// Calibration on real receivers' logs (tests/data/real, gpsd's regression logs, BSD-2). Reading must agree with the logs' independently computed statistics,
 // and the best-scoring model must reproduce the standard deviation and the first-difference
-// standard deviation within 25% per horizontal axis. Skipped, saying why, without the logs.
+// standard deviation within 25% per horizontal axis.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -15,7 +14,7 @@
 namespace gpsemu::calibration {
 namespace {
 
-const std::string kDir = GPSEMU_SOURCE_DIR "/../shared/data/real";
+const std::string kDir = GPSEMU_SOURCE_DIR "/tests/data/real";
 
 struct RealLog {
   const char* file;
@@ -30,10 +29,7 @@ class RealLogs : public ::testing::TestWithParam<RealLog> {};
 TEST_P(RealLogs, BestModelReproducesSpreadAndFirstDifferences) {
   const RealLog& want = GetParam();
   const std::string path = kDir + "/" + want.file;
-  if (!std::filesystem::exists(path)) {
-    GTEST_SKIP() << "real receiver log " << path << " not found (shared/data/real is not part of the "
-                 << "repository): this test did not run";
-  }
+  ASSERT_TRUE(std::filesystem::exists(path)) << "real receiver log " << path << " is part of the repository";
   CalibrateOptions options;  // the same seeds and runs as `gpsemu compare`
   const Calibration c = calibrate(read_receiver_log_file(path), options);
   const std::size_t fixes = c.series.size() - c.counts.missing_epochs;

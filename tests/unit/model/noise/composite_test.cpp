@@ -4,6 +4,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "emulator/model/noise/composite_model.hpp"
@@ -88,6 +90,40 @@ TEST(Composite, WithoutJitterAndJumpsIsItsSmoothPartExactly) {
 TEST(Composite, NameParsesBothWays) {
   EXPECT_EQ(parse_model("composite"), Model::composite);
   EXPECT_EQ(to_string(Model::composite), "composite");
+}
+
+// The slow part (issue 27): a first-order Gauss-Markov added to the rest, its own streams (the
+// rest is unchanged by it), its variance added, its correlation kept at lags where the smooth
+// part's is gone, and bounded however long the run.
+TEST(Composite, SlowPartAddsItsVarianceAndLongCorrelation) {
+  NoiseConfig fast = composite(0.2, 0.0, 0.0, 0.0, 0.0);
+  for (auto& g : fast.composite.smooth_gm) g.tau_s = 3.0;
+  NoiseConfig slow = fast;
+  for (auto& a : slow.composite.axes) a.slow_sigma_m = 0.5, a.slow_tau_s = 100.0;
+  const int n = 200000;
+  const std::vector<double> xf = east(fast, 11, n, 1.0), xs = east(slow, 11, n, 1.0);
+  EXPECT_NEAR(variance(xs), 0.2 * 0.2 + 0.5 * 0.5, 0.05 * (0.2 * 0.2 + 0.5 * 0.5));
+  // The difference of the two is the slow process alone: the rest drew the same numbers.
+  std::vector<double> d;
+  for (int k = 0; k < n; ++k) d.push_back(xs[k] - xf[k]);
+  EXPECT_NEAR(std::sqrt(variance(d)), 0.5, 0.05);
+  double c30 = 0, m = 0;
+  for (double v : d) m += v / n;
+  for (int k = 30; k < n; ++k) c30 += (d[k] - m) * (d[k - 30] - m) / (n - 30);
+  EXPECT_NEAR(c30 / variance(d), std::exp(-30.0 / 100.0), 0.05);
+  // Bounded: no sample of 200 000 s (2000 time constants) beyond 6 sigma of the whole.
+  for (double v : xs) ASSERT_LT(std::abs(v), 6.0 * std::sqrt(0.2 * 0.2 + 0.5 * 0.5));
+}
+
+TEST(Composite, SlowPartNeedsATimeConstant) {
+  NoiseConfig c = composite(0.2, 0.0, 0.0, 0.0, 0.0);
+  c.composite.axes[1].slow_sigma_m = 0.5;
+  try {
+    (void)make_noise_model(c, 1);
+    FAIL() << "a slow part without a time constant was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("composite.north.slow_tau_s"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
