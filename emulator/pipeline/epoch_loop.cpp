@@ -1,6 +1,7 @@
 #include "emulator/pipeline/epoch_loop.hpp"
 
 #include <algorithm>
+#include <functional>
 
 namespace gpsemu {
 namespace {
@@ -63,10 +64,15 @@ void EpochLoop::run(const std::atomic<bool>& stop) {
         if (sink_.all_gone()) break;
       }
     } else if (const std::optional<UtcNs> deadline = clock_.deadline_of(t)) {
+      // A client's new solution period takes effect at once: the wait for an epoch on the old
+      // grid ends and the next epoch is asked again (a new rate's first solution comes within one
+      // of its periods, not at the next epoch of the old grid).
+      const std::function<bool()> woken = [this] { return producer_.reschedule_wanted(); };
       // Every PPS edge due before the epoch's bytes goes first (a leading edge at the same
       // instant too: the NMEA of second S follows pulse S). A fleet drives them in run_ahead().
-      if (pps_ && !ahead) pps_->run_until(*deadline, *io, stop);
+      if (pps_ && !ahead) pps_->run_until(*deadline, *io, stop, &woken);
       if (stop.load()) break;
+      if (rescheduled(*io)) continue;
       if (clock_.late(t)) {
         ++stats_.epochs_late_skipped;
         continue;
@@ -76,8 +82,9 @@ void EpochLoop::run(const std::atomic<bool>& stop) {
         ++stats_.epochs_emitted;
         continue;
       }
-      io->sleep_until(*deadline, stop);
+      io->sleep_until_woken(*deadline, stop, woken);
       if (stop.load()) break;
+      if (rescheduled(*io)) continue;
       if (options_.measure_send_delay) {
         // Against the deadline it could be met at: an epoch whose time went back is due with the
         // previous one, not at its own (past) deadline.
@@ -103,6 +110,15 @@ void EpochLoop::run(const std::atomic<bool>& stop) {
   if (helper_) helper_->wait_done();
   if (pps_ && io) pps_->finish(*io, stop);
   sink_.flush();
+}
+
+bool EpochLoop::rescheduled(ClockIo& io) {
+  if (!producer_.reschedule_wanted()) return false;
+  const std::optional<UtcNs> now = clock_.epoch_time_at(io.now());
+  if (!now) return false;
+  producer_.reschedule(*now);
+  ++stats_.reschedules;
+  return true;
 }
 
 void EpochLoop::send(UtcNs t) {

@@ -1,6 +1,7 @@
 // One u-blox port (see session.hpp).
 #include "emulator/ubx/session.hpp"
 
+#include <algorithm>
 #include <utility>
 
 #include "emulator/ubx/output.hpp"
@@ -9,7 +10,22 @@
 
 namespace gpsemu::ubx {
 
-Session::Session(SessionSettings settings) : settings_(std::move(settings)), machine_(settings_.start) {}
+Session::Session(SessionSettings settings)
+    : settings_(std::move(settings)), machine_(settings_.start, settings_.stored) {
+  // What the stored layers changed at power-up reaches the emulator as a client's change would.
+  const Settings& now = machine_.settings();
+  const Settings& start = machine_.defaults();
+  if (now.output_period() != start.output_period()) effects_.emplace_back(MeasurementPeriodChanged{now.output_period()});
+  const auto port = static_cast<std::size_t>(machine_.port());
+  if (now.ports[port].baud != start.ports[port].baud && now.ports[port].baud != 0) {
+    effects_.emplace_back(BaudChanged{now.ports[port].baud});
+  }
+}
+
+bool Session::period_change_pending() const {
+  return std::any_of(effects_.begin(), effects_.end(),
+                     [](const Effect& e) { return std::holds_alternative<MeasurementPeriodChanged>(e); });
+}
 
 void Session::client_wrote(std::string_view bytes) {
   Answer answer = machine_.feed(bytes);

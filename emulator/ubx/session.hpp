@@ -28,6 +28,7 @@ struct SessionSettings {
   StartSettings start;           ///< model, port, start rate, NMEA sentences and UBX messages on
   nmea::FormatOptions format;    ///< how the NMEA part is written (its sentence set is ignored)
   double speed_sigma_mps = 0.0;  ///< 1-sigma speed error reported as sAcc (metres per second)
+  StoredLayers stored;           ///< BBR and flash at power-up (--receiver-state); RAM is built from them
 };
 
 class Session {
@@ -39,7 +40,10 @@ class Session {
   /// The answers not yet written (empties them).
   [[nodiscard]] std::string take_reply();
   /// MeasurementPeriodChanged, BaudChanged and ColdStart effects not yet taken (empties them).
+  /// At power-up: the period and baud the stored layers give, when they differ from the start's.
   [[nodiscard]] std::vector<Effect> take_effects();
+  /// Whether a new solution period waits in take_effects() (the loop reschedules at once).
+  [[nodiscard]] bool period_change_pending() const;
 
   /// Appends the epoch's bytes for `fix` to `out`: nothing off the measurement grid.
   void append_solution(const nmea::Fix& fix, std::string& out);
