@@ -131,6 +131,16 @@ void fit_epoch_to_line(Channel& channel, std::chrono::nanoseconds period, UbxLin
   line.last_report = now;
 }
 
+std::string ubx_config_summary(const Channel& channel) {
+  const UbxEncoder* ubx = channel.ubx_encoder();
+  if (!ubx) return {};
+  const ubx::MachineStats& s = ubx->session().machine().stats();
+  if (s.unsent_answers == 0 && s.transactions_discarded == 0 && s.resets == 0) return {};
+  return fmt::format("u-blox configuration: {} UBX answers not sent (the port's output protocols excluded UBX), {} "
+                     "CFG-VALSET transactions discarded unapplied, {} resets reloaded RAM from the layers",
+                     s.unsent_answers, s.transactions_discarded, s.resets);
+}
+
 std::string tx_drops_summary(const UbxLine& line) {
   if (line.dropped.messages == 0) return {};
   return fmt::format("u-blox TX buffer: {} messages ({} bytes) dropped, the line at {} baud could not carry them",

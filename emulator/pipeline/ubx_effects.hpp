@@ -62,5 +62,9 @@ void fit_epoch_to_line(Channel& channel, std::chrono::nanoseconds period, UbxLin
 
 /// One summary line of what `line` dropped (empty when nothing was).
 [[nodiscard]] std::string tx_drops_summary(const UbxLine& line);
+/// One summary line of what `channel`'s u-blox configuration did not carry out: answers not sent
+/// because the port's output excluded UBX, transactions begun and never applied, and the resets
+/// that reloaded the layers (empty when none, or for an NMEA channel).
+[[nodiscard]] std::string ubx_config_summary(const Channel& channel);
 
 }  // namespace gpsemu
