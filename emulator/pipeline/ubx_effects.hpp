@@ -11,7 +11,7 @@
 // - each epoch on a serial line (UbxLine): what the line carries in the solution period goes out,
 //   whole messages in order; a message that does not fit is dropped whole, as a u-blox's TX
 //   buffer overflows, and counted (logged once, then at most every 10 s). A pty or socket has no
-//   line limit (a u-blox on USB);
+//   line limit (it is UART1, its baud recorded, docs/ublox.md "Ports");
 // - a cold start: the receiver model starts again at the epoch (its --cold-start phases replay).
 #pragma once
 
