@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "emulator/ubx/cfg_key_catalogue.hpp"
 #include "emulator/ubx/cfg_keys.hpp"
 
 namespace gpsemu::ubx {
@@ -136,7 +137,9 @@ StoredLayers stored_layers_from_text(std::string_view text, ReceiverModel model)
     StoredLayer& layer = w[0] == "bbr" ? layers.bbr : layers.flash;
     if (w[1] == "key" && w.size() == 4) {
       const auto key = static_cast<std::uint32_t>(hex_number(w[2], 0xFFFFFFFF, line_no));
-      if (key_value_bytes(key) == 0) throw std::invalid_argument(fmt::format("line {}: {:08x} is not a key", line_no, key));
+      if (key_value_bytes(key) == 0 || !is_known_key(key)) {
+        throw std::invalid_argument(fmt::format("line {}: {:08x} is not a configuration key of a u-blox", line_no, key));
+      }
       layer.keys[key] = hex_number(w[3], 0xFFFFFFFFFFFFFFFF, line_no);
     } else if (w[1] == "rate" && w.size() == 4 + port_count) {
       const MessageId id{static_cast<std::uint8_t>(hex_number(w[2], 0xFF, line_no)),

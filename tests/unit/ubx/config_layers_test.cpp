@@ -232,6 +232,9 @@ TEST(UbxConfigLayers, StoredLayersGoToTextAndBack) {
     EXPECT_NE(std::string(e.what()).find("line "), std::string::npos) << e.what();
   }
   EXPECT_THROW((void)stored_layers_from_text("bbr key 30210001 c8\n", ReceiverModel::ublox_f9p), std::invalid_argument);
+  EXPECT_THROW((void)stored_layers_from_text(text + "bbr key 30fe0001 1\n", ReceiverModel::ublox_f9p),
+               std::invalid_argument)
+      << "a key no u-blox has";
   // Read back, the layers make the same receiver.
   ConfigMachine again = f9p(stored_layers_from_text(text, ReceiverModel::ublox_f9p));
   EXPECT_EQ(again.settings().meas_period_ms, 200);
