@@ -6,7 +6,8 @@
 // - --receiver-state keeps BBR and flash across runs: a first run's client writes a 200 ms rate,
 //   NAV-PVT on and NMEA off to BBR and flash; the file holds them; a second run with the same file
 //   writes NAV-PVT every 200 ms and no NMEA from its start, with no client writing anything, and
-//   CFG-VALGET reads the values back from BBR and RAM.
+//   CFG-VALGET reads the values back from BBR and RAM; in the first run a CFG-RST hardware reset
+//   already brings them into use, and the summary counts the reset.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -133,9 +134,15 @@ TEST(UbxState, ThePtyIsUart1AndStoredLayersSurviveARestartThroughReceiverState) 
     h = hear(fd, 700ms);
     EXPECT_TRUE(acked(h, cfg_valset));
     EXPECT_EQ(h.count(ubx::msg::nav_pvt), 0u);
+    // A power cycle reloads RAM from the layers: NAV-PVT every 200 ms at once; the summary counts it.
+    send(fd, ubx::msg::cfg_rst, std::string("\x00\x00\x00\x00", 4));
+    h = hear(fd, 700ms);
+    EXPECT_GE(h.count(ubx::msg::nav_pvt), 2u);
     ::close(fd);
     gpsemu.signal(SIGTERM);
     EXPECT_EQ(gpsemu.wait(seconds(10)), 0) << gpsemu.stderr_text();
+    EXPECT_NE(gpsemu.stderr_text().find("1 resets reloaded RAM from the layers"), std::string::npos)
+        << gpsemu.stderr_text();
   }
   const std::string saved = test::read_file(state);
   EXPECT_NE(saved.find("bbr key 30210001 c8"), std::string::npos) << saved;
