@@ -7,7 +7,8 @@
 //   NAV-PVT on and NMEA off to BBR and flash; the file holds them; a second run with the same file
 //   writes NAV-PVT every 200 ms and no NMEA from its start, with no client writing anything, and
 //   CFG-VALGET reads the values back from BBR and RAM; in the first run a CFG-RST hardware reset
-//   already brings them into use, and the summary counts the reset.
+//   already brings them into use, and the summary counts the reset; receivers of a fleet need a
+//   state file each ({i}).
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -176,6 +177,19 @@ TEST(UbxState, ABadReceiverStateFileStopsTheStartWithItsLine) {
                             "--duration", "1", "--output", "file:" + (dir / "out").string()});
   EXPECT_EQ(r.status, 2) << r.err;
   EXPECT_NE(r.err.find("line 3"), std::string::npos) << r.err;
+}
+
+TEST(UbxState, ReceiversOfAFleetCannotShareOneStateFile) {
+  const auto dir = test::scratch_dir("ubx_state", "fleet");
+  const auto shared = test::run({GPSEMU_BINARY, "--receivers", "2", "--receiver", "ublox-f9p", "--receiver-state",
+                                 (dir / "s.state").string(), "--fast", "--duration", "1", "--output",
+                                 "file:" + (dir / "out{i}").string()});
+  EXPECT_EQ(shared.status, 2) << shared.err;
+  EXPECT_NE(shared.err.find("receiver-state"), std::string::npos) << shared.err;
+  const auto own = test::run({GPSEMU_BINARY, "--receivers", "2", "--receiver", "ublox-f9p", "--receiver-state",
+                              (dir / "s{i}.state").string(), "--fast", "--duration", "1", "--output",
+                              "file:" + (dir / "out{i}").string()});
+  EXPECT_EQ(own.status, 0) << own.err;
 }
 
 }  // namespace
