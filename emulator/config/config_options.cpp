@@ -339,18 +339,25 @@ std::vector<OptionDef> make_option_table() {
         d.receiver.settings.format.sentences = parse_sentence_set(v);
         d.receiver.settings.sentences_given = true;
       });
-  add("protocol", "P", "what the receiver writes: nmea | ubx (u-blox binary, answering its configuration "
-      "handshake; NMEA only with --sentences) | nmea+ubx (default nmea)",
+  add("protocol", "P", "what the receiver writes at start: nmea | ubx (u-blox binary, answering its configuration "
+      "handshake; NMEA only with --sentences) | nmea+ubx (default nmea; with a --receiver ublox-* model: its factory "
+      "state, NMEA written and UBX answered on the port)",
       [](ConfigDraft& d, V v) {
         const std::string p = parse_choice("protocol", v.back(), {"nmea", "ubx", "nmea+ubx"});
         d.receiver.settings.protocol = p == "ubx" ? Protocol::ubx : p == "nmea" ? Protocol::nmea : Protocol::nmea_ubx;
+        d.receiver.settings.protocol_given = true;
       });
-  add("receiver", "MODEL", "the u-blox receiver emulated with --protocol ubx or nmea+ubx: ublox-m8n | ublox-m9n | "
-      "ublox-f9p | generic (answers as an M8) (default generic)",
+  add("receiver", "MODEL", "the u-blox receiver emulated: ublox-m8n | ublox-m9n | ublox-f9p (alone: the model's "
+      "factory state, its NMEA and baud, UBX answered) | generic (NMEA only unless --protocol says; answers as an M8) "
+      "(default generic)",
       [](ConfigDraft& d, V v) {
         const std::string m = parse_choice("receiver", v.back(), {"ublox-m8n", "ublox-m9n", "ublox-f9p", "generic"});
         d.receiver.settings.ublox_model = *ubx::receiver_model_from_name(m);
       });
+  add("receiver-state", "FILE", "a u-blox's stored configuration (BBR and flash layers: CFG-VALSET to them, "
+      "CFG-CFG save) read at start when FILE exists and written whenever it changes, so a saved configuration "
+      "survives a restart (default none: every run starts from the defaults)",
+      [](ConfigDraft& d, V v) { d.receiver.settings.receiver_state = v.back(); });
   add("geoid-separation", "M", "geoid separation in GGA, metres (default: the EGM96 geoid at the origin)",
       [](ConfigDraft& d, V v) { d.receiver.settings.model.geoid_sep_m = parse_number("geoid-separation", v.back(), -120.0, 120.0); });
   add("talker", "ID", "NMEA talker ID of GGA, RMC and the others: GP (GPS) | GN (several systems) | GL (GLONASS) | "

@@ -235,6 +235,12 @@ std::vector<ReceiverSettings> resolve_receivers(const ConfigDraft& draft) {
         r.tee = expand_receiver_template("tee", *d.tee, i);
         mine.push_back({"file " + resolved_path(*r.tee), "tee", *d.tee, *r.tee, table_sets("tee")});
       }
+      if (r.receiver_state) {  // a u-blox's stored layers: one file a receiver
+        const std::string raw = *r.receiver_state;
+        r.receiver_state = expand_receiver_template("receiver-state", raw, i);
+        mine.push_back({"file " + resolved_path(*r.receiver_state), "receiver-state", raw, *r.receiver_state,
+                        table_sets("receiver-state")});
+      }
     } catch (const std::invalid_argument& e) {
       throw ConfigError(n > 1 ? fmt::format("{}: {}", who(draft, i), e.what()) : std::string(e.what()));
     }

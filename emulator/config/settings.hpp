@@ -66,6 +66,8 @@ struct ReceiverSettings {
   bool talker_given = false;                   ///< --talker was given (else GN for a multi-system model)
   std::optional<std::string> ephemeris;        ///< --ephemeris: RINEX navigation file of the sky
   Protocol protocol = Protocol::nmea;          ///< --protocol
+  bool protocol_given = false;                 ///< --protocol was given (else a u-blox model starts in its factory state)
+  std::optional<std::string> receiver_state;   ///< --receiver-state: a u-blox's BBR and flash kept across runs
   ubx::ReceiverModel ublox_model = ubx::ReceiverModel::generic;  ///< --receiver (MON-VER, configuration interface)
   std::vector<transport::OutputSpec> outputs;  ///< where NMEA goes (parsed --output specs)
   std::optional<std::string> tee;              ///< file copying everything sent, with send times (default none)

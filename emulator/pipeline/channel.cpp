@@ -6,7 +6,7 @@ Channel::Channel(const ChannelSettings& settings, UtcNs first_epoch) : settings_
   receiver_ = std::make_unique<Receiver>(frame_, settings_.receiver,
                                          noise::make_noise_model(settings_.noise, settings_.seed), first_epoch);
   if (settings_.ubx) {
-    auto ubx = std::make_unique<UbxEncoder>(*settings_.ubx);
+    auto ubx = std::make_unique<UbxEncoder>(*settings_.ubx, settings_.receiver_state);
     ubx_ = ubx.get();
     encoders_.push_back(std::move(ubx));
   } else {

@@ -33,6 +33,8 @@ struct ChannelSettings {
   /// --protocol ubx or nmea+ubx: the u-blox port's start settings; the UBX encoder then writes the
   /// NMEA part too (as its CFG-MSG settings say) in place of the NMEA encoder.
   std::optional<ubx::SessionSettings> ubx;
+  /// --receiver-state: where the u-blox's stored layers are written when a client changes them.
+  std::optional<std::string> receiver_state;
 };
 
 /// One receiver's counts (a fleet's summary has one line per receiver).

@@ -10,7 +10,8 @@ ChannelSet::ChannelSet(const Timeline& timeline, std::optional<std::int64_t> epo
       last_(epochs && *epochs > 0 ? timeline.grid.time_of(timeline.first_index + *epochs - 1) : UtcNs::max()) {}
 
 void ChannelSet::add(std::unique_ptr<Channel> channel) {
-  receivers_.push_back({std::move(channel), ReceiverSchedule(timeline_.grid, timeline_.first_index), {}, false});
+  const ReceiverSchedule schedule(timeline_.grid, timeline_.first_index);
+  receivers_.push_back({std::move(channel), schedule, schedule, {}, false});
 }
 
 void ChannelSet::attach(const Sink& sink) {
@@ -42,7 +43,10 @@ bool ChannelSet::next_epoch(UtcNs& t) {
   bool all_ended = true;
   for (Receiver& r : receivers_) {
     r.due = r.schedule.next() == t;
-    if (r.due) r.schedule.advance();
+    if (r.due) {
+      r.previous = r.schedule;
+      r.schedule.advance();
+    }
     all_ended = r.channel->ended_at(t) && all_ended;
   }
   return !all_ended;
@@ -61,6 +65,30 @@ std::string_view ChannelSet::produce(std::size_t i, UtcNs t) {
   ++ch.stats().epochs_emitted;
   if (r.line.baud != 0) fit_epoch_to_line(ch, r.schedule.period(), r.line, sink_->who(i));
   return ch.bytes();
+}
+
+bool ChannelSet::reschedule_wanted() const {
+  if (!sink_) return false;
+  return std::any_of(receivers_.begin(), receivers_.end(), [](const Receiver& r) {
+    const UbxEncoder* ubx = r.channel->ubx_encoder();
+    return ubx && ubx->session().period_change_pending();
+  });
+}
+
+void ChannelSet::reschedule(UtcNs now) {
+  const auto finest = finest_period();
+  for (Receiver& r : receivers_) {
+    if (r.due) r.schedule = r.previous;  // the epoch waited for comes again
+    r.due = false;
+  }
+  for (std::size_t i = 0; i < receivers_.size(); ++i) {
+    Receiver& r = receivers_[i];
+    const UbxEncoder* ubx = r.channel->ubx_encoder();
+    if (ubx && ubx->session().period_change_pending()) {
+      apply_ubx_effects(*r.channel, sink_->outputs(i), r.schedule, r.line, now, sink_->who(i));
+    }
+  }
+  if (finest_period() != finest && finest_changed_) finest_changed_(finest_period());
 }
 
 std::chrono::nanoseconds ChannelSet::finest_period() const {

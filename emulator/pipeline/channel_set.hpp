@@ -49,6 +49,8 @@ class ChannelSet final : public EpochProducer {
   void list_inputs(std::vector<int>& fds, std::vector<std::size_t>& owners) const override;
   void service_input(std::size_t i) override { receivers_[i].channel->source()->service(); }
   void service_inputs() override;
+  [[nodiscard]] bool reschedule_wanted() const override;
+  void reschedule(UtcNs now) override;
 
   [[nodiscard]] std::size_t size() const { return receivers_.size(); }
   [[nodiscard]] Channel& channel(std::size_t i) const { return *receivers_[i].channel; }
@@ -58,6 +60,7 @@ class ChannelSet final : public EpochProducer {
   struct Receiver {
     std::unique_ptr<Channel> channel;  ///< not moved: a receiver refers to its frame
     ReceiverSchedule schedule;
+    ReceiverSchedule previous;  ///< before next_epoch() advanced it (reschedule() puts it back)
     UbxLine line;
     bool due = false;  ///< has an epoch at the time next_epoch() returned
   };

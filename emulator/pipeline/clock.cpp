@@ -109,6 +109,11 @@ std::optional<UtcNs> ScaledClock::deadline_of(UtcNs t) const {
   return first_wall_ + std::chrono::nanoseconds{std::llround(since / scale_)};
 }
 
+std::optional<UtcNs> ScaledClock::epoch_time_at(UtcNs wall) const {
+  const auto since = static_cast<double>((wall - first_wall_).count());
+  return first_epoch_ + std::chrono::nanoseconds{std::llround(since * scale_)};
+}
+
 bool ScaledClock::late(UtcNs t) {
   if (!skip_late_) return false;
   // Like the real-time clock: an epoch whose (scaled) time has long passed is not sent in a burst.

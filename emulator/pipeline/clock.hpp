@@ -64,6 +64,12 @@ class ClockIo {
   /// Waits until the wall clock reaches `deadline`, servicing inputs meanwhile; returns early
   /// only when `stop` becomes true or the wall clock was set (a step: look at now() again).
   virtual void sleep_until(UtcNs deadline, const std::atomic<bool>& stop) = 0;
+  /// sleep_until(), returning early also when `woken` returns true after input was serviced (a
+  /// u-blox client asked for another solution period). Default: sleep_until().
+  virtual void sleep_until_woken(UtcNs deadline, const std::atomic<bool>& stop, const std::function<bool()>& woken) {
+    (void)woken;
+    sleep_until(deadline, stop);
+  }
   /// Waits at most `timeout` for input (pose source, output clients), services what arrived.
   virtual void wait_for_input(std::chrono::nanoseconds timeout, const std::atomic<bool>& stop) = 0;
 };
@@ -83,6 +89,9 @@ class SystemClockIo final : public ClockIo {
 
   UtcNs now() override { return system_utc_now(); }
   void sleep_until(UtcNs deadline, const std::atomic<bool>& stop) override { waiter_.sleep_until(deadline, stop); }
+  void sleep_until_woken(UtcNs deadline, const std::atomic<bool>& stop, const std::function<bool()>& woken) override {
+    waiter_.sleep_until(deadline, stop, &woken);
+  }
   void wait_for_input(std::chrono::nanoseconds timeout, const std::atomic<bool>& stop) override {
     waiter_.wait_for_input(timeout, stop);
   }
@@ -99,6 +108,7 @@ enum class EpochWait {
   due,      ///< its time has come: sample, format and send it now
   skip,     ///< do not send it (its time is long past, or it precedes the simulator's start)
   stopped,  ///< `stop` became true while waiting
+  rescheduled,  ///< a receiver's schedule changed while waiting (EpochLoop only): ask for the next epoch again
 };
 
 /// Paces the epochs of one timeline. A clock on the wall clock (realtime, scaled) has a deadline
@@ -112,6 +122,9 @@ class EpochClock {
   [[nodiscard]] virtual EpochWait wait_for(UtcNs t, const std::atomic<bool>& stop);
   /// The wall time epoch `t` leaves at; nullopt for a clock not on the wall clock.
   [[nodiscard]] virtual std::optional<UtcNs> deadline_of(UtcNs /*t*/) const { return std::nullopt; }
+  /// The epoch time whose deadline is wall time `wall` (deadline_of()'s inverse); nullopt for a
+  /// clock not on the wall clock.
+  [[nodiscard]] virtual std::optional<UtcNs> epoch_time_at(UtcNs /*wall*/) const { return std::nullopt; }
   /// True (and says so once in the log) when epoch `t` is so late it is skipped, not sent in a
   /// burst: a receiver never reports the past.
   [[nodiscard]] virtual bool late(UtcNs /*t*/) { return false; }
@@ -171,6 +184,7 @@ class RealtimeClock final : public EpochClock {
     step_unit_ = step_unit > std::chrono::nanoseconds::zero() ? step_unit : epoch_period;
   }
   [[nodiscard]] std::optional<UtcNs> deadline_of(UtcNs t) const override { return t - shift_ + latency_; }
+  [[nodiscard]] std::optional<UtcNs> epoch_time_at(UtcNs wall) const override { return wall + shift_ - latency_; }
   [[nodiscard]] bool late(UtcNs t) override;
   [[nodiscard]] std::string describe() const override { return {}; }
   [[nodiscard]] ClockIo* io() const override { return &io_; }
@@ -193,6 +207,7 @@ class ScaledClock final : public EpochClock {
   ScaledClock(ClockIo& io, double scale, UtcNs first_epoch, UtcNs first_wall, std::chrono::nanoseconds epoch_period,
               bool skip_late = true);
   [[nodiscard]] std::optional<UtcNs> deadline_of(UtcNs t) const override;
+  [[nodiscard]] std::optional<UtcNs> epoch_time_at(UtcNs wall) const override;
   [[nodiscard]] bool late(UtcNs t) override;
   [[nodiscard]] std::string describe() const override;
   [[nodiscard]] ClockIo* io() const override { return &io_; }

@@ -1,6 +1,7 @@
 #include "emulator/pipeline/epoch_loop.hpp"
 
 #include <algorithm>
+#include <functional>
 
 #include <spdlog/spdlog.h>
 
@@ -70,11 +71,13 @@ void EpochLoop::run(const std::atomic<bool>& stop) {
       // before it goes first (a fleet drives them in run_ahead()).
       if (pps_ && !ahead) pps_->run_until(*idle_deadline, *io, stop);
       if (stop.load()) break;
-      io->sleep_until(*idle_deadline, stop);
+      io->sleep_until_woken(*idle_deadline, stop, [this] { return producer_.reschedule_wanted(); });
+      if (!stop.load()) (void)rescheduled(*io);
       continue;
     } else if (idle_deadline) {
       const EpochWait wait = wait_for_deadline(t, !ahead, stop);
       if (wait == EpochWait::stopped) break;
+      if (wait == EpochWait::rescheduled) continue;
       if (wait == EpochWait::skip) {
         ++stats_.epochs_late_skipped;
         continue;
@@ -129,6 +132,10 @@ int EpochLoop::exit_status() const {
 
 EpochWait EpochLoop::wait_for_deadline(UtcNs t, bool sleep, const std::atomic<bool>& stop) {
   ClockIo& io = *clock_.io();
+  // A client's new solution period takes effect at once: the wait for an epoch on the old grid
+  // ends and the next epoch is asked again (a new rate's first solution comes within one of its
+  // periods, not at the next epoch of the old grid).
+  const std::function<bool()> woken = [this] { return producer_.reschedule_wanted(); };
   for (;;) {
     // A wall clock that went back: the deadlines follow it (logged once a step), so the epochs
     // go on one period apart instead of waiting out the step.
@@ -144,17 +151,28 @@ EpochWait EpochLoop::wait_for_deadline(UtcNs t, bool sleep, const std::atomic<bo
     const UtcNs deadline = *clock_.deadline_of(t);
     // Every PPS edge due before the epoch's bytes goes first (a leading edge at the same instant
     // too: the NMEA of second S follows pulse S). A fleet drives them in run_ahead().
-    if (pps_ && sleep) pps_->run_until(deadline, io, stop);
+    if (pps_ && sleep) pps_->run_until(deadline, io, stop, &woken);
     if (stop.load()) return EpochWait::stopped;
+    if (rescheduled(io)) return EpochWait::rescheduled;
     if (clock_.late(t)) return EpochWait::skip;
     if (!sleep) return EpochWait::due;
-    io.sleep_until(deadline, stop);
+    io.sleep_until_woken(deadline, stop, woken);
     if (stop.load()) return EpochWait::stopped;
+    if (rescheduled(io)) return EpochWait::rescheduled;
     // Woken at the deadline, or later (the process was stopped or starved, the wall clock jumped
     // ahead): an epoch more than a period late is skipped, never sent with its old time. Woken
     // before it: the wall clock was set; look again.
     if (io.now() >= deadline) return clock_.late(t) ? EpochWait::skip : EpochWait::due;
   }
+}
+
+bool EpochLoop::rescheduled(ClockIo& io) {
+  if (!producer_.reschedule_wanted()) return false;
+  const std::optional<UtcNs> now = clock_.epoch_time_at(io.now());
+  if (!now) return false;
+  producer_.reschedule(*now);
+  ++stats_.reschedules;
+  return true;
 }
 
 void EpochLoop::send(UtcNs t) {

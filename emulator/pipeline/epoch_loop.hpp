@@ -46,6 +46,13 @@ class EpochProducer {
   virtual void list_inputs(std::vector<int>& /*fds*/, std::vector<std::size_t>& /*owners*/) const {}
   virtual void service_input(std::size_t /*owner*/) {}
   virtual void service_inputs() {}
+  /// Whether a receiver's schedule changes before the epoch being waited for (a u-blox client
+  /// asked for another solution period): the loop stops waiting, calls reschedule() and asks
+  /// next_epoch() again.
+  [[nodiscard]] virtual bool reschedule_wanted() const { return false; }
+  /// Applies the schedule changes at epoch time `now`; the epoch next_epoch() returned last is
+  /// not sent (it comes again from next_epoch() for the receivers it was due for).
+  virtual void reschedule(UtcNs /*now*/) {}
 };
 
 /// Exit status of a run that stopped because every output is gone (a pipe's reader left).
@@ -66,6 +73,7 @@ struct LoopStats {
   std::uint64_t epochs_emitted = 0;       ///< epochs handed to the sink (each receiver's)
   std::uint64_t epochs_late_skipped = 0;  ///< epochs skipped because their time had long passed
   std::uint64_t clock_steps_back = 0;     ///< times the wall clock went back and the deadlines followed
+  std::uint64_t reschedules = 0;          ///< waits cut short: a receiver's solution period changed
   /// With measure_send_delay: latest an epoch was handed to the sink after its deadline (an epoch
   /// whose time went back: after the previous epoch's deadline), and the sum (for the mean).
   std::chrono::nanoseconds worst_delay{0};
@@ -101,6 +109,8 @@ class EpochLoop {
   EpochWait run_ahead(std::int64_t k, UtcNs t, UtcNs deadline, const std::atomic<bool>& stop);
   /// Hands every active receiver's epoch `t` to the sink, computed now.
   void send(UtcNs t);
+  /// When the producer wants it: reschedules at the epoch time of now, true.
+  bool rescheduled(ClockIo& io);
   /// Writes positions [from, to) of the receivers in the order that starts with receiver `first`.
   void write_range(std::size_t first, std::size_t from, std::size_t to);
 

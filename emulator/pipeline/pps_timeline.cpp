@@ -26,9 +26,15 @@ std::unique_ptr<transport::PpsLine> open_pps(const PpsSettings& settings, const 
 
 void PpsTimeline::start(UtcNs first_wall) { next_edge_ = {std::chrono::ceil<std::chrono::seconds>(first_wall), true}; }
 
-void PpsTimeline::run_until(UtcNs wall_deadline, ClockIo& io, const std::atomic<bool>& stop) {
+void PpsTimeline::run_until(UtcNs wall_deadline, ClockIo& io, const std::atomic<bool>& stop,
+                            const std::function<bool()>* woken) {
   while (!stop.load() && next_edge_.time <= wall_deadline) {
-    io.sleep_until(next_edge_.time, stop);
+    if (woken) {
+      io.sleep_until_woken(next_edge_.time, stop, *woken);
+      if (!stop.load() && (*woken)()) return;
+    } else {
+      io.sleep_until(next_edge_.time, stop);
+    }
     if (stop.load()) return;
     if (io.now() < next_edge_.time) return;  // the wall clock was set: the loop looks again
     const transport::PpsEdge edge = next_edge_;

@@ -45,7 +45,9 @@ class PpsTimeline {
   /// The first pulse: the first whole second at or after the first epoch's wall time.
   void start(UtcNs first_wall);
   /// Drives every edge due at or before `wall_deadline`, each at its time (waiting through `io`).
-  void run_until(UtcNs wall_deadline, ClockIo& io, const std::atomic<bool>& stop);
+  /// Returns early, before an edge, when `woken` (if given) returns true after input was serviced.
+  void run_until(UtcNs wall_deadline, ClockIo& io, const std::atomic<bool>& stop,
+                 const std::function<bool()>* woken = nullptr);
   /// Ends the last pulse at its time (at once when stopped): the line is never left in a pulse.
   void finish(ClockIo& io, const std::atomic<bool>& stop);
 

@@ -5,6 +5,7 @@
 #include "emulator/config/config.hpp"
 #include "emulator/config/receiver_config.hpp"
 #include "emulator/config/validate.hpp"
+#include "emulator/pipeline/receiver_state.hpp"
 #include "emulator/pipeline/serial_line_check.hpp"
 #include "emulator/pipeline/ubx_effects.hpp"
 
@@ -13,23 +14,45 @@ namespace {
 
 std::chrono::nanoseconds to_ns(double seconds) { return std::chrono::nanoseconds{std::llround(seconds * 1e9)}; }
 
+// `--receiver ublox-*` without --protocol: the model as it leaves the factory (its NMEA at its
+// default baud, UBX answered on the same port), which drivers then configure. generic stays NMEA.
+bool factory_state(const ReceiverSettings& receiver) {
+  return !receiver.protocol_given && receiver.ublox_model != ubx::ReceiverModel::generic;
+}
+
+// The outputs, a serial one without a baud at the factory state's (the model's default baud).
+std::vector<transport::OutputSpec> output_specs(const ReceiverSettings& receiver) {
+  std::vector<transport::OutputSpec> specs = receiver.outputs;
+  if (!factory_state(receiver)) return specs;
+  for (transport::OutputSpec& spec : specs) {
+    if (spec.kind == transport::OutputKind::serial && spec.baud_bps == 0) {
+      spec.baud_bps = static_cast<int>(ubx::model_info(receiver.ublox_model).default_baud);
+    }
+  }
+  return specs;
+}
+
 // The u-blox port's start settings (--protocol ubx / nmea+ubx): --receiver's model, the period of
 // --rate, the sentences of --sentences (ubx: none unless given), NAV-PVT every epoch, the baud of
 // a serial output, and as sAcc a tenth of the horizontal noise sigma a second (the speed itself
 // is the truth's).
 std::optional<ubx::SessionSettings> ubx_settings(const ReceiverSettings& receiver, const ReceiverOptions& options,
                                                  const TimelineSettings& timeline) {
-  if (receiver.protocol == Protocol::nmea) return std::nullopt;
+  const bool factory = factory_state(receiver);
+  if (receiver.protocol == Protocol::nmea && !factory) return std::nullopt;
   ubx::SessionSettings s;
   s.start.model = receiver.ublox_model;
   s.start.measurement_period = std::chrono::milliseconds{std::llround(1000.0 / timeline.rate_hz)};
   s.start.sentences = receiver.protocol == Protocol::ubx && !receiver.sentences_given ? nmea::SentenceSet{}
                                                                                      : receiver.format.sentences;
-  s.start.ubx_messages = {ubx::msg::nav_pvt};
+  if (!factory) s.start.ubx_messages = {ubx::msg::nav_pvt};  // from the factory: NMEA alone until a driver asks
   for (const transport::OutputSpec& spec : receiver.outputs) {
-    if (spec.kind == transport::OutputKind::serial)
-      s.start.baud = static_cast<std::uint32_t>(spec.baud_bps != 0 ? spec.baud_bps : nmea::kDefaultBaud);
+    if (spec.kind == transport::OutputKind::serial) {
+      const int fallback = factory ? 0 : nmea::kDefaultBaud;  // 0: the model's default baud
+      s.start.baud = static_cast<std::uint32_t>(spec.baud_bps != 0 ? spec.baud_bps : fallback);
+    }
   }
+  if (receiver.receiver_state) s.stored = read_receiver_state(*receiver.receiver_state, receiver.ublox_model);
   s.format = receiver.format;
   s.speed_sigma_mps = 0.1 * std::hypot(options.noise_sigma_m.east_m, options.noise_sigma_m.north_m);
   s.seed = receiver.seed;
@@ -65,8 +88,9 @@ ReceiverSetup receiver_setup(const ReceiverSettings& receiver, const TimelineSet
                .noise = receiver.noise,
                .seed = receiver.seed,
                .format = receiver.format,
-               .ubx = ubx_settings(receiver, options, timeline)};
-  r.outputs = {.outputs = receiver.outputs,
+               .ubx = ubx_settings(receiver, options, timeline),
+               .receiver_state = receiver.receiver_state};
+  r.outputs = {.outputs = output_specs(receiver),
                .tee = receiver.tee,
                .realtime = !timeline.fast(),
                .rate_hz = timeline.rate_hz,

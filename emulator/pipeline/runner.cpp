@@ -183,6 +183,9 @@ void Runner::log_summary() const {
     if (const std::string drops = tx_drops_summary(channels_->line(i)); !drops.empty()) {
       spdlog::warn("{}{}", sink_.who(i), drops);
     }
+    if (const std::string config = ubx_config_summary(channels_->channel(i)); !config.empty()) {
+      spdlog::info("{}{}", sink_.who(i), config);
+    }
   }
   if (pps_) pps_->log_summary();
   if (const std::uint64_t suppressed = transport::log_lines_suppressed(); suppressed != 0) {

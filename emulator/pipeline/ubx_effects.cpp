@@ -137,7 +137,7 @@ void fit_epoch_to_line(Channel& channel, std::chrono::nanoseconds period, UbxLin
 std::string client_input_summary(const Channel& channel) {
   const UbxEncoder* ubx = channel.ubx_encoder();
   if (!ubx) return {};
-  const ubx::FrameStats& in = ubx->session().machine().reader_stats();
+  const ubx::FrameStats& in = ubx->session().reader_stats();
   const ubx::MachineStats& answered = ubx->session().machine().stats();
   const ubx::SessionStats& folded = ubx->session().stats();
   return fmt::format("u-blox client input: {} UBX frames, {} bad ({} bad checksum, {} too long), {} NMEA sentences "
@@ -146,6 +146,16 @@ std::string client_input_summary(const Channel& channel) {
                      in.frames_ok, in.bad_checksum + in.too_long, in.bad_checksum, in.too_long, in.sentences_ok,
                      in.bad_sentences, in.garbage_bytes, answered.acks, answered.naks, answered.ignored,
                      folded.polls_merged, folded.effects_superseded);
+}
+
+std::string ubx_config_summary(const Channel& channel) {
+  const UbxEncoder* ubx = channel.ubx_encoder();
+  if (!ubx) return {};
+  const ubx::MachineStats& s = ubx->session().machine().stats();
+  if (s.unsent_answers == 0 && s.transactions_discarded == 0 && s.resets == 0) return {};
+  return fmt::format("u-blox configuration: {} UBX answers not sent (the port's output protocols excluded UBX), {} "
+                     "CFG-VALSET transactions discarded unapplied, {} resets reloaded RAM from the layers",
+                     s.unsent_answers, s.transactions_discarded, s.resets);
 }
 
 std::string tx_drops_summary(const UbxLine& line) {

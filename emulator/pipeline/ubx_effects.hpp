@@ -11,7 +11,7 @@
 // - each epoch on a serial line (UbxLine): what the line carries in the solution period goes out,
 //   whole messages in order; a message that does not fit is dropped whole, as a u-blox's TX
 //   buffer overflows, and counted (logged once, then at most every 10 s). A pty or socket has no
-//   line limit (a u-blox on USB);
+//   line limit (it is UART1, its baud recorded, docs/ublox.md "Ports");
 // - a cold start: the receiver model starts again at the epoch (its --cold-start phases replay).
 // The lines saying so (rate, baud, cold start, the line check) are rate-limited per receiver
 // (transport/log_limit.hpp): a client toggling CFG-RATE or flooding CFG-RST writes a few lines a
@@ -72,5 +72,9 @@ void fit_epoch_to_line(Channel& channel, std::chrono::nanoseconds period, UbxLin
 
 /// One summary line of what `line` dropped (empty when nothing was).
 [[nodiscard]] std::string tx_drops_summary(const UbxLine& line);
+/// One summary line of what `channel`'s u-blox configuration did not carry out: answers not sent
+/// because the port's output excluded UBX, transactions begun and never applied, and the resets
+/// that reloaded the layers (empty when none, or for an NMEA channel).
+[[nodiscard]] std::string ubx_config_summary(const Channel& channel);
 
 }  // namespace gpsemu

@@ -2,10 +2,27 @@
 
 #include <spdlog/spdlog.h>
 
+#include "emulator/pipeline/receiver_state.hpp"
+
 namespace gpsemu {
+
+void UbxEncoder::save_state() {
+  const ubx::ConfigMachine& machine = session_.machine();
+  if (!state_file_ || machine.stored_version() == saved_version_) return;
+  saved_version_ = machine.stored_version();
+  std::string error;
+  if (write_receiver_state(*state_file_, machine.stored(), machine.model(), error)) {
+    if (state_error_reported_) spdlog::info("u-blox: --receiver-state {} written again", *state_file_);
+    state_error_reported_ = false;
+  } else if (!state_error_reported_) {  // once until a write succeeds again
+    spdlog::warn("u-blox: --receiver-state: {}; the stored configuration is kept in memory only", error);
+    state_error_reported_ = true;
+  }
+}
 
 void UbxEncoder::client_wrote(std::string_view bytes, transport::ClientId client) {
   session_.client_wrote(bytes, client);
+  save_state();
   report_dropped_answers();
   const ubx::FrameStats& stats = session_.reader_stats();
   const std::uint64_t bad = stats.bad_checksum + stats.too_long;

@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -20,7 +21,10 @@ namespace gpsemu {
 
 class UbxEncoder final : public Encoder {
  public:
-  explicit UbxEncoder(ubx::SessionSettings settings) : session_(std::move(settings)) {}
+  /// `state_file`: where the stored layers are written each time a client changes them.
+  explicit UbxEncoder(ubx::SessionSettings settings, std::optional<std::string> state_file = std::nullopt)
+      : session_(std::move(settings)), state_file_(std::move(state_file)),
+        saved_version_(session_.machine().stored_version()) {}
 
   void encode(const nmea::Fix& fix, std::string& out) override { session_.append_solution(fix, out); }
   void client_wrote(std::string_view bytes, transport::ClientId client) override;
@@ -36,6 +40,12 @@ class UbxEncoder final : public Encoder {
   void report_dropped_answers();
 
   ubx::Session session_;
+  /// Writes the stored layers when they changed since the last write.
+  void save_state();
+
+  std::optional<std::string> state_file_;
+  std::uint64_t saved_version_ = 0;
+  bool state_error_reported_ = false;
   std::uint64_t bad_frames_reported_ = 0;
   transport::LogLimit bad_frame_log_{1};
   std::uint64_t answers_dropped_reported_ = 0;

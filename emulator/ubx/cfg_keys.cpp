@@ -3,6 +3,7 @@
 
 #include <array>
 
+#include "emulator/ubx/cfg_key_catalogue.hpp"
 #include "emulator/ubx/cfg_legacy.hpp"
 
 namespace gpsemu::ubx {
@@ -57,6 +58,13 @@ constexpr std::array<Nav5Key, 5> kNav5Keys = {{{0x20110011, 3},    // FIXMODE
                                                {0x201100A4, 12},   // INFIL_MINELEV
                                                {0x201100C4, 23},   // CONSTR_DGNSSTO
                                                {0x2011001C, 30}}}; // UTCSTANDARD
+
+const Nav5Key* nav5_key(std::uint32_t key) {
+  for (const Nav5Key& n : kNav5Keys) {
+    if (n.key == key) return &n;
+  }
+  return nullptr;
+}
 
 std::optional<MsgOut> msgout_of_key(std::uint32_t key, Port& port) {
   for (const MsgOut& m : kMsgOut) {
@@ -130,50 +138,59 @@ std::optional<std::uint64_t> get_key(const Settings& s, std::uint32_t key) {
   return std::nullopt;
 }
 
+bool key_accepts(std::uint32_t key, std::uint64_t value) {
+  if (key_value_bytes(key) == 0 || !is_known_key(key)) return false;
+  if (key == key::rate_meas) return value >= min_meas_period_ms;
+  if (key == key::rate_nav) return value >= 1 && value <= 127;
+  if (key == key::rate_timeref) return value <= 5;
+  if (key == key::uart1_baudrate || key == key::uart2_baudrate) return is_supported_baud(value);
+  if (key == key::navspg_dynmodel) return is_dyn_model(value);
+  if (key == key::navspg_fixmode) return value >= 1 && value <= 3;
+  Port port = Port::i2c;
+  if (msgout_of_key(key, port)) return value <= 255;
+  return true;
+}
+
 bool set_key(Settings& s, std::uint32_t key, std::uint64_t value) {
-  if (key_value_bytes(key) == 0) return false;
+  if (!key_accepts(key, value)) return false;
   if (key == key::rate_meas) {
-    if (value < min_meas_period_ms) return false;
     s.meas_period_ms = static_cast<std::uint16_t>(value);
-    return true;
-  }
-  if (key == key::rate_nav) {
-    if (value < 1 || value > 127) return false;
+  } else if (key == key::rate_nav) {
     s.nav_rate_cycles = static_cast<std::uint16_t>(value);
-    return true;
-  }
-  if (key == key::rate_timeref) {
-    if (value > 5) return false;
+  } else if (key == key::rate_timeref) {
     s.time_ref = static_cast<std::uint16_t>(value);
-    return true;
-  }
-  if (key == key::uart1_baudrate || key == key::uart2_baudrate) {
-    if (!is_supported_baud(value)) return false;
+  } else if (key == key::uart1_baudrate || key == key::uart2_baudrate) {
     s.ports[static_cast<std::size_t>(key == key::uart1_baudrate ? Port::uart1 : Port::uart2)].baud =
         static_cast<std::uint32_t>(value);
-    return true;
-  }
-  if (const auto proto = proto_of_key(key)) {
+  } else if (const auto proto = proto_of_key(key)) {
     PortSettings& p = s.ports[static_cast<std::size_t>(proto->port)];
     std::uint16_t& mask = proto->input ? p.in_proto_mask : p.out_proto_mask;
     mask = static_cast<std::uint16_t>(value != 0 ? (mask | proto->mask) : (mask & ~proto->mask));
-    return true;
+  } else if (const Nav5Key* n = nav5_key(key)) {
+    s.nav5[n->offset] = static_cast<char>(value & 0xFF);
+  } else if (const auto m = msgout_of(key)) {
+    s.set_rate(m->first, m->second, static_cast<std::uint8_t>(value));
+  } else {
+    s.other_keys[key] = value;
   }
-  for (const Nav5Key& n : kNav5Keys) {
-    if (n.key != key) continue;
-    if (key == key::navspg_dynmodel && !is_dyn_model(value)) return false;
-    if (key == key::navspg_fixmode && (value < 1 || value > 3)) return false;
-    s.nav5[n.offset] = static_cast<char>(value & 0xFF);
-    return true;
-  }
-  Port port = Port::i2c;
-  if (const auto m = msgout_of_key(key, port)) {
-    if (value > 255) return false;
-    s.set_rate(m->id, port, static_cast<std::uint8_t>(value));
-    return true;
-  }
-  s.other_keys[key] = value;
   return true;
+}
+
+void for_each_modelled_key(const std::function<void(std::uint32_t)>& f) {
+  for (const std::uint32_t k : {key::rate_meas, key::rate_nav, key::rate_timeref, key::uart1_baudrate, key::uart2_baudrate}) f(k);
+  for (std::uint32_t group = 0x71; group <= 0x7A; ++group) {
+    for (const std::uint32_t item : {1u, 2u, 4u}) f(0x10000000u | (group << 16) | item);
+  }
+  for (const Nav5Key& n : kNav5Keys) f(n.key);
+  for (const MsgOut& m : kMsgOut) {
+    for (std::uint32_t p = 0; p < 5; ++p) f(m.i2c_key + p);
+  }
+}
+
+std::optional<std::pair<MessageId, Port>> msgout_of(std::uint32_t key) {
+  Port port = Port::i2c;
+  if (const auto m = msgout_of_key(key, port)) return std::pair{m->id, port};
+  return std::nullopt;
 }
 
 }  // namespace gpsemu::ubx

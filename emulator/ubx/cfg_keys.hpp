@@ -7,7 +7,9 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
+#include <utility>
 
 #include "emulator/ubx/settings.hpp"
 
@@ -33,8 +35,15 @@ inline constexpr std::uint32_t msgout_nmea_gga_i2c = 0x209100BA;
 [[nodiscard]] std::size_t key_value_bytes(std::uint32_t key);
 /// The current value of `key`, nullopt for a key that is neither modelled nor ever written.
 [[nodiscard]] std::optional<std::uint64_t> get_key(const Settings& s, std::uint32_t key);
-/// Writes `key`; false (nothing changed) when a modelled key's value is out of range.
+/// Whether set_key() would take `value` for `key`: a key the receiver knows (cfg_key_catalogue.hpp),
+/// a modelled key's value in its range.
+[[nodiscard]] bool key_accepts(std::uint32_t key, std::uint64_t value);
+/// Writes `key`; false (nothing changed) when key_accepts() is false.
 [[nodiscard]] bool set_key(Settings& s, std::uint32_t key, std::uint64_t value);
+/// Calls `f` with every key that maps onto Settings (rates, ports, CFG-NAVSPG, CFG-MSGOUT).
+void for_each_modelled_key(const std::function<void(std::uint32_t)>& f);
+/// The message and port of a CFG-MSGOUT key, nullopt for another key.
+[[nodiscard]] std::optional<std::pair<MessageId, Port>> msgout_of(std::uint32_t key);
 /// The CFG-MSGOUT key of message `id` on `port`, nullopt for a message without one here.
 [[nodiscard]] std::optional<std::uint32_t> msgout_key(MessageId id, Port port);
 /// The message a CFG-MSGOUT key sets the rate of (any port), nullopt for another key.

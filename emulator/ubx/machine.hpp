@@ -7,16 +7,22 @@
 // A message the model does not have (model_has_message) is NAKed in CFG-MSG and CFG-VALSET/VALGET
 // and its poll gets no answer; a poll of a NAV or MON message it has is answered (PollOnce) with
 // the next solution.
+// The configuration lives in layers (config_layers.hpp: RAM, BBR, flash, defaults): CFG-VALSET
+// (with transactions), CFG-VALDEL, CFG-VALGET, CFG-CFG and a reset act on them as on a receiver.
+// No UBX answer leaves a port whose output protocols exclude UBX (counted). A message costs time
+// in proportion to what it changes: only the rates of the messages it names are compared.
 #pragma once
 
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
 #include <variant>
 #include <vector>
 
+#include "emulator/ubx/config_layers.hpp"
 #include "emulator/ubx/frame.hpp"
 #include "emulator/ubx/settings.hpp"
 
@@ -65,11 +71,15 @@ struct MachineStats {
   std::uint64_t acks = 0;        ///< ACK-ACK sent
   std::uint64_t naks = 0;        ///< ACK-NAK sent
   std::uint64_t ignored = 0;     ///< messages without an answer (unknown polls, non-PUBX NMEA)
+  std::uint64_t unsent_answers = 0;  ///< UBX answers not written: the port's output excludes UBX
+  std::uint64_t resets = 0;      ///< CFG-RST that reloaded the configuration from the layers
+  std::uint64_t transactions_discarded = 0;  ///< CFG-VALSET transactions begun and never applied
 };
 
 class ConfigMachine {
  public:
-  explicit ConfigMachine(const StartSettings& start);
+  /// RAM starts as `start`'s settings (the defaults), then `stored`'s flash, then its BBR.
+  explicit ConfigMachine(const StartSettings& start, StoredLayers stored = {});
 
   /// Consumes a client's bytes (any chunking) and answers every message they complete.
   [[nodiscard]] Answer feed(std::string_view bytes);
@@ -77,6 +87,15 @@ class ConfigMachine {
   [[nodiscard]] Answer handle(const ClientMessage& message);
 
   [[nodiscard]] const Settings& settings() const { return settings_; }
+  /// The default layer: the emulator's start settings.
+  [[nodiscard]] const Settings& defaults() const { return defaults_; }
+  [[nodiscard]] const StoredLayers& stored() const { return stored_; }
+  /// Changes each time BBR or flash changes (for saving them).
+  [[nodiscard]] std::uint64_t stored_version() const { return stored_version_; }
+  /// Whether a CFG-VALSET transaction is open (begun, not yet applied).
+  [[nodiscard]] bool transaction_open() const { return transaction_.has_value(); }
+  /// Forgets an open transaction (the client went away): counted as discarded.
+  void discard_transaction();
   [[nodiscard]] ReceiverModel model() const { return start_.model; }
   [[nodiscard]] Port port() const { return start_.port; }
   [[nodiscard]] const FrameStats& reader_stats() const { return reader_.stats(); }
@@ -87,26 +106,45 @@ class ConfigMachine {
   void handle_sentence(const nmea::Sentence& sentence, Answer& answer);
   /// Answers a CFG poll (empty or selector payload); false when `frame` is no poll.
   bool answer_cfg_poll(const Frame& frame, Answer& answer);
-  /// Applies a CFG write; false: NAK.
-  bool apply_cfg(const Frame& frame);
-  void answer_valget(const Frame& frame, Answer& answer);
-  [[nodiscard]] bool apply_valset(std::string_view payload);
-  void ack(MessageId id, bool ok, Answer& answer);
-  /// What diff() compares: the period, the client port's settings and its message rates (not a
-  /// copy of the whole settings a write: a burst of CFG writes stays cheap).
-  struct Snapshot {
+  /// What a change is compared against: the period, the client port, the rates of the messages
+  /// the message names (or every setting, for a load or a reset).
+  struct Before {
     std::chrono::milliseconds period{};
     PortSettings port;
-    std::vector<std::pair<MessageId, std::uint8_t>> rates;  ///< by id, every listed message's rate
+    std::vector<std::pair<MessageId, std::uint8_t>> rates;
+    std::optional<Settings> all;
   };
-  [[nodiscard]] Snapshot snapshot() const;
+  [[nodiscard]] Before before(std::vector<MessageId> touched, bool everything = false) const;
+  /// Applies a CFG write; false: NAK.
+  bool apply_cfg(const Frame& frame, Before& before);
+  void answer_valget(const Frame& frame, Answer& answer);
+  [[nodiscard]] bool apply_valset(std::string_view payload, Before& before);
+  [[nodiscard]] bool apply_valdel(std::string_view payload);
+  [[nodiscard]] bool apply_cfg_cfg(std::string_view payload, Before& before);
+  void reset(std::string_view payload, Answer& answer);
+  /// Writes `keys` (validated) to the layers of `layer_bits`.
+  void write_keys(const std::vector<std::pair<std::uint32_t, std::uint64_t>>& keys, std::uint8_t layer_bits,
+                  Before& before);
+  /// A UBX answer, unless the client's port does not output UBX.
+  void reply(Answer& answer, MessageId id, std::string_view payload);
+  void ack(MessageId id, bool ok, Answer& answer);
   /// False for a CFG-MSGOUT key of a message the model does not have.
   [[nodiscard]] bool model_has_key(std::uint32_t key) const;
   /// Appends the effects of the change from `before` to the current settings.
-  void diff(const Snapshot& before, Answer& answer) const;
+  void diff(const Before& before, Answer& answer) const;
+  [[nodiscard]] bool ubx_out() const;
+
+  struct Transaction {
+    std::uint8_t layers = 0;
+    std::vector<std::pair<std::uint32_t, std::uint64_t>> keys;  ///< at most the catalogue's keys
+  };
 
   StartSettings start_;
+  Settings defaults_;
+  StoredLayers stored_;
   Settings settings_;
+  std::optional<Transaction> transaction_;
+  std::uint64_t stored_version_ = 0;
   FrameReader reader_;
   MachineStats stats_;
 };

@@ -11,7 +11,21 @@
 namespace gpsemu::ubx {
 
 Session::Session(SessionSettings settings)
-    : settings_(std::move(settings)), machine_(settings_.start), state_(settings_.seed) {}
+    : settings_(std::move(settings)), machine_(settings_.start, settings_.stored), state_(settings_.seed) {
+  // What the stored layers changed at power-up reaches the emulator as a client's change would.
+  const Settings& now = machine_.settings();
+  const Settings& start = machine_.defaults();
+  if (now.output_period() != start.output_period()) effects_.emplace_back(MeasurementPeriodChanged{now.output_period()});
+  const auto port = static_cast<std::size_t>(machine_.port());
+  if (now.ports[port].baud != start.ports[port].baud && now.ports[port].baud != 0) {
+    effects_.emplace_back(BaudChanged{now.ports[port].baud});
+  }
+}
+
+bool Session::period_change_pending() const {
+  return std::any_of(effects_.begin(), effects_.end(),
+                     [](const Effect& e) { return std::holds_alternative<MeasurementPeriodChanged>(e); });
+}
 
 Session::Client& Session::client(ClientId id) {
   if (clients_.size() >= max_clients && clients_.find(id) == clients_.end()) clients_.erase(clients_.begin());

@@ -39,6 +39,7 @@ struct SessionSettings {
   nmea::FormatOptions format;    ///< how the NMEA part is written (its sentence set is ignored)
   double speed_sigma_mps = 0.0;  ///< 1-sigma speed error reported as sAcc (metres per second)
   std::uint64_t seed = 1;        ///< seed of the receiver clock (NAV-CLOCK): the run's --seed
+  StoredLayers stored;           ///< BBR and flash at power-up (--receiver-state); RAM is built from them
 };
 
 /// One connection to the port (a TCP client, or whoever has the pty or serial line open): its own
@@ -72,7 +73,10 @@ class Session {
   /// answers are dropped, so the next client starts clean.
   void client_left(ClientId client);
   /// MeasurementPeriodChanged, BaudChanged and ColdStart effects not yet taken (empties them).
+  /// At power-up: the period and baud the stored layers give, when they differ from the start's.
   [[nodiscard]] std::vector<Effect> take_effects();
+  /// Whether a new solution period waits in take_effects() (the loop reschedules at once).
+  [[nodiscard]] bool period_change_pending() const;
 
   /// Appends the epoch's bytes for `fix` to `out`: nothing off the measurement grid.
   void append_solution(const nmea::Fix& fix, std::string& out);

@@ -58,7 +58,7 @@ bool Waiter::read_timer(const std::atomic<bool>& stop) {
   return false;
 }
 
-void Waiter::sleep_until(WallTime deadline, const std::atomic<bool>& stop) {
+void Waiter::sleep_until(WallTime deadline, const std::atomic<bool>& stop, const std::function<bool()>* woken) {
   if (stop.load() || wall_clock_now() >= deadline) return;
   const std::int64_t ns = deadline.time_since_epoch().count();
   itimerspec when{};
@@ -91,6 +91,7 @@ void Waiter::sleep_until(WallTime deadline, const std::atomic<bool>& stop) {
     // (and another thread may be writing to the outputs from the deadline on).
     if (wall_clock_now() >= deadline) break;
     service_polled();
+    if (woken && (*woken)()) break;  // what was serviced changes what the wait is for
     const bool input = std::any_of(poll_list_.begin() + 1, poll_list_.end(),
                                    [](const pollfd& p) { return (p.revents & POLLIN) != 0; });
     if (!input) {

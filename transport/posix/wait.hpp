@@ -36,9 +36,10 @@ class Waiter {
   Waiter& operator=(const Waiter&) = delete;
 
   /// Waits until the wall clock reaches `deadline`, servicing inputs meanwhile; returns early only
-  /// when `stop` becomes true (a signal interrupts the wait) or when the wall clock was set (a
-  /// step: the caller looks at the clock again). A past deadline returns at once.
-  void sleep_until(WallTime deadline, const std::atomic<bool>& stop);
+  /// when `stop` becomes true (a signal interrupts the wait), when the wall clock was set (a step:
+  /// the caller looks at the clock again), or when `woken` (if given) returns true after input was
+  /// serviced. A past deadline returns at once.
+  void sleep_until(WallTime deadline, const std::atomic<bool>& stop, const std::function<bool()>* woken = nullptr);
   /// Waits at most `timeout` for input and services what arrived.
   void wait_for_input(std::chrono::nanoseconds timeout, const std::atomic<bool>& stop);
   /// Waits that returned because the deadline came or input arrived (one an epoch when no input

@@ -3,7 +3,11 @@
 // their order. ArduPilot polls each setting and writes it back only when it differs from what it
 // wants (GPS_RATE_MS 200, GPS_NAVFILTER 8 airborne < 4 g, RATE_PVT 1, RATE_TIMEGPS 5, RATE_HW 5,
 // GPS_SBAS_MODE and GPS_GNSS_MODE left alone); the test does the same with the answers it gets.
-// On an F9 the GNSS poll is skipped and CFG-TMODE-MODE is read with CFG-VALGET.
+// On an F9 the GNSS poll is skipped and CFG-TMODE-MODE is read with CFG-VALGET. With
+// GPS_AUTO_CONFIG 1 or 2 (2 adds DroneCAN GPSes: a serial u-blox is configured the same),
+// GPS_SBAS_MODE 0 and GPS_GNSS_MODE 65 (GPS + GLONASS), the SBAS and GNSS steps write their
+// settings and GPS_SAVE_CFG 2 saves them (CFG-CFG): a power cycle (CFG-RST hardware reset) keeps
+// everything, and the next round writes nothing.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -126,6 +130,51 @@ class ArduPilotDriver {
     rate_step(mon_hw2, 5);                // STEP_MON_HW2
   }
 
+  /// STEP_POLL_SBAS: poll CFG-SBAS, write the mode GPS_SBAS_MODE asks when it differs.
+  void sbas_step(std::uint8_t mode) {
+    auto got = send(m_, msg::cfg_sbas);
+    ASSERT_EQ(got.frames.size(), 2u);
+    std::string sbas = got.frames[0].payload;
+    ASSERT_EQ(sbas.size(), 8u);
+    if (get_u1(sbas, 0) == mode) return;
+    sbas[0] = static_cast<char>(mode);
+    EXPECT_EQ(send(m_, msg::cfg_sbas, sbas).frames, std::vector<Frame>{ack_of(msg::cfg_sbas)});
+    ++writes_;
+  }
+
+  /// STEP_POLL_GNSS with GPS_GNSS_MODE `mask` (bit n: gnssId n): each block enabled or not.
+  void gnss_step(std::uint8_t mask) {
+    auto got = send(m_, msg::cfg_gnss);
+    ASSERT_EQ(got.frames.size(), 2u);
+    std::string gnss = got.frames[0].payload;
+    const std::size_t blocks = get_u1(gnss, 3);
+    ASSERT_EQ(gnss.size(), 4 + 8 * blocks);
+    bool differs = false;
+    for (std::size_t b = 0; b < blocks; ++b) {
+      const std::size_t at = 4 + 8 * b;
+      const bool want = (mask >> get_u1(gnss, at)) & 1;
+      const std::uint32_t flags = get_u4(gnss, at + 4);
+      if (((flags & 1) != 0) == want) continue;
+      differs = true;
+      std::string block;
+      put_u4(block, want ? (flags | 1) : (flags & ~1u));
+      gnss.replace(at + 4, 4, block);
+    }
+    if (!differs) return;
+    EXPECT_EQ(send(m_, msg::cfg_gnss, gnss).frames, std::vector<Frame>{ack_of(msg::cfg_gnss)});
+    ++writes_;
+  }
+
+  /// GPS_SAVE_CFG 2: CFG-CFG save (12 bytes: BBR and flash) once something was written.
+  void save_if_changed() {
+    if (writes_ == 0) return;
+    std::string p;
+    put_u4(p, 0);
+    put_u4(p, 0xFFFF);
+    put_u4(p, 0);
+    EXPECT_EQ(send(m_, msg::cfg_cfg, p).frames, std::vector<Frame>{ack_of(msg::cfg_cfg)});
+  }
+
   [[nodiscard]] int writes() const { return writes_; }
 
  private:
@@ -178,6 +227,38 @@ TEST(UbxArduPilotSequence, F9pAnswersTheTmodeValgetAndTheClassicSteps) {
   expect_ardupilot_rates(m.settings(), m.model());
   EXPECT_EQ(m.stats().naks, 0u);
 }
+
+/// GPS_AUTO_CONFIG 1 and 2 (serial u-blox: the same configuration).
+class UbxArduPilotAutoConfig : public testing::TestWithParam<int> {};
+
+TEST_P(UbxArduPilotAutoConfig, SbasOffAndGpsGlonassAreWrittenSavedAndSurviveAPowerCycle) {
+  ConfigMachine m = machine_of(ReceiverModel::ublox_m8n);  // the factory state: NMEA on, no UBX output
+  ArduPilotDriver driver(m);
+  driver.detection_blob();
+  driver.configure_round(false);
+  driver.sbas_step(0);
+  driver.gnss_step(65);
+  EXPECT_EQ(driver.writes(), 12);  // the classic 10, SBAS, GNSS
+  driver.save_if_changed();
+  // Power cycle: RAM reloads from BBR/flash.
+  (void)send(m, msg::cfg_rst, unhex("0000 00 00"));
+  EXPECT_EQ(m.stats().resets, 1u);
+  expect_ardupilot_rates(m.settings(), m.model());
+  EXPECT_EQ(get_u1(m.settings().sbas, 0), 0);
+  for (std::size_t b = 0; b < get_u1(m.settings().gnss, 3); ++b) {
+    const std::size_t at = 4 + 8 * b;
+    const bool on = (get_u4(m.settings().gnss, at + 4) & 1) != 0;
+    EXPECT_EQ(on, get_u1(m.settings().gnss, at) == 0 || get_u1(m.settings().gnss, at) == 6) << "gnssId " << b;
+  }
+  ArduPilotDriver again(m);
+  again.configure_round(false);
+  again.sbas_step(0);
+  again.gnss_step(65);
+  EXPECT_EQ(again.writes(), 0) << "GPS_AUTO_CONFIG " << GetParam() << ": the saved configuration is what ArduPilot wants";
+  EXPECT_EQ(m.stats().naks, 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(GpsAutoConfig, UbxArduPilotAutoConfig, testing::Values(1, 2));
 
 }  // namespace
 }  // namespace gpsemu::ubx

@@ -1,0 +1,56 @@
+#include "emulator/pipeline/receiver_state.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace gpsemu {
+
+/// A state file is a few kilobytes; anything far larger is not one.
+constexpr std::uintmax_t kMaxStateBytes = 1 << 20;
+
+ubx::StoredLayers read_receiver_state(const std::string& path, ubx::ReceiverModel model) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return {};
+  const auto size = std::filesystem::file_size(path, ec);
+  if (ec || size > kMaxStateBytes) {
+    throw std::invalid_argument(fmt::format("--receiver-state {}: {}", path,
+                                            ec ? ec.message() : fmt::format("{} bytes is not a receiver state", size)));
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::invalid_argument(fmt::format("--receiver-state {}: cannot be read", path));
+  std::ostringstream text;
+  text << in.rdbuf();
+  try {
+    return ubx::stored_layers_from_text(text.str(), model);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(fmt::format("--receiver-state {}: {}", path, e.what()));
+  }
+}
+
+bool write_receiver_state(const std::string& path, const ubx::StoredLayers& layers, ubx::ReceiverModel model,
+                          std::string& error) {
+  const std::string temporary = path + ".new";
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << ubx::to_text(layers, model);
+    out.flush();
+    if (!out) {
+      error = fmt::format("cannot write {}", temporary);
+      return false;
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(temporary, path, ec);
+  if (ec) {
+    error = fmt::format("cannot rename {} to {}: {}", temporary, path, ec.message());
+    return false;
+  }
+  return true;
+}
+
+}  // namespace gpsemu
