@@ -417,9 +417,9 @@ void ConfigMachine::diff(const Before& before, Answer& answer) const {
   const PortSettings& now = settings_.ports[static_cast<std::size_t>(port)];
   if (was.out_proto_mask != now.out_proto_mask) {
     answer.effects.emplace_back(
-        OutputProtocolsChanged{(now_port.out_proto_mask & proto_ubx) != 0, (now_port.out_proto_mask & proto_nmea) != 0});
+        OutputProtocolsChanged{(now.out_proto_mask & proto_ubx) != 0, (now.out_proto_mask & proto_nmea) != 0});
   }
-  if (was_port.baud != now_port.baud && now_port.baud != 0) answer.effects.emplace_back(BaudChanged{now_port.baud});
+  if (was.baud != now.baud && now.baud != 0) answer.effects.emplace_back(BaudChanged{now.baud});
 }
 
 }  // namespace gpsemu::ubx
