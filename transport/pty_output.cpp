@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
+#include <utility>
 
 #include "transport/posix/errors.hpp"
 #include "transport/posix/fd.hpp"
@@ -215,12 +216,17 @@ void PtyOutput::discard_stale_input() {
   // bytes read since the last check: the unread then, plus what the pty took since, less the
   // unread now (bytes still in flight inside the kernel make it look larger: never a discard).
   // Past the line discipline's buffer FIONREAD stops counting: then nobody read when the pty
-  // took nothing for a period while bytes waited for room.
+  // took nothing for a period while bytes waited for room. With no client at all (inotify), or
+  // when bytes went in while nobody had the device open, all of it is stale (the bytes still in
+  // flight inside the kernel too, which FIONREAD does not see yet).
+  notice_clients();
   send_waiting();
   const int now_unread = unread();
   const std::uint64_t taken = taken_ - taken_at_check_;
   bool stale = false;
-  if (now_unread > 0 || !waiting_.empty()) {
+  if (nobody_open() || std::exchange(taken_unopened_, false)) {
+    stale = true;
+  } else if (now_unread > 0 || !waiting_.empty()) {
     if (now_unread < kLineDisciplineBytes && unread_at_check_ < kLineDisciplineBytes) {
       stale = static_cast<std::uint64_t>(unread_at_check_) + taken <= static_cast<std::uint64_t>(now_unread);
     } else {
@@ -229,6 +235,18 @@ void PtyOutput::discard_stale_input() {
   }
   if (stale) discard_all(now_unread);
   unread_at_check_ = stale ? 0 : now_unread;
+  taken_at_check_ = taken_;
+}
+
+void PtyOutput::notice_clients() {
+  // Every client closed the device: the next one to open it is a new connection, with a fresh
+  // frame reader and nothing of the old one's queued for it.
+  if (!opens_ || !opens_->valid() || !opens_->read_events().all_closed) return;
+  discard_all(unread());
+  client_left(client_);
+  client_ = new_client_id();
+  ++pty_stats_.clients_left;
+  unread_at_check_ = 0;
   taken_at_check_ = taken_;
 }
 
@@ -265,6 +283,7 @@ void PtyOutput::send_waiting() {
     if (n <= 0) break;  // no room (EAGAIN), or an error the next epoch's write reports
     w.sent += static_cast<std::size_t>(n);
     taken_ += static_cast<std::uint64_t>(n);
+    taken_unopened_ = taken_unopened_ || nobody_open();
     waiting_bytes_ -= static_cast<std::size_t>(n);
     if (w.sent == w.bytes.size()) waiting_.pop_front();
   }
@@ -280,6 +299,7 @@ WriteStatus PtyOutput::send(std::string_view bytes, bool epoch, std::string& err
       if (n >= 0) {
         sent = static_cast<std::size_t>(n);
         taken_ += sent;
+        taken_unopened_ = taken_unopened_ || nobody_open();
         break;
       }
       if (errno == EINTR) continue;
@@ -325,16 +345,7 @@ void PtyOutput::service() {
   const posix::Drained input = posix::drain_input(master_fd_, client_input_budget,
                                                   [this](std::string_view bytes) { client_wrote(bytes, client_); });
   pty_stats_.input_bytes_discarded += input.bytes;
-  // Every client closed the device (after its input above was read): the next one to open it is
-  // a new connection, with a fresh frame reader and nothing of the old one's queued for it.
-  if (opens_ && opens_->valid() && opens_->read_events().all_closed) {
-    discard_all(unread());
-    client_left(client_);
-    client_ = new_client_id();
-    ++pty_stats_.clients_left;
-    unread_at_check_ = 0;
-    taken_at_check_ = taken_;
-  }
+  notice_clients();  // after the input above was read: it was the old client's
   send_waiting();
   if (input.end == posix::Drained::End::failed) {
     const auto now = std::chrono::steady_clock::now();

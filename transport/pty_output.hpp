@@ -83,6 +83,10 @@ class PtyOutput final : public Output {
   void discard_stale_input();
   /// Discards everything queued, in the pty and waiting here (counted).
   void discard_all(int unread);
+  /// Reads the open watch: every client closed the device -> a new connection.
+  void notice_clients();
+  /// No client has the device open, as far as the open watch has told (false without one).
+  [[nodiscard]] bool nobody_open() const { return opens_ && opens_->valid() && opens_->open_count() == 0; }
   /// Queues `bytes` behind what is queued: ok, dropped (no room: nothing of it went out) or error.
   WriteStatus send(std::string_view bytes, bool epoch, std::string& error_text);
   /// Writes what waits while the pty takes it.
@@ -105,6 +109,7 @@ class PtyOutput final : public Output {
   std::uint64_t taken_ = 0;           ///< bytes the pty took, in all
   std::uint64_t taken_at_check_ = 0;  ///< at the last discard_stale_input()
   int unread_at_check_ = 0;           ///< unread bytes then
+  bool taken_unopened_ = false;       ///< the pty took bytes while nobody had it open, since then
   PtyStats pty_stats_;
   PtyStats reported_;  ///< counters at the last log line, to log differences at most once a second
   std::chrono::steady_clock::time_point last_report_{};

@@ -60,10 +60,15 @@ void service_until_heard(PtyOutput& out, const Answering& input, std::size_t wri
   service_until(out, [&] { return input.writers.size() >= writes; });
 }
 
-TEST(PtyAnswers, AnAnswerNeverDiscardsWhatTheClientHasNotRead) {
+/// A pty whose client input answers "<ANSWER>" to every write.
+class PtyAnswers : public ::testing::Test {
+ protected:
+  PtyAnswers() { out.set_client_input(&input); }
   PtyOutput out;
-  Answering input("<ANSWER>");
-  out.set_client_input(&input);
+  Answering input{"<ANSWER>"};
+};
+
+TEST_F(PtyAnswers, AnAnswerNeverDiscardsWhatTheClientHasNotRead) {
   const int client = open_client(out);
   ASSERT_GE(client, 0);
   const std::string epoch = "$GPRMC,120000.00,EPOCH-ONE-WITH-A-LONG-BODY*00\r\n";
@@ -80,17 +85,16 @@ TEST(PtyAnswers, AnAnswerNeverDiscardsWhatTheClientHasNotRead) {
   ::close(client);
 }
 
-TEST(PtyAnswers, WhatThePtyCannotTakeWaitsAndGoesOutInOrderAsTheClientReads) {
-  PtyOutput out;
+TEST_F(PtyAnswers, WhatThePtyCannotTakeWaitsAndGoesOutInOrderAsTheClientReads) {
   // 60 000 bytes of answers: more than the pty holds (about 22 KB), less than what waits here.
   std::string answer;
   for (int i = 0; answer.size() < 60000; ++i) answer += "<answer " + std::to_string(i) + ">";
-  Answering input(answer);
-  out.set_client_input(&input);
+  Answering big(answer);
+  out.set_client_input(&big);
   const int client = open_client(out);
   ASSERT_GE(client, 0);
   ASSERT_EQ(::write(client, "poll", 4), 4);
-  service_until_heard(out, input, 1);
+  service_until_heard(out, big, 1);
   const std::string epoch = "$GPRMC,120000.10,AFTER*00\r\n";
   ASSERT_EQ(out.write_epoch(epoch), WriteStatus::ok);  // behind the answer, whole
   EXPECT_EQ(read_serviced(client, out, answer.size() + epoch.size()), answer + epoch);
@@ -98,10 +102,7 @@ TEST(PtyAnswers, WhatThePtyCannotTakeWaitsAndGoesOutInOrderAsTheClientReads) {
   ::close(client);
 }
 
-TEST(PtyAnswers, EveryClientClosingTheDeviceEndsTheConnection) {
-  PtyOutput out;
-  Answering input("<ANSWER>");
-  out.set_client_input(&input);
+TEST_F(PtyAnswers, EveryClientClosingTheDeviceEndsTheConnection) {
   const int first = open_client(out);
   ASSERT_GE(first, 0);
   ASSERT_EQ(::write(first, "half a frame", 12), 12);
