@@ -78,8 +78,9 @@ void EpochLoop::run(const std::atomic<bool>& stop) {
         continue;
       }
       if (ahead) {
-        if (!run_ahead(k, t, *deadline, stop)) break;
-        ++stats_.epochs_emitted;
+        const Ahead done = run_ahead(k, t, *deadline, stop, woken);
+        if (done == Ahead::stopped) break;
+        if (done == Ahead::sent) ++stats_.epochs_emitted;
         continue;
       }
       io->sleep_until_woken(*deadline, stop, woken);
@@ -135,16 +136,20 @@ void EpochLoop::write_range(std::size_t first, std::size_t from, std::size_t to)
   }
 }
 
-bool EpochLoop::run_ahead(std::int64_t k, UtcNs t, UtcNs deadline, const std::atomic<bool>& stop) {
+EpochLoop::Ahead EpochLoop::run_ahead(std::int64_t k, UtcNs t, UtcNs deadline, const std::atomic<bool>& stop,
+                                     const std::function<bool()>& woken) {
   ClockIo& io = *clock_.io();
   // Compute ahead by twice the recent cost, within the latency: never before the epoch's own time
   // (a receiver's fix for t is computed after t), so with no latency it is done at the deadline.
   const auto lead = std::clamp(2 * compute_cost_ + kMinComputeLead, std::chrono::nanoseconds{0},
                                *options_.compute_ahead_within);
   const UtcNs compute_at = deadline - lead;
-  if (pps_) pps_->run_until(compute_at, io, stop);
-  io.sleep_until(compute_at, stop);
-  if (stop.load()) return false;
+  if (pps_) pps_->run_until(compute_at, io, stop, &woken);
+  if (stop.load()) return Ahead::stopped;
+  if (rescheduled(io)) return Ahead::rescheduled;
+  io.sleep_until_woken(compute_at, stop, woken);
+  if (stop.load()) return Ahead::stopped;
+  if (rescheduled(io)) return Ahead::rescheduled;
   const auto begin = std::chrono::steady_clock::now();
   const std::size_t n = ahead_.size();
   for (std::size_t i = 0; i < n; ++i) {
@@ -164,7 +169,7 @@ bool EpochLoop::run_ahead(std::int64_t k, UtcNs t, UtcNs deadline, const std::at
   // an epoch is never half sent.
   write_range(first, 0, mine);
   if (helper_) helper_->wait_done();
-  return !stop.load();
+  return stop.load() ? Ahead::stopped : Ahead::sent;
 }
 
 }  // namespace gpsemu

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <chrono>
 #include <cstdint>
 #include <memory>
@@ -88,8 +89,11 @@ class EpochLoop {
   [[nodiscard]] const LoopStats& stats() const { return stats_; }
 
  private:
-  /// The fleet's epoch in real time: compute ahead, write at the deadline. False when stopped.
-  bool run_ahead(std::int64_t k, UtcNs t, UtcNs deadline, const std::atomic<bool>& stop);
+  enum class Ahead { sent, rescheduled, stopped };
+  /// The fleet's epoch in real time: compute ahead, write at the deadline; rescheduled when a
+  /// receiver's period changed before the computing began (`woken`).
+  Ahead run_ahead(std::int64_t k, UtcNs t, UtcNs deadline, const std::atomic<bool>& stop,
+                  const std::function<bool()>& woken);
   /// Hands every active receiver's epoch `t` to the sink, computed now.
   void send(UtcNs t);
   /// When the producer wants it: reschedules at the epoch time of now, true.
