@@ -356,7 +356,8 @@ std::vector<OptionDef> make_option_table() {
       });
   add("receiver-state", "FILE", "a u-blox's stored configuration (BBR and flash layers: CFG-VALSET to them, "
       "CFG-CFG save) read at start when FILE exists and written whenever it changes, so a saved configuration "
-      "survives a restart (default none: every run starts from the defaults)",
+      "survives a restart; with several receivers one file each, e.g. gps{i}.state (default none: every run starts "
+      "from the defaults)",
       [](ConfigDraft& d, V v) { d.receiver.settings.receiver_state = v.back(); });
   add("geoid-separation", "M", "geoid separation in GGA, metres (default: the EGM96 geoid at the origin)",
       [](ConfigDraft& d, V v) { d.receiver.settings.model.geoid_sep_m = parse_number("geoid-separation", v.back(), -120.0, 120.0); });

@@ -84,7 +84,8 @@ void EpochLoop::run(const std::atomic<bool>& stop) {
       }
       const UtcNs deadline = *clock_.deadline_of(t);
       if (ahead) {
-        const EpochWait written = run_ahead(k, t, deadline, stop);
+        const std::function<bool()> woken = [this] { return producer_.reschedule_wanted(); };
+        const EpochWait written = run_ahead(k, t, deadline, stop, woken);
         if (written == EpochWait::skip) ++stats_.epochs_late_skipped;
         if (written == EpochWait::due) ++stats_.epochs_emitted;
         if (written == EpochWait::stopped) break;
@@ -189,16 +190,20 @@ void EpochLoop::write_range(std::size_t first, std::size_t from, std::size_t to)
   }
 }
 
-EpochWait EpochLoop::run_ahead(std::int64_t k, UtcNs t, UtcNs deadline, const std::atomic<bool>& stop) {
+EpochWait EpochLoop::run_ahead(std::int64_t k, UtcNs t, UtcNs deadline, const std::atomic<bool>& stop,
+                               const std::function<bool()>& woken) {
   ClockIo& io = *clock_.io();
   // Compute ahead by twice the recent cost, within the latency: never before the epoch's own time
   // (a receiver's fix for t is computed after t), so with no latency it is done at the deadline.
   const auto lead = std::clamp(2 * compute_cost_ + kMinComputeLead, std::chrono::nanoseconds{0},
                                *options_.compute_ahead_within);
   const UtcNs compute_at = deadline - lead;
-  if (pps_) pps_->run_until(compute_at, io, stop);
-  io.sleep_until(compute_at, stop);
+  if (pps_) pps_->run_until(compute_at, io, stop, &woken);
   if (stop.load()) return EpochWait::stopped;
+  if (rescheduled(io)) return EpochWait::rescheduled;
+  io.sleep_until_woken(compute_at, stop, woken);
+  if (stop.load()) return EpochWait::stopped;
+  if (rescheduled(io)) return EpochWait::rescheduled;
   const auto begin = std::chrono::steady_clock::now();
   const std::size_t n = ahead_.size();
   for (std::size_t i = 0; i < n; ++i) {

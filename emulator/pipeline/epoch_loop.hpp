@@ -12,6 +12,7 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <chrono>
 #include <cstdint>
 #include <memory>
@@ -105,8 +106,9 @@ class EpochLoop {
   /// deadline and looks again at how late the wake-up was.
   EpochWait wait_for_deadline(UtcNs t, bool sleep, const std::atomic<bool>& stop);
   /// The fleet's epoch in real time: compute ahead, write at the deadline (skip: woken more than a
-  /// period after it).
-  EpochWait run_ahead(std::int64_t k, UtcNs t, UtcNs deadline, const std::atomic<bool>& stop);
+  /// period after it; rescheduled: a receiver's period changed before the computing began).
+  EpochWait run_ahead(std::int64_t k, UtcNs t, UtcNs deadline, const std::atomic<bool>& stop,
+                      const std::function<bool()>& woken);
   /// Hands every active receiver's epoch `t` to the sink, computed now.
   void send(UtcNs t);
   /// When the producer wants it: reschedules at the epoch time of now, true.
