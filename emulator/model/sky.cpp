@@ -114,6 +114,8 @@ Sky::Sky(const SkyOptions& options, const Geodetic& receiver)
   std::stable_sort(tracked_.begin(), tracked_.end(), [&](std::size_t a, std::size_t b) {
     return std::pair{system_rank(sats[a].system), sats[a].sv_id} < std::pair{system_rank(sats[b].system), sats[b].sv_id};
   });
+  const double lat = receiver.lat_deg * kPi / 180.0, lon = receiver.lon_deg * kPi / 180.0;
+  up_ = {std::cos(lat) * std::cos(lon), std::cos(lat) * std::sin(lon), std::sin(lat)};
   nodes_.resize(tracked_.size());
   azel0_.resize(tracked_.size());
   azel1_.resize(tracked_.size());
@@ -162,6 +164,13 @@ void Sky::snapshot(std::int64_t second, std::vector<std::array<float, 2>>& azel)
     azel[k] = {0.0f, -100.0f};
     const auto p = position(k, t);
     if (!p) continue;
+    // Below the horizon (the line of sight points down): no need for RTKLIB's azimuth/elevation.
+    const double up = (p->x_m - receiver_ecef_.x_m) * up_[0] + (p->y_m - receiver_ecef_.y_m) * up_[1] +
+                      (p->z_m - receiver_ecef_.z_m) * up_[2];
+    if (up < 0.0) {
+      azel[k] = {0.0f, -1.0f};
+      continue;
+    }
     const sky::AzEl a = sky::azimuth_elevation(receiver_geodetic_, receiver_ecef_, *p);
     azel[k] = {static_cast<float>(a.azimuth_deg), static_cast<float>(a.elevation_deg)};
   }
@@ -292,8 +301,9 @@ SkyState Sky::fill(UtcNs t, const Tracking& tracking, nmea::Fix& fix) {
     out.system = id.system;
     out.sv_id = id.sv_id;
     out.prn = nmea_id(id);
-    out.elevation_deg = static_cast<int>(std::lround(e.el0 + f * (e.el1 - e.el0)));
-    out.azimuth_deg = static_cast<int>(std::lround(lerp_azimuth(e.az0, e.az1, f))) % 360;
+    // Both non-negative: rounding is adding a half and truncating.
+    out.elevation_deg = static_cast<int>(std::max(0.0f, e.el0 + f * (e.el1 - e.el0)) + 0.5f);
+    out.azimuth_deg = static_cast<int>(lerp_azimuth(e.az0, e.az1, f) + 0.5f) % 360;
     out.snr_dbhz = e.cn0;
     out.used = e.usable;
   }
