@@ -12,7 +12,11 @@
 namespace gpsemu {
 namespace {
 
-constexpr double kNodeS = 60.0;          // orbit nodes a minute apart (cubic: well under a metre)
+constexpr double kNodeS = 60.0;
+// Azimuth/elevation (and with them the satellites used and the DOPs) are computed every this many
+// GPS seconds and interpolated linearly between (docs/performance.md: 10 s would take a quarter
+// off a --fast default epoch; a satellite moves at most ~0.01 degree a second).
+constexpr std::int64_t kAzElStepS = 1;          // orbit nodes a minute apart (cubic: well under a metre)
 constexpr std::uint64_t kSkyStream = 0x736b79;  // "sky": the noise models use streams 0..2
 constexpr double kPi = std::numbers::pi;
 
@@ -178,12 +182,12 @@ void Sky::snapshot(std::int64_t second, std::vector<std::array<float, 2>>& azel)
 
 void Sky::advance_to(std::int64_t second) {
   if (second == second_) return;
-  if (second == second_ + 1) {
+  if (second == second_ + kAzElStepS) {
     std::swap(azel0_, azel1_);
   } else {
     snapshot(second, azel0_);
   }
-  snapshot(second + 1, azel1_);
+  snapshot(second + kAzElStepS, azel1_);
   second_ = second;
 }
 
@@ -240,7 +244,7 @@ void Sky::select_used(int limit) {
 
 SkyState Sky::fill(UtcNs t, const Tracking& tracking, nmea::Fix& fix) {
   const double gps = gps_seconds_of(t);
-  const auto second = static_cast<std::int64_t>(std::floor(gps));
+  const auto second = static_cast<std::int64_t>(std::floor(gps / kAzElStepS)) * kAzElStepS;
   const bool new_second = second != second_;
   advance_to(second);
   const bool same_tracking = tracking.acquired_fraction == tracking_.acquired_fraction &&
@@ -292,7 +296,7 @@ SkyState Sky::fill(UtcNs t, const Tracking& tracking, nmea::Fix& fix) {
     dops_ = sky::multi_clock_dops(std::span(used.data(), static_cast<std::size_t>(used_)));
   }
   // Write the entries, azimuth and elevation interpolated within the second.
-  const auto f = static_cast<float>(gps - static_cast<double>(second));
+  const auto f = static_cast<float>((gps - static_cast<double>(second)) / kAzElStepS);
   const auto& sats = orbits_->satellites();
   int n = 0;
   for (const Entry& e : entries_) {
