@@ -12,7 +12,11 @@
 namespace gpsemu {
 namespace {
 
-constexpr double kNodeS = 60.0;          // orbit nodes a minute apart (cubic: well under a metre)
+constexpr double kNodeS = 60.0;
+// Azimuth/elevation (and with them the satellites used and the DOPs) are computed every this many
+// GPS seconds and interpolated linearly between (docs/performance.md: 10 s would take a quarter
+// off a --fast default epoch; a satellite moves at most ~0.01 degree a second).
+constexpr std::int64_t kAzElStepS = 1;          // orbit nodes a minute apart (cubic: well under a metre)
 constexpr std::uint64_t kSkyStream = 0x736b79;  // "sky": the noise models use streams 0..2
 constexpr double kPi = std::numbers::pi;
 
@@ -114,6 +118,8 @@ Sky::Sky(const SkyOptions& options, const Geodetic& receiver)
   std::stable_sort(tracked_.begin(), tracked_.end(), [&](std::size_t a, std::size_t b) {
     return std::pair{system_rank(sats[a].system), sats[a].sv_id} < std::pair{system_rank(sats[b].system), sats[b].sv_id};
   });
+  const double lat = receiver.lat_deg * kPi / 180.0, lon = receiver.lon_deg * kPi / 180.0;
+  up_ = {std::cos(lat) * std::cos(lon), std::cos(lat) * std::sin(lon), std::sin(lat)};
   nodes_.resize(tracked_.size());
   azel0_.resize(tracked_.size());
   azel1_.resize(tracked_.size());
@@ -162,6 +168,13 @@ void Sky::snapshot(std::int64_t second, std::vector<std::array<float, 2>>& azel)
     azel[k] = {0.0f, -100.0f};
     const auto p = position(k, t);
     if (!p) continue;
+    // Below the horizon (the line of sight points down): no need for RTKLIB's azimuth/elevation.
+    const double up = (p->x_m - receiver_ecef_.x_m) * up_[0] + (p->y_m - receiver_ecef_.y_m) * up_[1] +
+                      (p->z_m - receiver_ecef_.z_m) * up_[2];
+    if (up < 0.0) {
+      azel[k] = {0.0f, -1.0f};
+      continue;
+    }
     const sky::AzEl a = sky::azimuth_elevation(receiver_geodetic_, receiver_ecef_, *p);
     azel[k] = {static_cast<float>(a.azimuth_deg), static_cast<float>(a.elevation_deg)};
   }
@@ -169,12 +182,12 @@ void Sky::snapshot(std::int64_t second, std::vector<std::array<float, 2>>& azel)
 
 void Sky::advance_to(std::int64_t second) {
   if (second == second_) return;
-  if (second == second_ + 1) {
+  if (second == second_ + kAzElStepS) {
     std::swap(azel0_, azel1_);
   } else {
     snapshot(second, azel0_);
   }
-  snapshot(second + 1, azel1_);
+  snapshot(second + kAzElStepS, azel1_);
   second_ = second;
 }
 
@@ -231,7 +244,7 @@ void Sky::select_used(int limit) {
 
 SkyState Sky::fill(UtcNs t, const Tracking& tracking, nmea::Fix& fix) {
   const double gps = gps_seconds_of(t);
-  const auto second = static_cast<std::int64_t>(std::floor(gps));
+  const auto second = static_cast<std::int64_t>(std::floor(gps / kAzElStepS)) * kAzElStepS;
   const bool new_second = second != second_;
   advance_to(second);
   const bool same_tracking = tracking.acquired_fraction == tracking_.acquired_fraction &&
@@ -283,7 +296,7 @@ SkyState Sky::fill(UtcNs t, const Tracking& tracking, nmea::Fix& fix) {
     dops_ = sky::multi_clock_dops(std::span(used.data(), static_cast<std::size_t>(used_)));
   }
   // Write the entries, azimuth and elevation interpolated within the second.
-  const auto f = static_cast<float>(gps - static_cast<double>(second));
+  const auto f = static_cast<float>((gps - static_cast<double>(second)) / kAzElStepS);
   const auto& sats = orbits_->satellites();
   int n = 0;
   for (const Entry& e : entries_) {
@@ -292,8 +305,9 @@ SkyState Sky::fill(UtcNs t, const Tracking& tracking, nmea::Fix& fix) {
     out.system = id.system;
     out.sv_id = id.sv_id;
     out.prn = nmea_id(id);
-    out.elevation_deg = static_cast<int>(std::lround(e.el0 + f * (e.el1 - e.el0)));
-    out.azimuth_deg = static_cast<int>(std::lround(lerp_azimuth(e.az0, e.az1, f))) % 360;
+    // Both non-negative: rounding is adding a half and truncating.
+    out.elevation_deg = static_cast<int>(std::max(0.0f, e.el0 + f * (e.el1 - e.el0)) + 0.5f);
+    out.azimuth_deg = static_cast<int>(lerp_azimuth(e.az0, e.az1, f) + 0.5f) % 360;
     out.snr_dbhz = e.cn0;
     out.used = e.usable;
   }

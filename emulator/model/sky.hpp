@@ -87,6 +87,7 @@ class Sky {
   SkyOptions options_;
   std::array<double, 3> receiver_geodetic_{};
   sky::Ecef receiver_ecef_;
+  std::array<double, 3> up_{};                  // the receiver's local vertical (ECEF unit vector)
   std::vector<std::size_t> tracked_;            // satellites of the tracked systems
   std::vector<float> cn0_offset_db_;            // per satellite of the orbits
   std::vector<float> acquisition_rank_;         // per satellite: 0..1, seeded

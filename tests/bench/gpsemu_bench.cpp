@@ -4,6 +4,8 @@
 // Run: build/tests/bench/gpsemu_bench
 #include <benchmark/benchmark.h>
 
+#include "emulator/model/sky.hpp"
+
 #include <memory>
 #include <string>
 
@@ -127,6 +129,24 @@ void whole_epoch(benchmark::State& state, const std::string& scenario, gpsemu::n
 BENCHMARK_CAPTURE(whole_epoch, gga_rmc_stationary_to_file, "stationary", gga_rmc_options(), true);
 BENCHMARK_CAPTURE(whole_epoch, gga_rmc_circle, "circle", gga_rmc_options(), false);
 BENCHMARK_CAPTURE(whole_epoch, default_set_circle, "circle", gpsemu::nmea::FormatOptions{}, false);
+// The issue #24 pair: the u-blox default set (GSA/GSV per system of an M8N's real sky) beside GGA+RMC.
+BENCHMARK_CAPTURE(whole_epoch, default_set_stationary_to_file, "stationary", gpsemu::nmea::FormatOptions{}, true);
+
+/// The sky alone at 10 Hz: one fill an epoch (an az/el snapshot of every tracked satellite each
+/// new GPS second, the used set and DOPs, the interpolated entries written into the fix).
+void sky_fill(benchmark::State& state) {
+  gpsemu::SkyOptions options;
+  options.profile = gpsemu::sky::profile_of(gpsemu::ubx::ReceiverModel::generic);  // an M8N
+  gpsemu::Sky sky(options, {kOrigin.lat_deg, kOrigin.lon_deg, kOrigin.alt_m - 34.0});
+  gpsemu::UtcNs t{seconds(1714564800)};
+  gpsemu::nmea::Fix fix;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(sky.fill(t, {}, fix));
+    t += milliseconds(100);
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(sky_fill);
 
 }  // namespace
 

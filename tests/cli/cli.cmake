@@ -27,7 +27,7 @@ gpsemu_cli_test(bad_noise 2 "unknown noise model 'pink'" --noise pink)
 gpsemu_cli_test(bad_start_time 2 "'tomorrow'" --start-time tomorrow)
 gpsemu_cli_test(missing_config 2 "/nonexistent/gpsemu.toml" --config /nonexistent/gpsemu.toml)
 gpsemu_cli_test(config_unknown_key 2 "bad_key.toml:2: unknown key 'widht'" --config ${CMAKE_CURRENT_BINARY_DIR}/bad_key.toml)
-gpsemu_cli_test(config_file_runs 0 "\\$GPRMC,120001\\.00,.*\\$GPGGA,120001\\.00" --config
+gpsemu_cli_test(config_file_runs 0 "\\$GNRMC,120001\\.00,.*\\$GNGGA,120001\\.00" --config
                 ${CMAKE_CURRENT_BINARY_DIR}/good.toml --fast --duration 1 --start-time 2024-05-01T12:00:01Z)
 gpsemu_cli_test(unknown_source 2 "unknown simulator scenario 'sim:spiral'" --source sim:spiral --fast --output stdout)
 gpsemu_cli_test(missing_waypoints 2 "/nonexistent/route.csv" --source sim:waypoints:/nonexistent/route.csv --fast --output stdout)
@@ -35,12 +35,12 @@ gpsemu_cli_test(bad_output_spec 2 "bogus:thing" --output bogus:thing --fast --du
 gpsemu_cli_test(pty_link_dir_missing 2 "/nonexistent/dir/gps" --output pty:/nonexistent/dir/gps --fast --duration 1)
 gpsemu_cli_test(pty_link_is_a_file 2 "not_a_link.txt" --output pty:${CMAKE_CURRENT_BINARY_DIR}/not_a_link.txt --duration 1)
 gpsemu_cli_test(stdout_stationary 0
-                "\\$GPGGA,000000\\.00,4304\\.3[0-9]+,N,08924\\.7[0-9]+,W,1,1[0-3],0\\.[89][0-9],2[56][0-9]\\.[0-9],M,0\\.0,M,,\\*[0-9A-F][0-9A-F]"
+                "\\$GNGGA,000000\\.00,4304\\.3[0-9]+,N,08924\\.7[0-9]+,W,1,[12][0-9],0\\.[4-9][0-9],2[56][0-9]\\.[0-9],M,-34\\.7,M,,\\*[0-9A-F][0-9A-F]"
                 --fast --duration 2 --output stdout --start-time 2024-01-01T00:00:00Z)
 gpsemu_cli_test(rate_needs_time_decimals 2 "repeat a time" --rate 20 --time-decimals 1)
 # Sentence set, receiver states and fix quality (see core_receiver_states_test for the details).
 gpsemu_cli_test(sentences_in_receiver_order 0
-                "^\\$GPRMC,[^$]*\\$GPGGA,[^$]*\\$GPGST,[^$]*\\$GPZDA,[^$]*\\$GPRMC"
+                "^\\$GNRMC,[^$]*\\$GNGGA,[^$]*\\$GNGST,[^$]*\\$GNZDA,[^$]*\\$GNRMC"
                 --fast --duration 2 --output stdout --sentences ZDA,GST,GGA,RMC --log-level warn)
 gpsemu_cli_test(bad_sentence 2 "--sentences: sentences: unknown sentence 'GXX'" --sentences GGA,GXX)
 gpsemu_cli_test(bad_outage 2 "--outage: outage: expected START\\+DURATION" --outage 10)
@@ -48,9 +48,9 @@ gpsemu_cli_test(bad_fix_quality 2 "--fix-quality: fix-quality" --fix-quality ppp
 gpsemu_cli_test(bad_protocol 2 "gpsemu: --protocol: protocol must be one of nmea, ubx, nmea\\+ubx, got 'ubx2'" --protocol ubx2)
 gpsemu_cli_test(bad_receiver 2 "gpsemu: --receiver: receiver must be one of ublox-m8n, ublox-m9n, ublox-f9p, generic, got 'ublox-m7'"
                 --receiver ublox-m7)
-gpsemu_cli_test(outage_has_empty_fields 0 "\\$GPGGA,000001\\.00,,,,,0,00,99\\.99,,,,,,\\*[0-9A-F]+[^$]*\\$GPGSA,A,1,[^$]*\\$GPGSV,1,1,00,1\\*64"
+gpsemu_cli_test(outage_has_empty_fields 0 "\\$GNGGA,000001\\.00,,,,,0,00,99\\.99,,,,,,\\*[0-9A-F]+[^$]*\\$GNGSA,A,1,[^$]*\\$GPGSV,1,1,00,1\\*64"
                 --fast --duration 3 --output stdout --outage 1+1 --start-time 2024-01-01T00:00:00Z --log-level warn)
-gpsemu_cli_test(rtk_fixed_quality 0 "\\$GPGGA,[0-9.]+,[0-9.]+,N,[0-9.]+,W,4,.*\\$GPGLL,[^$]*,A,R\\*"
+gpsemu_cli_test(rtk_fixed_quality 0 "\\$GNGGA,[0-9.]+,[0-9.]+,N,[0-9.]+,W,4,.*\\$GNGLL,[^$]*,A,R\\*"
                 --fast --duration 1 --output stdout --fix-quality rtk-fixed --log-level warn)
 
 # A value option before a subcommand's positional argument takes one value, not the argument too.

@@ -57,23 +57,36 @@ def check_epoch(index, epoch, problems):
         for m in (rmc, gga, gll):
             if m and (m.lat or m.lon):
                 problems.append(f"{where}: position in a no-fix {m.sentence_type}")
-    if "ZDA" in by_type and rmc:
+    if "ZDA" in by_type and rmc and rmc.datestamp:  # a cold receiver has no date yet
         zda = by_type["ZDA"][0]
         if (zda.day, zda.month, zda.year) != (rmc.datestamp.day, rmc.datestamp.month, rmc.datestamp.year):
             problems.append(f"{where}: ZDA date differs from RMC")
     in_view = []
     if "GSV" in by_type:
-        gsv = by_type["GSV"]
-        total = int(gsv[0].num_messages)
-        if [int(m.msg_num) for m in gsv] != list(range(1, total + 1)):
-            problems.append(f"{where}: GSV messages {[m.msg_num for m in gsv]} of {total}")
-        for m in gsv:
-            in_view += gsv_satellites(m)
-        if len(in_view) != int(gsv[0].num_sv_in_view):
-            problems.append(f"{where}: GSV lists {len(in_view)} satellites, says {gsv[0].num_sv_in_view}")
-        if len(set(in_view)) != len(in_view) or any(not 1 <= p <= 32 for p in in_view):
-            problems.append(f"{where}: GSV PRNs {in_view}")
-        for m in gsv:
+        # One group per system (talker) and signal: numbered 1..total, its count in each sentence.
+        ranges = {"GP": (1, 64), "GL": (65, 96), "GA": (1, 36), "GB": (1, 63), "GQ": (1, 10)}
+        groups = []
+        for m in by_type["GSV"]:
+            if int(m.msg_num) == 1:
+                groups.append([])
+            if not groups:
+                problems.append(f"{where}: GSV group without its first sentence")
+                groups.append([])
+            groups[-1].append(m)
+        for gsv in groups:
+            total = int(gsv[0].num_messages)
+            if [int(m.msg_num) for m in gsv] != list(range(1, total + 1)):
+                problems.append(f"{where}: GSV messages {[m.msg_num for m in gsv]} of {total}")
+            ids = []
+            for m in gsv:
+                ids += gsv_satellites(m)
+            if len(ids) != int(gsv[0].num_sv_in_view):
+                problems.append(f"{where}: GSV lists {len(ids)} satellites, says {gsv[0].num_sv_in_view}")
+            low, high = ranges.get(gsv[0].talker, (1, 99))
+            if len(set(ids)) != len(ids) or any(not low <= p <= high for p in ids):
+                problems.append(f"{where}: {gsv[0].talker}GSV IDs {ids}")
+            in_view += ids
+        for m in by_type["GSV"]:
             body = m.data[3:]
             for i in range(0, len(body) - len(body) % 4, 4):
                 el, az, snr = body[i + 1], body[i + 2], body[i + 3]
@@ -139,7 +152,7 @@ def split_ubx(data, problems):
             problems.append(f"byte {i}: neither a UBX frame nor a sentence")
             break
     for pvt, rmc in pvt_then_rmc:
-        if pvt != rmc:
+        if rmc and pvt != rmc:  # an empty RMC time: a cold receiver that does not know the time yet
             problems.append(f"NAV-PVT at {pvt} followed by the RMC of {rmc}")
     return bytes(text), counts, len(pvt_then_rmc)
 

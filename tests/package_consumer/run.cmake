@@ -32,7 +32,7 @@ step(${CMAKE_COMMAND} -S ${CONSUMER_SOURCE} -B ${WORK_DIR}/build -G ${GENERATOR}
 step(${CMAKE_COMMAND} --build ${WORK_DIR}/build -j 1)
 step(${WORK_DIR}/build/consumer)
 message("${step_output}")
-if(NOT step_output MATCHES "\\$GPRMC,120000\\.00,A,[^\n]*\n\\$GPGGA,120000\\.00,4304\\.[0-9]+,N,08924\\.[0-9]+,W,1,"
+if(NOT step_output MATCHES "\\$G[PN]RMC,120000\\.00,A,[^\n]*\n\\$G[PN]GGA,120000\\.00,4304\\.[0-9]+,N,08924\\.[0-9]+,W,1,"
    OR NOT step_output MATCHES "gpsemu [0-9]+\\.[0-9]+\\.[0-9]+: 3 GGA parsed")
   message(FATAL_ERROR "unexpected consumer output")
 endif()

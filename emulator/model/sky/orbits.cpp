@@ -204,6 +204,7 @@ std::shared_ptr<const Orbits> Orbits::from_rinex_nav(const std::string& path) {
   auto impl = std::make_unique<Impl>();
   impl->kind = Impl::Kind::rinex;
   impl->description = "RINEX navigation " + path;
+  if (!std::ifstream(path)) throw std::runtime_error("ephemeris " + path + ": cannot be read");
   const auto first = first_record_time(path);
   if (!first) throw std::runtime_error("ephemeris " + path + ": not a RINEX navigation file with records");
   impl->start = *first;
