@@ -111,7 +111,8 @@ Calibration calibrate(ReceiverLog log, const CalibrateOptions& options) {
   if (options.detrend) {
     const Detrended d = detrend(s);
     c.notes.push_back(fmt::format("detrended: a smooth trajectory (local quadratic over {:.0f} s) removed first: "
-                                  "{:.2f} m rms from the mean, {:.1f} m of path (the log: {})",
+                                  "{:.2f} m rms from the mean, {:.1f} m of path (the log: {}); the noise's own wander slower "
+                                  "than that went with it: sd and slow part are under-estimated",
                                   kDetrendWindow_s, d.rms_m, d.path_m, c.motion.describe()));
   } else if (c.motion.moving) {
     throw MotionError(fmt::format("the log moves: {}; {}. Calibration needs a stationary receiver (--detrend "

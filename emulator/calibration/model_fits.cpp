@@ -351,12 +351,16 @@ noise::NoiseConfig refit_composite(noise::NoiseConfig c, const EnuSeries& s, con
 
 namespace {
 
-// Fraction of a first-order Gauss-Markov process's variance lost to the mean of n samples:
-// (1 + 2 sum_{k<n} (1 - k/n) phi^k) / n with phi = exp(-dt / tau), in closed form.
+// Fraction of a second-order Gauss-Markov process's variance lost to the mean of n samples:
+// (1 + 2 sum_{k<n} (1 - k/n) rho(k dt)) / n.
 double mean_share(double tau_s, std::size_t n, double dt) {
-  const double phi = std::exp(-dt / tau_s), nn = static_cast<double>(n);
-  const double sum = phi / (1.0 - phi) - phi * (1.0 - std::pow(phi, nn)) / (nn * (1.0 - phi) * (1.0 - phi));
-  return std::clamp((1.0 + 2.0 * sum) / nn, 0.0, 1.0 - 1e-9);
+  double acc = 1.0;
+  for (std::size_t k = 1; k < n; ++k) {
+    const double r = noise::gauss_markov_autocorrelation(2, static_cast<double>(k) * dt, tau_s);
+    if (r < 1e-12) break;
+    acc += 2.0 * (1.0 - static_cast<double>(k) / static_cast<double>(n)) * r;
+  }
+  return std::min(acc / static_cast<double>(n), 1.0 - 1e-9);
 }
 
 struct SlowChoice {
@@ -365,8 +369,8 @@ struct SlowChoice {
 };
 
 // Slow parts of one axis, best first (at most `count`): the share w of the log's sample variance
-// (0.1 .. 0.8) and the time constant tau (10 s .. 4x the log's length) whose predicted sample
-// autocorrelation at 10 and 30 s, (1 - w) rho_fast(L) + w (exp(-L / tau) - m) / (1 - m) with m the
+// (0.1 .. 0.8) and the time constant tau (5 s .. 4x the log's length) whose predicted sample
+// autocorrelation at 10 and 30 s, (1 - w) rho_fast(L) + w (rho_slow(L) - m) / (1 - m) with m the
 // share lost to the mean, is nearer the log's than the fast part's alone; none when none is.
 std::vector<SlowChoice> choose_slow(const AxisStats& real, const AxisStats& fast, std::size_t n, double rate_hz,
                                     std::size_t count) {
@@ -374,28 +378,27 @@ std::vector<SlowChoice> choose_slow(const AxisStats& real, const AxisStats& fast
   if (!real.acf_s[0] || !real.acf_s[1] || !fast.acf_s[0] || !fast.acf_s[1] || !(real.sd_m > 0.0)) return {};
   const double dt = 1.0 / rate_hz, length_s = static_cast<double>(n) * dt;
   const double max_tau = kCompositeMaxTauInLogs * length_s;
-  const auto error = [&](double w, double tau) {
+  const auto error = [&](double w, double tau, double m) {
     double e = 0.0;
-    const double m = w > 0.0 ? mean_share(tau, n, dt) : 0.0;
     for (std::size_t i = 0; i < 2; ++i) {
       double slow = 0.0;
-      if (w > 0.0) slow = (std::exp(-kAcfTimes_s[i] / tau) - m) / (1.0 - m);
+      if (w > 0.0) slow = (noise::gauss_markov_autocorrelation(2, kAcfTimes_s[i], tau) - m) / (1.0 - m);
       const double predicted = (1.0 - w) * *fast.acf_s[i] + w * slow;
       e += (predicted - *real.acf_s[i]) * (predicted - *real.acf_s[i]);
     }
     return e;
   };
-  const double none = error(0.0, 1.0);
+  const double none = error(0.0, 1.0, 0.0);
   if (none < 0.03 * 0.03) return {};  // within 0.03 at both lags already
-  for (int wi = 2; wi <= 16; wi += 2) {
-    const double w = 0.05 * wi;
-    for (int ti = 0; ti <= 12; ++ti) {
-      const double tau = std::exp(std::log(10.0) + (std::log(std::max(max_tau, 10.0)) - std::log(10.0)) * ti / 12.0);
-      const double e = error(w, tau);
+  for (int ti = 0; ti <= 12; ++ti) {
+    const double tau = std::exp(std::log(5.0) + (std::log(std::max(max_tau, 5.0)) - std::log(5.0)) * ti / 12.0);
+    const double m = mean_share(tau, n, dt);
+    for (int wi = 2; wi <= 16; wi += 2) {
+      const double w = 0.05 * wi;
+      const double e = error(w, tau, m);
       if (e >= none) continue;
       SlowChoice c;
       c.share = w, c.tau_s = tau;
-      const double m = mean_share(tau, n, dt);
       c.sigma_m = real.sd_m * std::sqrt(w / (1.0 - m));
       c.sigma_at_bound = c.sigma_m > kCompositeMaxSigmaInSd * real.sd_m;
       c.sigma_m = std::min(c.sigma_m, kCompositeMaxSigmaInSd * real.sd_m);
@@ -449,7 +452,8 @@ noise::NoiseConfig with_slow_part(const noise::NoiseConfig& c, const EnuSeries& 
     }
     if (parts.empty()) break;
     slow = refit(slow, fast_share);
-    const double with = score(real, simulated_stats(slow, s, window, 0x736c6f77ULL, runs, nullptr));
+    const auto sim_slow = simulated_stats(slow, s, window, 0x736c6f77ULL, runs, nullptr);
+    const double with = score(real, sim_slow);
     if (with < best_score) best_score = with, best = slow, best_parts = parts;
   }
   if (notes && (!choices[0].empty() || !choices[1].empty())) {

@@ -60,7 +60,7 @@ namespace gpsemu::calibration {
 /// refitted together until the rounded simulation has the log's standard deviation, first- and
 /// second-difference standard deviations. Deterministic.
 /// Then the slow part (composite_model.hpp): where the log keeps more correlation at 10 and 30 s
-/// than that fit, a share of its variance goes to a first-order Gauss-Markov whose share and time
+/// than that fit, a share of its variance goes to a second-order Gauss-Markov whose share and time
 /// constant are chosen to match the autocorrelation at 10 and 30 s (the fast part's own
 /// autocorrelation taken from its simulation), the rest refitted as before; kept when it scores
 /// better. Bounded so a run longer than the log stays within a few times its spread: every time

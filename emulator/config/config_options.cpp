@@ -280,7 +280,7 @@ std::vector<OptionDef> make_option_table() {
            CompositeKey{"composite-jump-decay", "T[,TN,TU]", "composite model: time constant a jump decays back "
                         "with, east,north,up, seconds; 0 = jumps stay (default 0,0,0)", "seconds",
                         &noise::CompositeAxis::jump_decay_s},
-           CompositeKey{"composite-slow-sigma", "S[,SN,SU]", "composite model: slow first-order Gauss-Markov "
+           CompositeKey{"composite-slow-sigma", "S[,SN,SU]", "composite model: slow second-order Gauss-Markov "
                         "wander's standard deviation east,north,up, metres; 0 = none (default 0,0,0)", "metres",
                         &noise::CompositeAxis::slow_sigma_m},
            CompositeKey{"composite-slow-tau", "T[,TN,TU]", "composite model: slow wander's correlation time "

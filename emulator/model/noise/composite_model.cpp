@@ -27,7 +27,7 @@ std::unique_ptr<NoiseModel> make_slow(const CompositeParams& p, std::uint64_t se
     any = any || on;
   }
   if (!any) return nullptr;
-  return std::make_unique<GaussMarkovNoise>(axes, stream_seed(seed, 9), 1);
+  return std::make_unique<GaussMarkovNoise>(axes, stream_seed(seed, 9), 2);
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // The `composite` noise model: what a real receiver's stationary error looks like on each axis,
 //   smooth wander (second-order Gauss-Markov, or the cgrw walk)
-//   + slow wander (first-order Gauss-Markov with a longer time constant; optional)
+//   + slow wander (second-order Gauss-Markov with a longer time constant; optional)
 //   + white jitter (one independent normal draw per epoch)
 //   + jumps (a Poisson process: at rate r a step of normal size sigma_j, each decaying back with
 //     time constant T, or staying when T = 0: then the jumps add up as a random walk).

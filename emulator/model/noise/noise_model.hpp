@@ -59,9 +59,10 @@ struct CompositeAxis {
   double jump_rate_hz = 0.0;    ///< jumps per second (a Poisson process; 0 = none)
   double jump_sigma_m = 0.0;    ///< jump size: normal, this standard deviation (metres)
   double jump_decay_s = 0.0;    ///< time constant a jump decays back with (seconds); 0 = jumps stay
-  /// A slow wander besides the smooth one: first-order Gauss-Markov, stationary standard deviation
-  /// (metres; 0 = none) and correlation time (seconds, > 0 when the deviation is): the correlation
-  /// a receiver keeps over tens of seconds to minutes, bounded however long the run.
+  /// A slow wander besides the smooth one: second-order Gauss-Markov (smooth: it adds correlation,
+  /// not first differences), stationary standard deviation (metres; 0 = none) and correlation time
+  /// (seconds, > 0 when the deviation is): the correlation a receiver keeps over tens of seconds to
+  /// minutes, bounded however long the run.
   double slow_sigma_m = 0.0;
   double slow_tau_s = 0.0;
 };
