@@ -143,6 +143,11 @@ std::vector<OptionDef> make_option_table() {
       [](ConfigDraft& d, V v) { d.timeline.duration_s = parse_number("duration", v.back(), 0.0, 1e9); });
   add("fast", "", "no pacing: generate epochs as fast as possible (batch generation, tests)",
       [](ConfigDraft& d, V v) { d.fast = parse_bool("fast", v.back()); });
+  add("scenario", "FILE", "faults on a timeline: a TOML file of [[fault]] tables (kind, at, duration, parameters "
+      "with units; docs/faults.md); [[fault]] tables may also be in --config (default none)",
+      [](ConfigDraft& d, V v) {
+        for (faults::Fault& f : load_scenario(v.back())) d.timeline.faults.push_back(std::move(f));
+      });
   add("clock", "CLOCK", "epoch clock: realtime | scaled:K (paced at K x real time, K 0.01..1000; NMEA times still "
       "one epoch period apart) | fast (as --fast) | lockstep (an epoch leaves when the 't' of udp:/tcp: poses "
       "reaches it; t = 0 is --start-time or the first epoch), e.g. scaled:10 (default realtime)",

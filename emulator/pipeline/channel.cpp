@@ -12,6 +12,7 @@ Channel::Channel(const ChannelSettings& settings, UtcNs first_epoch) : settings_
   } else {
     encoders_.push_back(std::make_unique<NmeaEncoder>(settings_.format));
   }
+  if (!settings_.faults.faults.empty()) faults_.emplace(settings_.faults, first_epoch);
   bytes_.reserve(1024);
 }
 
@@ -22,8 +23,15 @@ nmea::Fix Channel::step(UtcNs t) {
 
 nmea::Fix Channel::step(UtcNs t, const std::optional<sources::Truth>& truth) {
   nmea::Fix fix = receiver_->fix_at(t, truth);  // one fix a step, never copied
-  if (!fix.has_fix()) ++stats_.epochs_without_fix;
   bytes_.clear();
+  if (faults_) {
+    const std::optional<Enu> truth_m = truth ? std::optional<Enu>(truth->position_m) : std::nullopt;
+    if (faults_->apply(t, fix, truth_m, frame_, ubx_ ? &ubx_->rf() : nullptr).silent) {
+      ++stats_.epochs_silent;
+      return fix;
+    }
+  }
+  if (!fix.has_fix()) ++stats_.epochs_without_fix;
   for (const auto& encoder : encoders_) encoder->encode(fix, bytes_);
   return fix;
 }

@@ -11,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "emulator/faults/fault_timeline.hpp"
 #include "emulator/model/geo.hpp"
 #include "emulator/model/noise/noise_model.hpp"
 #include "emulator/model/receiver.hpp"
@@ -33,12 +34,15 @@ struct ChannelSettings {
   /// --protocol ubx or nmea+ubx: the u-blox port's start settings; the UBX encoder then writes the
   /// NMEA part too (as its CFG-MSG settings say) in place of the NMEA encoder.
   std::optional<ubx::SessionSettings> ubx;
+  /// The faults of this receiver (--scenario), applied to each fix before the encoders.
+  faults::FaultPlan faults;
 };
 
 /// One receiver's counts (a fleet's summary has one line per receiver).
 struct ReceiverStats {
   std::uint64_t epochs_emitted = 0;
   std::uint64_t epochs_without_fix = 0;
+  std::uint64_t epochs_silent = 0;  ///< epochs a `silence` fault left unwritten
 };
 
 class Channel final : public transport::ClientInput {
@@ -80,6 +84,8 @@ class Channel final : public transport::ClientInput {
   [[nodiscard]] const LocalFrame& frame() const { return frame_; }
   [[nodiscard]] const Receiver& receiver() const { return *receiver_; }
   [[nodiscard]] const ChannelSettings& settings() const { return settings_; }
+  /// The receiver's faults; null without any.
+  [[nodiscard]] const faults::FaultTimeline* faults() const { return faults_ ? &*faults_ : nullptr; }
   [[nodiscard]] ReceiverStats& stats() { return stats_; }
   [[nodiscard]] const ReceiverStats& stats() const { return stats_; }
 
@@ -90,6 +96,7 @@ class Channel final : public transport::ClientInput {
   std::unique_ptr<sources::PoseSource> source_;
   std::vector<std::unique_ptr<Encoder>> encoders_;
   UbxEncoder* ubx_ = nullptr;  ///< owned by encoders_
+  std::optional<faults::FaultTimeline> faults_;
   std::string bytes_;
   bool ended_ = false;
   ReceiverStats stats_;

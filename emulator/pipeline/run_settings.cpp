@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "emulator/config/config.hpp"
 #include "emulator/config/receiver_config.hpp"
 #include "emulator/config/validate.hpp"
@@ -44,6 +46,15 @@ std::size_t widest_epoch_bytes(const nmea::FormatOptions& format, const std::opt
 
 }  // namespace
 
+faults::FaultPlan fault_plan(const std::vector<faults::Fault>& scenario, std::size_t i, std::size_t receivers) {
+  faults::FaultPlan plan;
+  for (const faults::Fault& f : scenario) {
+    if (!f.receiver || static_cast<std::size_t>(*f.receiver) == i) plan.faults.push_back(f);
+  }
+  if (receivers > 1) plan.who = fmt::format("receiver {}: ", i);
+  return plan;
+}
+
 LoopSettings loop_settings(const TimelineSettings& timeline) {
   LoopSettings loop;
   loop.rate_hz = timeline.rate_hz;
@@ -65,7 +76,8 @@ ReceiverSetup receiver_setup(const ReceiverSettings& receiver, const TimelineSet
                .noise = receiver.noise,
                .seed = receiver.seed,
                .format = receiver.format,
-               .ubx = ubx_settings(receiver, options, timeline)};
+               .ubx = ubx_settings(receiver, options, timeline),
+               .faults = {}};
   r.outputs = {.outputs = receiver.outputs,
                .tee = receiver.tee,
                .realtime = !timeline.fast(),
@@ -84,6 +96,14 @@ RunSettings run_settings(const Config& config) {
   RunSettings run;
   run.loop = loop_settings(config.timeline);
   for (const ReceiverSettings& r : config.receivers) run.receivers.push_back(receiver_setup(r, config.timeline));
+  for (std::size_t i = 0; i < run.receivers.size(); ++i) {
+    ChannelSettings& channel = run.receivers[i].channel;
+    channel.faults = fault_plan(config.timeline.faults, i, run.receivers.size());
+    // A jam acts on each satellite's C/N0: the sky fills them even when no sentence lists them.
+    for (const faults::Fault& f : channel.faults.faults) {
+      if (f.kind == faults::FaultKind::jam) channel.receiver.satellite_details = true;
+    }
+  }
   return run;
 }
 

@@ -174,6 +174,10 @@ void Runner::log_summary() const {
   for (std::size_t i = 0; i < n; ++i) {
     const ReceiverStats& r = channels_->channel(i).stats();
     if (n > 1) spdlog::info("receiver {}: {} epochs ({} without fix)", i, r.epochs_emitted, r.epochs_without_fix);
+    if (const faults::FaultTimeline* faults = channels_->channel(i).faults()) {
+      faults->log_summary();
+      if (r.epochs_silent != 0) spdlog::info("{}{} epochs silent (nothing written)", sink_.who(i), r.epochs_silent);
+    }
     sink_.log_summary(i);
     if (const std::string drops = tx_drops_summary(channels_->line(i)); !drops.empty()) {
       spdlog::warn("{}{}", sink_.who(i), drops);
