@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "emulator/config/config_values.hpp"
+#include "emulator/pipeline/control_socket.hpp"
 #include "emulator/sources/pose_message.hpp"
 #include "transport/pps.hpp"
 
@@ -372,6 +373,9 @@ std::vector<OptionDef> make_option_table() {
       [](ConfigDraft& d, V v) { d.timeline.pps_active_low = parse_choice("pps-polarity", v.back(), {"high", "low"}) == "low"; });
   // Scheduling (real-time pacing)
   scope = OptionScope::process;
+  add("control", "unix:PATH", "live faults: a Unix socket taking JSON lines, e.g. {\"fault\":\"jam\",\"db\":25}, "
+      "{\"clear\":\"jam\"}, {\"status\":true}; `gpsemu ctl PATH ...` is its client (docs/faults.md) (default none)",
+      [](ConfigDraft& d, V v) { d.process.control_path = parse_control_spec(v.back()); });
   add("realtime-priority", "N", "run with SCHED_FIFO priority N, 1..99, where permitted (else a warning and normal "
       "scheduling) (default: normal scheduling)",
       [](ConfigDraft& d, V v) { d.process.realtime.fifo_priority = static_cast<int>(parse_number("realtime-priority", v.back(), 1, 99)); });

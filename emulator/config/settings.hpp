@@ -31,6 +31,7 @@ namespace gpsemu {
 struct ProcessSettings {
   std::string log_level = "info";    ///< trace | debug | info | warn | error | off
   posix::RealtimeSettings realtime;  ///< SCHED_FIFO priority, mlockall, timer slack (realtime.hpp)
+  std::optional<std::string> control_path;  ///< --control unix:PATH: the live fault socket (docs/faults.md)
 };
 
 /// The one epoch timeline all receivers of a process share, and the PPS line that marks it.

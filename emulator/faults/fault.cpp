@@ -103,6 +103,14 @@ double Fault::strength_at(double since_s) const {
 }
 
 std::string Fault::describe() const {
+  std::string s = parameters();
+  s += fmt::format(" at {:.6g} s", at_s);
+  s += duration_s ? fmt::format(" for {:.6g} s", *duration_s) : std::string(" to the end");
+  if (receiver) s += fmt::format(", receiver {}", *receiver);
+  return s;
+}
+
+std::string Fault::parameters() const {
   std::string s{kind_name(kind)};
   const auto add = [&s](std::string_view key, double v) { s += fmt::format(" {}={}", key, v); };
   switch (kind) {
@@ -123,9 +131,6 @@ std::string Fault::describe() const {
     default: break;
   }
   if (ramp_s > 0.0) add("ramp_s", ramp_s);
-  s += fmt::format(" at {} s", at_s);
-  s += duration_s ? fmt::format(" for {} s", *duration_s) : std::string(" to the end");
-  if (receiver) s += fmt::format(", receiver {}", *receiver);
   return s;
 }
 

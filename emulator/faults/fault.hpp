@@ -61,6 +61,8 @@ struct Fault {
   [[nodiscard]] double strength_at(double since_s) const;
   /// "jam db=25 ramp_s=5 at 10 s for 20 s, receiver 0": for logs and the summary.
   [[nodiscard]] std::string describe() const;
+  /// "jam db=25 ramp_s=5": the kind and its parameters.
+  [[nodiscard]] std::string parameters() const;
 };
 
 /// One key of a [[fault]] table (or a control message): a number or a string.

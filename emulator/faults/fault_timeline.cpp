@@ -90,8 +90,29 @@ FaultTimeline::FaultTimeline(FaultPlan plan, UtcNs first_epoch) : who_(std::move
 EpochEffect FaultTimeline::apply(UtcNs t, nmea::Fix& fix, const std::optional<Enu>& truth_m, const LocalFrame& frame,
                                  ubx::RfState* rf) {
   EpochEffect effect;
-  if (entries_.empty()) return effect;
   const double since_s = std::chrono::duration<double>(t - first_epoch_).count();
+  for (Fault& f : pending_) {
+    f.at_s = since_s;
+    keeps_last_ = keeps_last_ || f.kind == FaultKind::freeze;
+    if (keeps_last_ && !last_) last_ = fix;  // a live freeze before any was kept: this epoch's
+    entries_.push_back({std::move(f)});
+  }
+  pending_.clear();
+  for (const FaultKind kind : pending_clears_) {
+    for (Entry& e : entries_) {
+      if (e.fault.kind != kind || e.ended) continue;
+      e.fault.duration_s = std::max(0.0, since_s - e.fault.at_s);
+      if (!e.active) e.ended = true;  // had not started: it never will
+    }
+  }
+  pending_clears_.clear();
+  last_epoch_.epochs++;
+  last_epoch_.since_s = since_s;
+  if (entries_.empty()) {
+    last_epoch_.quality = fix.quality;
+    last_epoch_.satellites_used = fix.satellites_used;
+    return effect;
+  }
   bool freeze_ahead = false;
   for (Entry& e : entries_) {
     const bool active = e.fault.active_at(since_s);
@@ -113,6 +134,9 @@ EpochEffect FaultTimeline::apply(UtcNs t, nmea::Fix& fix, const std::optional<En
     freeze_ahead = freeze_ahead || (e.fault.kind == FaultKind::freeze && !e.ended);
   }
   keeps_last_ = freeze_ahead;
+  last_epoch_.quality = fix.quality;
+  last_epoch_.satellites_used = fix.satellites_used;
+  last_epoch_.silent = effect.silent;
   if (keeps_last_) {
     last_ = fix;
   } else {
@@ -203,6 +227,14 @@ void FaultTimeline::apply_one(const Fault& f, double since_s, nmea::Fix& fix, co
       break;
     }
   }
+}
+
+int FaultTimeline::clear(FaultKind kind) {
+  int n = 0;
+  for (const Entry& e : entries_) n += e.fault.kind == kind && !e.ended;
+  const auto waiting = std::erase_if(pending_, [kind](const Fault& f) { return f.kind == kind; });
+  pending_clears_.push_back(kind);
+  return n + static_cast<int>(waiting);
 }
 
 void FaultTimeline::log_summary() const {

@@ -49,6 +49,23 @@ class FaultTimeline {
   };
   [[nodiscard]] const std::vector<Entry>& entries() const { return entries_; }
   [[nodiscard]] bool empty() const { return entries_.empty(); }
+
+  /// A live fault (the control socket): it starts at the next epoch, its `at_s` ignored, and lasts
+  /// its duration from there (none: until cleared).
+  void add_live(Fault fault) { pending_.push_back(std::move(fault)); }
+  /// Ends at the next epoch every fault of `kind` that is active or waiting (live or from the
+  /// scenario); returns how many.
+  int clear(FaultKind kind);
+
+  /// The last epoch, as the control socket's status reports it.
+  struct LastEpoch {
+    std::uint64_t epochs = 0;  ///< epochs applied so far
+    double since_s = 0.0;      ///< the last epoch's time after the first epoch (seconds)
+    nmea::FixQuality quality = nmea::FixQuality::none;
+    int satellites_used = 0;
+    bool silent = false;
+  };
+  [[nodiscard]] const LastEpoch& last_epoch() const { return last_epoch_; }
   /// One line per fault: what it was and how many epochs it covered.
   void log_summary() const;
 
@@ -57,6 +74,9 @@ class FaultTimeline {
                  const LocalFrame& frame, ubx::RfState* rf, EpochEffect& effect);
 
   std::vector<Entry> entries_;
+  std::vector<Fault> pending_;             ///< live faults to start at the next epoch
+  std::vector<FaultKind> pending_clears_;  ///< kinds to end at the next epoch
+  LastEpoch last_epoch_;
   std::string who_;
   UtcNs first_epoch_;
   bool keeps_last_ = false;            ///< a freeze is still to come: keep the last fix

@@ -12,7 +12,7 @@ Channel::Channel(const ChannelSettings& settings, UtcNs first_epoch) : settings_
   } else {
     encoders_.push_back(std::make_unique<NmeaEncoder>(settings_.format));
   }
-  if (!settings_.faults.faults.empty()) faults_.emplace(settings_.faults, first_epoch);
+  faults_.emplace(settings_.faults, first_epoch);  // without faults: a few compares an epoch
   bytes_.reserve(1024);
 }
 

@@ -84,8 +84,9 @@ class Channel final : public transport::ClientInput {
   [[nodiscard]] const LocalFrame& frame() const { return frame_; }
   [[nodiscard]] const Receiver& receiver() const { return *receiver_; }
   [[nodiscard]] const ChannelSettings& settings() const { return settings_; }
-  /// The receiver's faults; null without any.
-  [[nodiscard]] const faults::FaultTimeline* faults() const { return faults_ ? &*faults_ : nullptr; }
+  /// The receiver's faults (--scenario, and live ones from the control socket).
+  [[nodiscard]] const faults::FaultTimeline& faults() const { return *faults_; }
+  [[nodiscard]] faults::FaultTimeline& faults() { return *faults_; }
   [[nodiscard]] ReceiverStats& stats() { return stats_; }
   [[nodiscard]] const ReceiverStats& stats() const { return stats_; }
 

@@ -95,6 +95,7 @@ ReceiverSetup receiver_setup(const ReceiverSettings& receiver, const TimelineSet
 RunSettings run_settings(const Config& config) {
   RunSettings run;
   run.loop = loop_settings(config.timeline);
+  run.control_path = config.process.control_path;
   for (const ReceiverSettings& r : config.receivers) run.receivers.push_back(receiver_setup(r, config.timeline));
   for (std::size_t i = 0; i < run.receivers.size(); ++i) {
     ChannelSettings& channel = run.receivers[i].channel;

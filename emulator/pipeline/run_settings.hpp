@@ -51,6 +51,7 @@ struct LoopSettings {
 struct RunSettings {
   LoopSettings loop;
   std::vector<ReceiverSetup> receivers;  ///< one, or a fleet's
+  std::optional<std::string> control_path;  ///< the control socket (--control unix:PATH)
 };
 
 /// The shared timeline and pacing.

@@ -70,6 +70,10 @@ Runner::Runner(RunSettings settings, std::optional<RunnerIo> io)
     ch->set_source(r.make_source(ch->frame(), timeline_.first_epoch()));
     channels_->add(std::move(ch));
   }
+  if (settings.control_path) {
+    control_ = std::make_unique<ControlSocket>(*settings.control_path, *channels_);
+    channels_->set_extra_input(control_.get());
+  }
   if (io) {
     sink_.add(std::move(io->outputs));
     if (with_pps(loop_, io)) pps_line_ = std::move(io->pps);
@@ -138,6 +142,7 @@ void Runner::log_banner() const {
     sink_.log_opened(i, protocol_name(s));
   }
   if (pps_) pps_->log_opened();
+  if (control_) spdlog::info("control socket {}: JSON lines, e.g. {{\"status\":true}}", control_->server().path());
 }
 
 int Runner::run(const std::atomic<bool>& stop) {
@@ -174,10 +179,8 @@ void Runner::log_summary() const {
   for (std::size_t i = 0; i < n; ++i) {
     const ReceiverStats& r = channels_->channel(i).stats();
     if (n > 1) spdlog::info("receiver {}: {} epochs ({} without fix)", i, r.epochs_emitted, r.epochs_without_fix);
-    if (const faults::FaultTimeline* faults = channels_->channel(i).faults()) {
-      faults->log_summary();
-      if (r.epochs_silent != 0) spdlog::info("{}{} epochs silent (nothing written)", sink_.who(i), r.epochs_silent);
-    }
+    channels_->channel(i).faults().log_summary();
+    if (r.epochs_silent != 0) spdlog::info("{}{} epochs silent (nothing written)", sink_.who(i), r.epochs_silent);
     sink_.log_summary(i);
     if (const std::string drops = tx_drops_summary(channels_->line(i)); !drops.empty()) {
       spdlog::warn("{}{}", sink_.who(i), drops);
