@@ -5,6 +5,7 @@
 // catalogue.
 #pragma once
 
+#include <cmath>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -54,8 +55,10 @@ struct Fault {
   double db = 0.0;                    ///< jam: C/N0 reduction at full strength (dB)
 
   /// Whether epoch time `since_s` (seconds after the first epoch) is inside the fault.
+  /// Compared in whole nanoseconds, so 0.1 + 0.2 s ends at the epoch of 0.3 s.
   [[nodiscard]] bool active_at(double since_s) const {
-    return since_s >= at_s && (!duration_s || since_s < at_s + *duration_s);
+    const auto ns = [](double s) { return std::llround(s * 1e9); };
+    return ns(since_s) >= ns(at_s) && (!duration_s || ns(since_s) < ns(at_s + *duration_s));
   }
   /// 0..1: how far the ramp is at `since_s` (1 without a ramp).
   [[nodiscard]] double strength_at(double since_s) const;
