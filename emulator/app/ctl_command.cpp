@@ -72,8 +72,9 @@ std::string request_of(const std::vector<std::string>& args) {
 
 Subcommand add_ctl_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
-      "ctl", "control a running gpsemu (--control unix:PATH): `ctl PATH jam --db 25 --ramp 5`, `ctl PATH clear jam`, "
-             "`ctl PATH status`, `ctl PATH send JSON`; prints the JSON answer (docs/faults.md)");
+      "ctl", "control a running gpsemu (--control unix:PATH): `ctl PATH KIND` with the fault's parameters as flags "
+             "(a jam of 25 dB ramped over 5 s: db 25, ramp 5), `ctl PATH clear KIND`, `ctl PATH status`, "
+             "`ctl PATH send JSON`; prints the JSON answer (docs/faults.md)");
   sub->prefix_command();
   return {sub, [sub](const Config&, const std::atomic<bool>&) {
             const std::vector<std::string> args = sub->remaining();
