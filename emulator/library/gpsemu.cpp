@@ -117,7 +117,7 @@ Receiver::Receiver(const Options& options, const std::optional<std::string>& con
   const Config config = make_config(options, config_file);
   try {
     ReceiverSetup setup = receiver_setup(config.receiver(), config.timeline);
-    setup.channel.faults = fault_plan(config.timeline.faults, 0, 1);  // a config file's [[fault]] tables
+    add_faults(setup.channel, config.timeline.faults, 0, 1);  // a config file's [[fault]] tables
     impl_ = std::make_unique<Impl>(std::move(setup), loop_settings(config.timeline));
   } catch (const Error&) {
     throw;

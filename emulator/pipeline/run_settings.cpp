@@ -46,13 +46,15 @@ std::size_t widest_epoch_bytes(const nmea::FormatOptions& format, const std::opt
 
 }  // namespace
 
-faults::FaultPlan fault_plan(const std::vector<faults::Fault>& scenario, std::size_t i, std::size_t receivers) {
-  faults::FaultPlan plan;
+void add_faults(ChannelSettings& channel, const std::vector<faults::Fault>& scenario, std::size_t i, std::size_t receivers) {
+  faults::FaultPlan& plan = channel.faults;
   for (const faults::Fault& f : scenario) {
-    if (!f.receiver || static_cast<std::size_t>(*f.receiver) == i) plan.faults.push_back(f);
+    if (f.receiver && static_cast<std::size_t>(*f.receiver) != i) continue;
+    plan.faults.push_back(f);
+    // A jam acts on each satellite's C/N0: the sky fills them even when no sentence lists them.
+    if (f.kind == faults::FaultKind::jam) channel.receiver.satellite_details = true;
   }
   if (receivers > 1) plan.who = fmt::format("receiver {}: ", i);
-  return plan;
 }
 
 LoopSettings loop_settings(const TimelineSettings& timeline) {
@@ -97,14 +99,8 @@ RunSettings run_settings(const Config& config) {
   run.loop = loop_settings(config.timeline);
   run.control_path = config.process.control_path;
   for (const ReceiverSettings& r : config.receivers) run.receivers.push_back(receiver_setup(r, config.timeline));
-  for (std::size_t i = 0; i < run.receivers.size(); ++i) {
-    ChannelSettings& channel = run.receivers[i].channel;
-    channel.faults = fault_plan(config.timeline.faults, i, run.receivers.size());
-    // A jam acts on each satellite's C/N0: the sky fills them even when no sentence lists them.
-    for (const faults::Fault& f : channel.faults.faults) {
-      if (f.kind == faults::FaultKind::jam) channel.receiver.satellite_details = true;
-    }
-  }
+  for (std::size_t i = 0; i < run.receivers.size(); ++i)
+    add_faults(run.receivers[i].channel, config.timeline.faults, i, run.receivers.size());
   return run;
 }
 

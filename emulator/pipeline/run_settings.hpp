@@ -58,8 +58,8 @@ struct RunSettings {
 [[nodiscard]] LoopSettings loop_settings(const TimelineSettings& timeline);
 /// One receiver on `timeline`.
 [[nodiscard]] ReceiverSetup receiver_setup(const ReceiverSettings& receiver, const TimelineSettings& timeline);
-/// The faults of `scenario` that apply to receiver `i` of `receivers`.
-[[nodiscard]] faults::FaultPlan fault_plan(const std::vector<faults::Fault>& scenario, std::size_t i, std::size_t receivers);
+/// Gives `channel` (receiver `i` of `receivers`) the faults of `scenario` that apply to it.
+void add_faults(ChannelSettings& channel, const std::vector<faults::Fault>& scenario, std::size_t i, std::size_t receivers);
 /// Every receiver of `config`, each with its faults.
 [[nodiscard]] RunSettings run_settings(const Config& config);
 
