@@ -157,6 +157,24 @@ TEST(FaultsScenario, NavPvtFixTypeFollowsTheFaultsOfAUbloxReceiver) {
   EXPECT_FALSE(fix_type.count(14) || fix_type.count(15));
 }
 
+TEST(FaultsScenario, AFaultForOneReceiverOfAFleetLeavesTheOthers) {
+  const auto dir = test::scratch_dir("faults", "fleet");
+  const auto scenario = test::write_file(dir / "fleet.toml", "[[fault]]\nkind = \"outage\"\nat = 1\nduration = 2\nreceiver = 1\n");
+  const test::Result r = test::run({GPSEMU_BINARY, "--fast", "--start-time", "2024-05-01T00:00:00Z", "--duration", "5",
+                                    "--receivers", "2", "--output", "file:" + (dir / "r{i}.nmea").string(), "--scenario",
+                                    scenario.string(), "--log-level", "info"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::map<int, Epoch> r0 = epochs_in(test::read_file(dir / "r0.nmea"));
+  const std::map<int, Epoch> r1 = epochs_in(test::read_file(dir / "r1.nmea"));
+  ASSERT_EQ(r0.size(), 5u);
+  ASSERT_EQ(r1.size(), 5u);
+  for (int k = 0; k < 5; ++k) {
+    EXPECT_EQ(r0.at(k).quality, 1) << k;
+    EXPECT_EQ(r1.at(k).quality, k == 1 || k == 2 ? 0 : 1) << k;
+  }
+  EXPECT_TRUE(test::contains(r.err, "receiver 1: fault outage at 1 s for 2 s, receiver 1 starts at epoch")) << r.err;
+}
+
 TEST(FaultsScenario, ABadKeyIsOneClearMessageAndExit2) {
   const auto dir = test::scratch_dir("faults", "bad");
   const auto scenario = test::write_file(dir / "bad.toml", "[[fault]]\nkind = \"jam\"\nat = 3\ndb = 25\nramp = 5\n");
