@@ -26,14 +26,6 @@ std::vector<std::size_t> receivers_of(const json& message, std::size_t count) {
   return out;
 }
 
-std::optional<FaultKind> kind_of(const std::string& name) {
-  for (const FaultKind k : {FaultKind::outage, FaultKind::freeze, FaultKind::jump, FaultKind::wrong, FaultKind::fix_quality,
-                            FaultKind::degrade, FaultKind::silence, FaultKind::jam}) {
-    if (kind_name(k) == name) return k;
-  }
-  return std::nullopt;
-}
-
 json receivers_json(const std::vector<std::size_t>& receivers) {
   json a = json::array();
   for (const std::size_t i : receivers) a.push_back(i);
@@ -71,10 +63,8 @@ std::string clear_message(const json& message, const std::vector<FaultTimeline*>
   const std::string name = what.get<std::string>();
   std::vector<FaultKind> kinds;
   if (name == "all") {
-    for (const FaultKind k : {FaultKind::outage, FaultKind::freeze, FaultKind::jump, FaultKind::wrong, FaultKind::fix_quality,
-                              FaultKind::degrade, FaultKind::silence, FaultKind::jam})
-      kinds.push_back(k);
-  } else if (const auto k = kind_of(name)) {
+    kinds.assign(kAllKinds.begin(), kAllKinds.end());
+  } else if (const auto k = parse_kind(name)) {
     kinds.push_back(*k);
   } else {
     throw std::invalid_argument(fmt::format("clear: unknown fault '{}' (one of {}, or all)", name, kind_names()));

@@ -91,6 +91,13 @@ std::string_view kind_name(FaultKind kind) {
   return "?";
 }
 
+std::optional<FaultKind> parse_kind(std::string_view name) {
+  for (const auto& [k, n] : kKinds) {
+    if (n == name) return k;
+  }
+  return std::nullopt;
+}
+
 std::string kind_names() {
   std::string out;
   for (const auto& [k, name] : kKinds) out += (out.empty() ? "" : ", ") + std::string(name);
@@ -142,9 +149,9 @@ Fault make_fault(const FaultKeys& keys) {
   }
   if (!kind_value) throw std::invalid_argument(fmt::format("kind: missing (one of {})", kind_names()));
   const std::string kind = text("kind", *kind_value);
-  const auto found = std::find_if(kKinds.begin(), kKinds.end(), [&](const auto& k) { return k.second == kind; });
-  if (found == kKinds.end()) throw std::invalid_argument(fmt::format("kind: unknown fault '{}' (one of {})", kind, kind_names()));
-  f.kind = found->first;
+  const std::optional<FaultKind> found = parse_kind(kind);
+  if (!found) throw std::invalid_argument(fmt::format("kind: unknown fault '{}' (one of {})", kind, kind_names()));
+  f.kind = *found;
 
   const std::set<std::string_view> own = parameters_of(f.kind);
   std::set<std::string> seen;

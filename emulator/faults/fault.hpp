@@ -5,6 +5,7 @@
 // catalogue.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -30,8 +31,15 @@ enum class FaultKind {
   jam,          ///< C/N0 down by db over ramp_s: weak satellites drop, accuracy follows, fix lost below 4
 };
 
+/// Every kind, in catalogue order.
+inline constexpr std::array<FaultKind, 8> kAllKinds{FaultKind::outage, FaultKind::freeze, FaultKind::jump,
+                                                    FaultKind::wrong, FaultKind::fix_quality, FaultKind::degrade,
+                                                    FaultKind::silence, FaultKind::jam};
+
 /// "outage", "fix-quality", ... (the scenario's `kind`).
 [[nodiscard]] std::string_view kind_name(FaultKind kind);
+/// The kind named `name`, if any.
+[[nodiscard]] std::optional<FaultKind> parse_kind(std::string_view name);
 /// Every kind's name, comma separated (for messages and help).
 [[nodiscard]] std::string kind_names();
 
