@@ -24,12 +24,11 @@ nmea::Fix Channel::step(UtcNs t) {
 nmea::Fix Channel::step(UtcNs t, const std::optional<sources::Truth>& truth) {
   nmea::Fix fix = receiver_->fix_at(t, truth);  // one fix a step, never copied
   bytes_.clear();
-  if (faults_) {
-    const std::optional<Enu> truth_m = truth ? std::optional<Enu>(truth->position_m) : std::nullopt;
-    if (faults_->apply(t, fix, truth_m, frame_, ubx_ ? &ubx_->rf() : nullptr).silent) {
-      ++stats_.epochs_silent;
-      return fix;
-    }
+  const std::optional<Enu> truth_m = truth ? std::optional<Enu>(truth->position_m) : std::nullopt;
+  silent_ = faults_->apply(t, fix, truth_m, frame_, ubx_ ? &ubx_->rf() : nullptr).silent;
+  if (silent_) {
+    ++stats_.epochs_silent;
+    return fix;
   }
   if (!fix.has_fix()) ++stats_.epochs_without_fix;
   for (const auto& encoder : encoders_) encoder->encode(fix, bytes_);
@@ -45,6 +44,10 @@ void Channel::client_wrote(std::string_view bytes) {
 std::string Channel::take_reply() {
   std::string reply;
   for (const auto& encoder : encoders_) reply += encoder->take_reply();
+  if (silent_ && !reply.empty()) {  // a silent receiver writes nothing, answers included
+    stats_.replies_withheld_bytes += reply.size();
+    reply.clear();
+  }
   return reply;
 }
 

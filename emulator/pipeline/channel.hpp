@@ -43,6 +43,7 @@ struct ReceiverStats {
   std::uint64_t epochs_emitted = 0;
   std::uint64_t epochs_without_fix = 0;
   std::uint64_t epochs_silent = 0;  ///< epochs a `silence` fault left unwritten
+  std::uint64_t replies_withheld_bytes = 0;  ///< answers to the client a `silence` kept back (bytes)
 };
 
 class Channel final : public transport::ClientInput {
@@ -100,6 +101,7 @@ class Channel final : public transport::ClientInput {
   std::optional<faults::FaultTimeline> faults_;
   std::string bytes_;
   bool ended_ = false;
+  bool silent_ = false;  ///< the last epoch was silenced: answers are withheld too
   ReceiverStats stats_;
 };
 

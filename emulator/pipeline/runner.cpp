@@ -180,7 +180,10 @@ void Runner::log_summary() const {
     const ReceiverStats& r = channels_->channel(i).stats();
     if (n > 1) spdlog::info("receiver {}: {} epochs ({} without fix)", i, r.epochs_emitted, r.epochs_without_fix);
     channels_->channel(i).faults().log_summary();
-    if (r.epochs_silent != 0) spdlog::info("{}{} epochs silent (nothing written)", sink_.who(i), r.epochs_silent);
+    if (r.epochs_silent != 0) {
+      spdlog::info("{}{} epochs silent (nothing written; {} bytes of answers to the client withheld)", sink_.who(i),
+                   r.epochs_silent, r.replies_withheld_bytes);
+    }
     sink_.log_summary(i);
     if (const std::string drops = tx_drops_summary(channels_->line(i)); !drops.empty()) {
       spdlog::warn("{}{}", sink_.who(i), drops);
