@@ -26,7 +26,8 @@ std::unique_ptr<CommandLine> make_command_line() {
     cl->options[def.name] = opt;
   }
   cl->subcommands = add_subcommands(app);
-  for (const auto& sc : cl->subcommands) sc.app->fallthrough();
+  // A prefix command (ctl) takes every argument after it as its own.
+  for (const auto& sc : cl->subcommands) sc.app->fallthrough(!sc.app->get_prefix_command());
   return cl;
 }
 

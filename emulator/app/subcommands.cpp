@@ -11,6 +11,7 @@ std::vector<Subcommand> add_subcommands(CLI::App& app) {
   // each subcommand adds its line here
   all.push_back(add_calibrate_command(app));
   all.push_back(add_compare_command(app));
+  all.push_back(add_ctl_command(app));
   all.push_back(add_judge_command(app));
   all.push_back(add_ports_command(app));
   all.push_back(add_replay_command(app));

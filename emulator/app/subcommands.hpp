@@ -19,6 +19,9 @@ struct Subcommand {
   std::function<int(const Config&, const std::atomic<bool>& stop)> run;
 };
 
+/// `gpsemu ctl PATH ...`: the control socket's client (ctl_command.cpp).
+[[nodiscard]] Subcommand add_ctl_command(CLI::App& app);
+
 /// Adds every subcommand to `app`. Add a line here for a new one.
 [[nodiscard]] std::vector<Subcommand> add_subcommands(CLI::App& app);
 

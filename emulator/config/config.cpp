@@ -141,6 +141,7 @@ Config resolve(ConfigDraft& draft) {
   } catch (const std::exception& e) {
     throw ConfigError(config_values::shorten_quoted(e.what()));
   }
+  check_fault_receivers(draft.timeline.faults, config.receivers.size());
   config.process = std::move(draft.process);
   config.timeline = std::move(draft.timeline);
   config.replay = std::move(draft.replay);
@@ -160,6 +161,10 @@ Config build(const toml::table* file, const std::string& file_name, const RawOpt
       const int line = static_cast<int>(node.source().begin.line);
       if (name == "receiver" && !node.is_string()) {  // a string is --receiver's value
         config.receiver_tables = parse_receiver_tables(file_name, node);
+        continue;
+      }
+      if (name == "fault") {  // [[fault]] tables: the scenario (docs/faults.md)
+        for (faults::Fault& f : parse_fault_tables(file_name, node)) config.timeline.faults.push_back(std::move(f));
         continue;
       }
       const OptionDef* option = find_option(name);
@@ -199,19 +204,21 @@ const char* kind_of(mode_t mode) {
   return "not a regular file";
 }
 
+}  // namespace
+
 /// The whole text of a config file. Opened without blocking (a FIFO's open would wait for a
 /// writer), then refused unless it is a regular file.
-std::string read_config_file(const std::string& path) {
+std::string read_config_file(const std::string& path, std::string_view what) {
   posix::UniqueFd fd(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY));
-  if (!fd.valid()) throw ConfigError(fmt::format("config file {}: {}", path, posix::errno_text(errno)));
+  if (!fd.valid()) throw ConfigError(fmt::format("{} {}: {}", what, path, posix::errno_text(errno)));
   struct stat st{};
-  if (::fstat(fd.get(), &st) != 0) throw ConfigError(fmt::format("config file {}: {}", path, posix::errno_text(errno)));
+  if (::fstat(fd.get(), &st) != 0) throw ConfigError(fmt::format("{} {}: {}", what, path, posix::errno_text(errno)));
   if (!S_ISREG(st.st_mode)) {
-    throw ConfigError(fmt::format("config file {}: {}; give a regular TOML file", path, kind_of(st.st_mode)));
+    throw ConfigError(fmt::format("{} {}: {}; give a regular TOML file", what, path, kind_of(st.st_mode)));
   }
-  const auto too_large = [&path](std::uint64_t bytes) {
-    return ConfigError(fmt::format("config file {}: larger than 1 MiB ({} bytes); a config file may have at most {} "
-                                   "bytes", path, bytes, kMaxConfigFileBytes));
+  const auto too_large = [&path, what](std::uint64_t bytes) {
+    return ConfigError(fmt::format("{} {}: larger than 1 MiB ({} bytes); it may have at most {} "
+                                   "bytes", what, path, bytes, kMaxConfigFileBytes));
   };
   if (static_cast<std::uint64_t>(st.st_size) > kMaxConfigFileBytes) throw too_large(static_cast<std::uint64_t>(st.st_size));
   std::string text;
@@ -222,12 +229,14 @@ std::string read_config_file(const std::string& path) {
     if (n == 0) break;
     if (n < 0) {
       if (errno == EINTR) continue;
-      throw ConfigError(fmt::format("config file {}: {}", path, posix::errno_text(errno)));
+      throw ConfigError(fmt::format("{} {}: {}", what, path, posix::errno_text(errno)));
     }
     text.append(buffer, static_cast<std::size_t>(n));
   }
   return text;
 }
+
+namespace {
 
 [[noreturn]] void throw_parse_error(const toml::parse_error& e, const std::string& file_name) {
   throw ConfigError(config_values::shorten_quoted(
@@ -238,7 +247,7 @@ std::string read_config_file(const std::string& path) {
 
 Config build_config(const std::optional<std::string>& config_file, const RawOptions& command_line) {
   if (!config_file) return build(nullptr, {}, command_line);
-  const std::string text = read_config_file(*config_file);
+  const std::string text = read_config_file(*config_file, "config file");
   toml::table file;
   try {
     file = toml::parse(text, *config_file);

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "emulator/config/config_values.hpp"
+#include "emulator/pipeline/control_socket.hpp"
 #include "emulator/sources/pose_message.hpp"
 #include "transport/pps.hpp"
 
@@ -143,6 +144,11 @@ std::vector<OptionDef> make_option_table() {
       [](ConfigDraft& d, V v) { d.timeline.duration_s = parse_number("duration", v.back(), 0.0, 1e9); });
   add("fast", "", "no pacing: generate epochs as fast as possible (batch generation, tests)",
       [](ConfigDraft& d, V v) { d.fast = parse_bool("fast", v.back()); });
+  add("scenario", "FILE", "faults on a timeline: a TOML file of [[fault]] tables (kind, at, duration, parameters "
+      "with units; docs/faults.md); [[fault]] tables may also be in --config (default none)",
+      [](ConfigDraft& d, V v) {
+        for (faults::Fault& f : load_scenario(v.back())) d.timeline.faults.push_back(std::move(f));
+      });
   add("clock", "CLOCK", "epoch clock: realtime | scaled:K (paced at K x real time, K 0.01..1000; NMEA times still "
       "one epoch period apart) | fast (as --fast) | lockstep (an epoch leaves when the 't' of udp:/tcp: poses "
       "reaches it; t = 0 is --start-time or the first epoch), e.g. scaled:10 (default realtime)",
@@ -401,6 +407,9 @@ std::vector<OptionDef> make_option_table() {
       [](ConfigDraft& d, V v) { d.timeline.pps_active_low = parse_choice("pps-polarity", v.back(), {"high", "low"}) == "low"; });
   // Scheduling (real-time pacing)
   scope = OptionScope::process;
+  add("control", "unix:PATH", "live faults: a Unix socket taking JSON lines, e.g. {\"fault\":\"jam\",\"db\":25}, "
+      "{\"clear\":\"jam\"}, {\"status\":true}; `gpsemu ctl PATH ...` is its client (docs/faults.md) (default none)",
+      [](ConfigDraft& d, V v) { d.process.control_path = parse_control_spec(v.back()); });
   add("realtime-priority", "N", "run with SCHED_FIFO priority N, 1..99, where permitted (else a warning and normal "
       "scheduling) (default: normal scheduling)",
       [](ConfigDraft& d, V v) { d.process.realtime.fifo_priority = static_cast<int>(parse_number("realtime-priority", v.back(), 1, 99)); });

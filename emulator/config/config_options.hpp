@@ -3,9 +3,13 @@
 // options write raw values here, which are resolved once every option is in. Internal to config/.
 #pragma once
 
+#include <cstddef>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
+
+#include <toml++/toml.h>
 
 #include "emulator/config/config.hpp"
 
@@ -50,6 +54,18 @@ struct ConfigDraft {
   bool receivers_given = false;               ///< --receivers (or the file's `receivers`) was given
   std::vector<ReceiverTable> receiver_tables; ///< the file's [[receiver]] tables; when any, one receiver each
 };
+
+/// The whole text of a regular file of at most kMaxConfigFileBytes; `what` ("config file",
+/// "scenario file") names it in messages. Throws ConfigError.
+[[nodiscard]] std::string read_config_file(const std::string& path, std::string_view what);
+
+/// The `fault` key of a TOML file: [[fault]] tables (scenario.cpp). Throws ConfigError naming the
+/// file, the line and the key.
+[[nodiscard]] std::vector<faults::Fault> parse_fault_tables(const std::string& file, const toml::node& node);
+/// A scenario file (--scenario): [[fault]] tables and nothing else. Throws ConfigError.
+[[nodiscard]] std::vector<faults::Fault> load_scenario(const std::string& path);
+/// Every fault's receiver index exists among `receivers`. Throws ConfigError.
+void check_fault_receivers(const std::vector<faults::Fault>& faults, std::size_t receivers);
 
 /// Every option, in --help order.
 [[nodiscard]] std::vector<OptionDef> make_option_table();

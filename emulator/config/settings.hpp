@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "emulator/faults/fault.hpp"
 #include "emulator/model/geo.hpp"
 #include "emulator/model/noise/noise_model.hpp"
 #include "emulator/model/receiver.hpp"
@@ -30,6 +31,7 @@ namespace gpsemu {
 struct ProcessSettings {
   std::string log_level = "info";    ///< trace | debug | info | warn | error | off
   posix::RealtimeSettings realtime;  ///< SCHED_FIFO priority, mlockall, timer slack (realtime.hpp)
+  std::optional<std::string> control_path;  ///< --control unix:PATH: the live fault socket (docs/faults.md)
 };
 
 /// The one epoch timeline all receivers of a process share, and the PPS line that marks it.
@@ -42,6 +44,7 @@ struct TimelineSettings {
   std::optional<transport::PpsSpec> pps;  ///< gpio:CHIP:LINE | modem:RTS | modem:DTR; default none
   double pps_width_s = 0.1;           ///< pulse width (seconds)
   bool pps_active_low = false;        ///< line low (GPIO 0, modem line cleared) during the pulse
+  std::vector<faults::Fault> faults;  ///< the scenario (--scenario, [[fault]] tables), each for one receiver or all
 
   /// No pacing: epochs generated as fast as possible (--fast or --clock fast).
   [[nodiscard]] bool fast() const { return clock.kind == ClockKind::fast; }

@@ -116,7 +116,9 @@ struct Receiver::Impl {
 Receiver::Receiver(const Options& options, const std::optional<std::string>& config_file) {
   const Config config = make_config(options, config_file);
   try {
-    impl_ = std::make_unique<Impl>(receiver_setup(config.receiver(), config.timeline), loop_settings(config.timeline));
+    ReceiverSetup setup = receiver_setup(config.receiver(), config.timeline);
+    add_faults(setup.channel, config.timeline.faults, 0, 1);  // a config file's [[fault]] tables
+    impl_ = std::make_unique<Impl>(std::move(setup), loop_settings(config.timeline));
   } catch (const Error&) {
     throw;
   } catch (const std::exception& e) {

@@ -12,6 +12,7 @@ Channel::Channel(const ChannelSettings& settings, UtcNs first_epoch) : settings_
   } else {
     encoders_.push_back(std::make_unique<NmeaEncoder>(settings_.format));
   }
+  faults_.emplace(settings_.faults, first_epoch);  // without faults: a few compares an epoch
   bytes_.reserve(1024);
 }
 
@@ -22,8 +23,14 @@ nmea::Fix Channel::step(UtcNs t) {
 
 nmea::Fix Channel::step(UtcNs t, const std::optional<sources::Truth>& truth) {
   nmea::Fix fix = receiver_->fix_at(t, truth);  // one fix a step, never copied
-  if (!fix.has_fix()) ++stats_.epochs_without_fix;
   bytes_.clear();
+  const std::optional<Enu> truth_m = truth ? std::optional<Enu>(truth->position_m) : std::nullopt;
+  silent_ = faults_->apply(t, fix, truth_m, frame_, ubx_ ? &ubx_->rf() : nullptr).silent;
+  if (silent_) {
+    ++stats_.epochs_silent;
+    return fix;
+  }
+  if (!fix.has_fix()) ++stats_.epochs_without_fix;
   for (const auto& encoder : encoders_) encoder->encode(fix, bytes_);
   return fix;
 }
@@ -37,6 +44,10 @@ void Channel::client_wrote(std::string_view bytes, transport::ClientId client) {
 std::string Channel::take_reply(transport::ClientId client) {
   std::string reply;
   for (const auto& encoder : encoders_) reply += encoder->take_reply(client);
+  if (silent_ && !reply.empty()) {  // a silent receiver writes nothing, answers included
+    stats_.replies_withheld_bytes += reply.size();
+    reply.clear();
+  }
   return reply;
 }
 

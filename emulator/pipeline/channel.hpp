@@ -11,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "emulator/faults/fault_timeline.hpp"
 #include "emulator/model/geo.hpp"
 #include "emulator/model/noise/noise_model.hpp"
 #include "emulator/model/receiver.hpp"
@@ -35,12 +36,16 @@ struct ChannelSettings {
   std::optional<ubx::SessionSettings> ubx;
   /// --receiver-state: where the u-blox's stored layers are written when a client changes them.
   std::optional<std::string> receiver_state;
+  /// The faults of this receiver (--scenario), applied to each fix before the encoders.
+  faults::FaultPlan faults;
 };
 
 /// One receiver's counts (a fleet's summary has one line per receiver).
 struct ReceiverStats {
   std::uint64_t epochs_emitted = 0;
   std::uint64_t epochs_without_fix = 0;
+  std::uint64_t epochs_silent = 0;  ///< epochs a `silence` fault left unwritten
+  std::uint64_t replies_withheld_bytes = 0;  ///< answers to the client a `silence` kept back (bytes)
 };
 
 class Channel final : public transport::ClientInput {
@@ -83,6 +88,9 @@ class Channel final : public transport::ClientInput {
   [[nodiscard]] const LocalFrame& frame() const { return frame_; }
   [[nodiscard]] const Receiver& receiver() const { return *receiver_; }
   [[nodiscard]] const ChannelSettings& settings() const { return settings_; }
+  /// The receiver's faults (--scenario, and live ones from the control socket).
+  [[nodiscard]] const faults::FaultTimeline& faults() const { return *faults_; }
+  [[nodiscard]] faults::FaultTimeline& faults() { return *faults_; }
   [[nodiscard]] ReceiverStats& stats() { return stats_; }
   [[nodiscard]] const ReceiverStats& stats() const { return stats_; }
 
@@ -93,8 +101,10 @@ class Channel final : public transport::ClientInput {
   std::unique_ptr<sources::PoseSource> source_;
   std::vector<std::unique_ptr<Encoder>> encoders_;
   UbxEncoder* ubx_ = nullptr;  ///< owned by encoders_
+  std::optional<faults::FaultTimeline> faults_;
   std::string bytes_;
   bool ended_ = false;
+  bool silent_ = false;  ///< the last epoch was silenced: answers are withheld too
   ReceiverStats stats_;
 };
 

@@ -104,10 +104,16 @@ void ChannelSet::list_inputs(std::vector<int>& fds, std::vector<std::size_t>& ow
     fds.push_back(fd);
     owners.push_back(i);
   }
+  if (extra_) {
+    const std::size_t before = fds.size();
+    extra_->fds(fds);
+    owners.resize(owners.size() + (fds.size() - before), receivers_.size());
+  }
 }
 
 void ChannelSet::service_inputs() {
   for (const Receiver& r : receivers_) r.channel->source()->service();
+  if (extra_) extra_->service();
 }
 
 }  // namespace gpsemu

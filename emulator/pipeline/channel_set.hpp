@@ -25,6 +25,15 @@
 
 namespace gpsemu {
 
+/// Another input the loop services between epochs, beside the receivers' pose sources (the control
+/// socket, control_socket.hpp).
+class LoopInput {
+ public:
+  virtual ~LoopInput() = default;
+  virtual void fds(std::vector<int>& out) const = 0;
+  virtual void service() = 0;
+};
+
 class ChannelSet final : public EpochProducer {
  public:
   /// `epochs`: of the run's grid (--duration x --rate); empty: until stopped.
@@ -47,7 +56,15 @@ class ChannelSet final : public EpochProducer {
   }
   std::string_view produce(std::size_t i, UtcNs t) override;
   void list_inputs(std::vector<int>& fds, std::vector<std::size_t>& owners) const override;
-  void service_input(std::size_t i) override { receivers_[i].channel->source()->service(); }
+  void service_input(std::size_t i) override {
+    if (i < receivers_.size()) {
+      receivers_[i].channel->source()->service();
+    } else if (extra_) {
+      extra_->service();
+    }
+  }
+  /// Services `input` with the receivers' inputs (may be null: none).
+  void set_extra_input(LoopInput* input) { extra_ = input; }
   void service_inputs() override;
   [[nodiscard]] bool reschedule_wanted() const override;
   void reschedule(UtcNs now) override;
@@ -73,6 +90,7 @@ class ChannelSet final : public EpochProducer {
   std::vector<Receiver> receivers_;
   const Sink* sink_ = nullptr;
   std::function<void(std::chrono::nanoseconds)> finest_changed_;
+  LoopInput* extra_ = nullptr;
 };
 
 }  // namespace gpsemu

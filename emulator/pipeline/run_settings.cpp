@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "emulator/config/config.hpp"
 #include "emulator/config/receiver_config.hpp"
 #include "emulator/config/validate.hpp"
@@ -67,6 +69,17 @@ std::size_t widest_epoch_bytes(const nmea::FormatOptions& format, const std::opt
 
 }  // namespace
 
+void add_faults(ChannelSettings& channel, const std::vector<faults::Fault>& scenario, std::size_t i, std::size_t receivers) {
+  faults::FaultPlan& plan = channel.faults;
+  for (const faults::Fault& f : scenario) {
+    if (f.receiver && static_cast<std::size_t>(*f.receiver) != i) continue;
+    plan.faults.push_back(f);
+    // A jam acts on each satellite's C/N0: the sky fills them even when no sentence lists them.
+    if (f.kind == faults::FaultKind::jam) channel.receiver.satellite_details = true;
+  }
+  if (receivers > 1) plan.who = fmt::format("receiver {}: ", i);
+}
+
 LoopSettings loop_settings(const TimelineSettings& timeline) {
   LoopSettings loop;
   loop.rate_hz = timeline.rate_hz;
@@ -89,7 +102,8 @@ ReceiverSetup receiver_setup(const ReceiverSettings& receiver, const TimelineSet
                .seed = receiver.seed,
                .format = receiver.format,
                .ubx = ubx_settings(receiver, options, timeline),
-               .receiver_state = receiver.receiver_state};
+               .receiver_state = receiver.receiver_state,
+               .faults = {}};
   r.outputs = {.outputs = output_specs(receiver),
                .tee = receiver.tee,
                .realtime = !timeline.fast(),
@@ -107,7 +121,10 @@ ReceiverSetup receiver_setup(const ReceiverSettings& receiver, const TimelineSet
 RunSettings run_settings(const Config& config) {
   RunSettings run;
   run.loop = loop_settings(config.timeline);
+  run.control_path = config.process.control_path;
   for (const ReceiverSettings& r : config.receivers) run.receivers.push_back(receiver_setup(r, config.timeline));
+  for (std::size_t i = 0; i < run.receivers.size(); ++i)
+    add_faults(run.receivers[i].channel, config.timeline.faults, i, run.receivers.size());
   return run;
 }
 

@@ -51,13 +51,16 @@ struct LoopSettings {
 struct RunSettings {
   LoopSettings loop;
   std::vector<ReceiverSetup> receivers;  ///< one, or a fleet's
+  std::optional<std::string> control_path;  ///< the control socket (--control unix:PATH)
 };
 
 /// The shared timeline and pacing.
 [[nodiscard]] LoopSettings loop_settings(const TimelineSettings& timeline);
 /// One receiver on `timeline`.
 [[nodiscard]] ReceiverSetup receiver_setup(const ReceiverSettings& receiver, const TimelineSettings& timeline);
-/// Every receiver of `config`.
+/// Gives `channel` (receiver `i` of `receivers`) the faults of `scenario` that apply to it.
+void add_faults(ChannelSettings& channel, const std::vector<faults::Fault>& scenario, std::size_t i, std::size_t receivers);
+/// Every receiver of `config`, each with its faults.
 [[nodiscard]] RunSettings run_settings(const Config& config);
 
 /// How `gpsemu replay` paces and stops.

@@ -70,6 +70,10 @@ Runner::Runner(RunSettings settings, std::optional<RunnerIo> io)
     ch->set_source(r.make_source(ch->frame(), timeline_.first_epoch()));
     channels_->add(std::move(ch));
   }
+  if (settings.control_path) {
+    control_ = std::make_unique<ControlSocket>(*settings.control_path, *channels_);
+    channels_->set_extra_input(control_.get());
+  }
   if (io) {
     sink_.add(std::move(io->outputs));
     if (with_pps(loop_, io)) pps_line_ = std::move(io->pps);
@@ -140,6 +144,7 @@ void Runner::log_banner() const {
     sink_.log_opened(i, protocol_name(s));
   }
   if (pps_) pps_->log_opened();
+  if (control_) spdlog::info("control socket {}: JSON lines, e.g. {{\"status\":true}}", control_->server().path());
 }
 
 int Runner::run(const std::atomic<bool>& stop) {
@@ -176,6 +181,11 @@ void Runner::log_summary() const {
   for (std::size_t i = 0; i < n; ++i) {
     const ReceiverStats& r = channels_->channel(i).stats();
     if (n > 1) spdlog::info("receiver {}: {} epochs ({} without fix)", i, r.epochs_emitted, r.epochs_without_fix);
+    channels_->channel(i).faults().log_summary();
+    if (r.epochs_silent != 0) {
+      spdlog::info("{}{} epochs silent (nothing written; {} bytes of answers to the client withheld)", sink_.who(i),
+                   r.epochs_silent, r.replies_withheld_bytes);
+    }
     sink_.log_summary(i);
     if (const std::string input = client_input_summary(channels_->channel(i)); !input.empty()) {
       spdlog::info("{}{}", sink_.who(i), input);

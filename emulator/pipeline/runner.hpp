@@ -13,6 +13,7 @@
 
 #include "emulator/config/config.hpp"
 #include "emulator/pipeline/channel.hpp"
+#include "emulator/pipeline/control_socket.hpp"
 #include "emulator/pipeline/clock.hpp"
 #include "emulator/pipeline/pps_timeline.hpp"
 #include "emulator/pipeline/run_settings.hpp"
@@ -76,6 +77,7 @@ class Runner {
   LoopSettings loop_;
   Timeline timeline_;
   std::unique_ptr<ChannelSet> channels_;
+  std::unique_ptr<ControlSocket> control_;  ///< --control: after the channels it reaches
   Sink sink_;
   std::unique_ptr<transport::PpsLine> pps_line_;  ///< after the sink: a modem PPS line uses a serial output
   std::unique_ptr<PpsTimeline> pps_;

@@ -34,6 +34,8 @@ class UbxEncoder final : public Encoder {
   /// Measurement period, baud and cold-start changes the client asked for, not yet taken.
   [[nodiscard]] std::vector<ubx::Effect> take_effects() { return session_.take_effects(); }
   [[nodiscard]] const ubx::Session& session() const { return session_; }
+  /// The RF front end MON-HW and MON-RF report (a jam fault changes it).
+  [[nodiscard]] ubx::RfState& rf() { return session_.rf(); }
 
  private:
   /// Logs answers the session dropped (past its reply limit), at most once a second.

@@ -293,5 +293,29 @@ TEST(Gpsd, ColdStartShowsNoFixThen2DThen3DWithNmea23) {
   expect_modes(run, [](std::int64_t ms) { return ms < 3000 ? 1 : ms < 5000 ? 2 : 3; }, 1);
 }
 
+// A scenario (docs/faults.md): an outage and a jam are no fix to gpsd at exactly their epochs; a
+// degrade keeps the 3-D fix with gpsd's error estimate (eph, from HDOP) three times larger.
+TEST(Gpsd, ScenarioFaultsChangeTpvModeAndEphAtTheirEpochs) {
+  const fs::path scenario = fs::temp_directory_path() / fmt::format("gpsemu_gpsd_scenario_{}.toml", ::getpid());
+  std::ofstream(scenario) << "[[fault]]\nkind = \"outage\"\nat = 2\nduration = 1.4\n"
+                             "[[fault]]\nkind = \"jam\"\nat = 4.6\nduration = 1.4\ndb = 40\n"
+                             "[[fault]]\nkind = \"degrade\"\nat = 7\nduration = 1.4\ndop_k = 3\n";
+  const auto run = run_with_gpsd("scenario", {"--rate", "5", "--seed", "15", "--scenario", scenario.string()}, 10.0);
+  fs::remove(scenario);
+  ASSERT_FALSE(run.epochs.empty());
+  const auto lost = [](std::int64_t ms) { return (ms >= 2000 && ms < 3400) || (ms >= 4600 && ms < 6000); };
+  expect_modes(run, [&](std::int64_t ms) { return lost(ms) ? 1 : 3; }, 0);
+  double eph_before = NAN, eph_degraded = NAN;
+  for (const Report& r : run.tpv) {
+    if (!r.time_of_day_ms || r.mode != 3) continue;
+    const std::int64_t ms = *r.time_of_day_ms - run.first_epoch_ms;
+    if (ms >= 6400 && ms < 7000) eph_before = r.eph_m;
+    if (ms >= 7200 && ms < 8400) eph_degraded = r.eph_m;
+  }
+  ASSERT_FALSE(std::isnan(eph_before));
+  ASSERT_FALSE(std::isnan(eph_degraded));
+  EXPECT_NEAR(eph_degraded / eph_before, 3.0, 0.3) << eph_before << " m, then " << eph_degraded << " m";
+}
+
 }  // namespace
 }  // namespace gpsemu

@@ -1,0 +1,118 @@
+#include "emulator/faults/control.hpp"
+
+#include <optional>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+namespace gpsemu::faults {
+namespace {
+
+using nlohmann::json;
+
+/// The receivers a message names: "receiver" an index or "all" (absent: all).
+std::vector<std::size_t> receivers_of(const json& message, std::size_t count) {
+  std::vector<std::size_t> out;
+  const auto it = message.find("receiver");
+  if (it == message.end() || (it->is_string() && it->get<std::string>() == "all")) {
+    for (std::size_t i = 0; i < count; ++i) out.push_back(i);
+    return out;
+  }
+  if (!it->is_number_integer() || it->get<std::int64_t>() < 0 || static_cast<std::uint64_t>(it->get<std::int64_t>()) >= count)
+    throw std::invalid_argument(fmt::format("receiver: expected an index 0..{} or \"all\", got {}", count - 1, it->dump()));
+  out.push_back(static_cast<std::size_t>(it->get<std::int64_t>()));
+  return out;
+}
+
+json receivers_json(const std::vector<std::size_t>& receivers) {
+  json a = json::array();
+  for (const std::size_t i : receivers) a.push_back(i);
+  return a;
+}
+
+std::string fault_message(const json& message, const std::vector<FaultTimeline*>& timelines) {
+  FaultKeys keys;
+  for (const auto& [key, value] : message.items()) {
+    if (key == "receiver") continue;
+    if (key == "at") throw std::invalid_argument("at: a live fault starts at the next epoch (give duration to end it)");
+    const std::string name = key == "fault" ? "kind" : key;
+    if (value.is_number()) {
+      keys.emplace_back(name, value.get<double>());
+    } else if (value.is_string()) {
+      keys.emplace_back(name, value.get<std::string>());
+    } else {
+      throw std::invalid_argument(fmt::format("{}: expected a number or a string, got {}", key, value.dump()));
+    }
+  }
+  const Fault fault = make_fault(keys);
+  const std::vector<std::size_t> receivers = receivers_of(message, timelines.size());
+  for (const std::size_t i : receivers) timelines[i]->add_live(fault);
+  const std::string what = fault.parameters() + (fault.duration_s ? fmt::format(" for {:.6g} s", *fault.duration_s)
+                                                                                   : std::string(" until cleared"));
+  spdlog::info("control: fault {} for receivers {}: from the next epoch", what, receivers_json(receivers).dump());
+  return json{{"class", "FAULT"}, {"fault", std::string(kind_name(fault.kind))}, {"describe", what},
+              {"receivers", receivers_json(receivers)}, {"starts", "next epoch"}}
+      .dump();
+}
+
+std::string clear_message(const json& message, const std::vector<FaultTimeline*>& timelines) {
+  const json& what = message["clear"];
+  if (!what.is_string()) throw std::invalid_argument(fmt::format("clear: expected a fault kind or \"all\", got {}", what.dump()));
+  const std::string name = what.get<std::string>();
+  std::vector<FaultKind> kinds;
+  if (name == "all") {
+    kinds.assign(kAllKinds.begin(), kAllKinds.end());
+  } else if (const auto k = parse_kind(name)) {
+    kinds.push_back(*k);
+  } else {
+    throw std::invalid_argument(fmt::format("clear: unknown fault '{}' (one of {}, or all)", name, kind_names()));
+  }
+  const std::vector<std::size_t> receivers = receivers_of(message, timelines.size());
+  int cleared = 0;
+  for (const std::size_t i : receivers) {
+    for (const FaultKind k : kinds) cleared += timelines[i]->clear(k);
+  }
+  spdlog::info("control: clear {} for receivers {}: {} faults end at the next epoch", name, receivers_json(receivers).dump(), cleared);
+  return json{{"class", "CLEAR"}, {"clear", name}, {"receivers", receivers_json(receivers)}, {"cleared", cleared}}.dump();
+}
+
+std::string status_message(const std::vector<FaultTimeline*>& timelines) {
+  json receivers = json::array();
+  for (std::size_t i = 0; i < timelines.size(); ++i) {
+    const FaultTimeline& t = *timelines[i];
+    const FaultTimeline::LastEpoch& last = t.last_epoch();
+    json faults = json::array();
+    for (const FaultTimeline::Entry& e : t.entries()) {
+      if (e.ended) continue;
+      faults.push_back({{"fault", std::string(kind_name(e.fault.kind))}, {"describe", e.fault.describe()},
+                        {"active", e.active}, {"epochs", e.epochs}});
+    }
+    receivers.push_back({{"receiver", i}, {"epochs", last.epochs}, {"time_s", last.since_s},
+                         {"quality", static_cast<int>(last.quality)}, {"satellites_used", last.satellites_used},
+                         {"silent", last.silent}, {"faults", faults}});
+  }
+  return json{{"class", "STATUS"}, {"receivers", receivers}}.dump();
+}
+
+}  // namespace
+
+std::string control_error(std::string_view message) {
+  return json{{"class", "ERROR"}, {"message", std::string(message)}}.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+std::string FaultControl::handle(std::string_view line) {
+  const json message = json::parse(line, nullptr, false);
+  if (message.is_discarded() || !message.is_object()) return control_error("expected one JSON object a line, e.g. {\"status\":true}");
+  try {
+    if (message.contains("fault")) return fault_message(message, receivers_);
+    if (message.contains("clear")) return clear_message(message, receivers_);
+    if (message.contains("status")) return status_message(receivers_);
+    return control_error("expected \"fault\", \"clear\" or \"status\", e.g. {\"fault\":\"jam\",\"db\":25,\"ramp_s\":5}");
+  } catch (const std::exception& e) {
+    return control_error(e.what());
+  }
+}
+
+}  // namespace gpsemu::faults

@@ -1,0 +1,35 @@
+// The control socket's protocol (--control unix:PATH): one JSON object a line in, one JSON object
+// a line out, in gpsd's habits (every answer has a "class"; errors are {"class":"ERROR",
+// "message":...}; unknown top-level fields are ignored). Pure: text in, text out, acting on the
+// receivers' fault timelines; the socket itself is transport/posix/unix_line_server.hpp.
+//
+//   {"fault":"jam","db":25,"ramp_s":5,"receiver":0}  a fault from the next epoch ("duration": s; absent:
+//                                                   until cleared); parameters as in a [[fault]] table
+//   {"clear":"jam","receiver":0}                     ends that kind's faults at the next epoch ("all": every kind)
+//   {"status":true}                                  each receiver's last epoch and its faults
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "emulator/faults/fault_timeline.hpp"
+
+namespace gpsemu::faults {
+
+class FaultControl {
+ public:
+  /// Receiver i's timeline is receivers[i].
+  explicit FaultControl(std::vector<FaultTimeline*> receivers) : receivers_(std::move(receivers)) {}
+
+  /// The answer to one line (without its end), as one line of JSON without '\n'. Never throws.
+  [[nodiscard]] std::string handle(std::string_view line);
+
+ private:
+  std::vector<FaultTimeline*> receivers_;
+};
+
+/// {"class":"ERROR","message":MESSAGE}
+[[nodiscard]] std::string control_error(std::string_view message);
+
+}  // namespace gpsemu::faults

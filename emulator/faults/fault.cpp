@@ -1,0 +1,213 @@
+#include "emulator/faults/fault.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace gpsemu::faults {
+namespace {
+
+constexpr std::array<std::pair<FaultKind, std::string_view>, 8> kKinds{{
+    {FaultKind::outage, "outage"},
+    {FaultKind::freeze, "freeze"},
+    {FaultKind::jump, "jump"},
+    {FaultKind::wrong, "wrong"},
+    {FaultKind::fix_quality, "fix-quality"},
+    {FaultKind::degrade, "degrade"},
+    {FaultKind::silence, "silence"},
+    {FaultKind::jam, "jam"},
+}};
+
+/// The parameters each kind takes beside kind, at, duration, end and receiver.
+std::set<std::string_view> parameters_of(FaultKind kind) {
+  switch (kind) {
+    case FaultKind::jump: return {"east_m", "north_m", "up_m", "decay_s"};
+    case FaultKind::wrong: return {"east_m", "north_m", "up_m", "ramp_s"};
+    case FaultKind::fix_quality: return {"quality"};
+    case FaultKind::degrade: return {"satellites", "dop_k", "noise_k", "ramp_s"};
+    case FaultKind::jam: return {"db", "ramp_s"};
+    default: return {};
+  }
+}
+
+std::string list(const std::set<std::string_view>& names) {
+  if (names.empty()) return "none";
+  return fmt::format("{}", fmt::join(names, ", "));
+}
+
+double number(const std::string& key, const FaultValue& value, double min, double max) {
+  const double* x = std::get_if<double>(&value);
+  if (!x) throw std::invalid_argument(fmt::format("{}: expected a number, got '{}'", key, std::get<std::string>(value)));
+  if (!std::isfinite(*x) || *x < min || *x > max)
+    throw std::invalid_argument(fmt::format("{}: {} is outside [{}, {}]", key, *x, min, max));
+  return *x;
+}
+
+int whole(const std::string& key, const FaultValue& value, int min, int max) {
+  const double x = number(key, value, min, max);
+  if (x != std::floor(x)) throw std::invalid_argument(fmt::format("{}: expected a whole number, got {}", key, x));
+  return static_cast<int>(x);
+}
+
+std::string text(const std::string& key, const FaultValue& value) {
+  const std::string* s = std::get_if<std::string>(&value);
+  if (!s) throw std::invalid_argument(fmt::format("{}: expected a string, got {}", key, std::get<double>(value)));
+  return *s;
+}
+
+nmea::FixQuality parse_quality(const std::string& s) {
+  if (s == "gps") return nmea::FixQuality::gps;
+  if (s == "dgps") return nmea::FixQuality::dgps;
+  if (s == "rtk-float") return nmea::FixQuality::rtk_float;
+  if (s == "rtk-fixed") return nmea::FixQuality::rtk_fixed;
+  if (s == "estimated") return nmea::FixQuality::estimated;
+  throw std::invalid_argument(
+      fmt::format("quality: expected gps, dgps, rtk-float, rtk-fixed or estimated, got '{}' (no fix: kind = \"outage\")", s));
+}
+
+std::string_view quality_name(nmea::FixQuality q) {
+  switch (q) {
+    case nmea::FixQuality::dgps: return "dgps";
+    case nmea::FixQuality::rtk_float: return "rtk-float";
+    case nmea::FixQuality::rtk_fixed: return "rtk-fixed";
+    case nmea::FixQuality::estimated: return "estimated";
+    default: return "gps";
+  }
+}
+
+constexpr double kMaxSeconds = 1e9;
+constexpr double kMaxOffsetM = 1e7;
+
+}  // namespace
+
+std::string_view kind_name(FaultKind kind) {
+  for (const auto& [k, name] : kKinds) {
+    if (k == kind) return name;
+  }
+  return "?";
+}
+
+std::optional<FaultKind> parse_kind(std::string_view name) {
+  for (const auto& [k, n] : kKinds) {
+    if (n == name) return k;
+  }
+  return std::nullopt;
+}
+
+std::string kind_names() {
+  std::string out;
+  for (const auto& [k, name] : kKinds) out += (out.empty() ? "" : ", ") + std::string(name);
+  return out;
+}
+
+double Fault::strength_at(double since_s) const {
+  if (ramp_s <= 0.0) return 1.0;
+  return std::clamp((since_s - at_s) / ramp_s, 0.0, 1.0);
+}
+
+std::string Fault::describe() const {
+  std::string s = parameters();
+  s += fmt::format(" at {:.6g} s", at_s);
+  s += duration_s ? fmt::format(" for {:.6g} s", *duration_s) : std::string(" to the end");
+  if (receiver) s += fmt::format(", receiver {}", *receiver);
+  return s;
+}
+
+std::string Fault::parameters() const {
+  std::string s{kind_name(kind)};
+  const auto add = [&s](std::string_view key, double v) { s += fmt::format(" {}={}", key, v); };
+  switch (kind) {
+    case FaultKind::jump:
+    case FaultKind::wrong:
+      add("east_m", offset_m.east_m);
+      add("north_m", offset_m.north_m);
+      add("up_m", offset_m.up_m);
+      if (decay_s) add("decay_s", *decay_s);
+      break;
+    case FaultKind::fix_quality: s += fmt::format(" quality={}", quality_name(quality)); break;
+    case FaultKind::degrade:
+      if (satellites) add("satellites", *satellites);
+      if (dop_k) add("dop_k", *dop_k);
+      if (noise_k) add("noise_k", *noise_k);
+      break;
+    case FaultKind::jam: add("db", db); break;
+    default: break;
+  }
+  if (ramp_s > 0.0) add("ramp_s", ramp_s);
+  return s;
+}
+
+Fault make_fault(const FaultKeys& keys) {
+  Fault f;
+  const FaultValue* kind_value = nullptr;
+  for (const auto& [key, value] : keys) {
+    if (key == "kind") kind_value = &value;
+  }
+  if (!kind_value) throw std::invalid_argument(fmt::format("kind: missing (one of {})", kind_names()));
+  const std::string kind = text("kind", *kind_value);
+  const std::optional<FaultKind> found = parse_kind(kind);
+  if (!found) throw std::invalid_argument(fmt::format("kind: unknown fault '{}' (one of {})", kind, kind_names()));
+  f.kind = *found;
+
+  const std::set<std::string_view> own = parameters_of(f.kind);
+  std::set<std::string> seen;
+  std::optional<double> end_s;
+  for (const auto& [key, value] : keys) {
+    if (!seen.insert(key).second) throw std::invalid_argument(fmt::format("{}: given twice", key));
+    if (key == "kind") continue;
+    if (key == "at") {
+      f.at_s = number(key, value, 0.0, kMaxSeconds);
+    } else if (key == "duration") {
+      f.duration_s = number(key, value, 0.0, kMaxSeconds);
+      if (!(*f.duration_s > 0.0)) throw std::invalid_argument("duration: must be > 0 seconds (absent: to the end)");
+    } else if (key == "end") {
+      end_s = number(key, value, 0.0, kMaxSeconds);
+    } else if (key == "receiver") {
+      if (const auto* s = std::get_if<std::string>(&value)) {
+        if (*s != "all") throw std::invalid_argument(fmt::format("receiver: expected an index from 0 or \"all\", got '{}'", *s));
+      } else {
+        f.receiver = whole(key, value, 0, 1 << 20);
+      }
+    } else if (!own.count(key)) {
+      throw std::invalid_argument(fmt::format("{}: not a parameter of {} (its parameters: {}; every fault: kind, at, "
+                                              "duration or end, receiver)", key, kind, list(own)));
+    } else if (key == "east_m") {
+      f.offset_m.east_m = number(key, value, -kMaxOffsetM, kMaxOffsetM);
+    } else if (key == "north_m") {
+      f.offset_m.north_m = number(key, value, -kMaxOffsetM, kMaxOffsetM);
+    } else if (key == "up_m") {
+      f.offset_m.up_m = number(key, value, -kMaxOffsetM, kMaxOffsetM);
+    } else if (key == "decay_s") {
+      f.decay_s = number(key, value, 0.001, kMaxSeconds);
+    } else if (key == "ramp_s") {
+      f.ramp_s = number(key, value, 0.0, kMaxSeconds);
+    } else if (key == "quality") {
+      f.quality = parse_quality(text(key, value));
+    } else if (key == "satellites") {
+      f.satellites = whole(key, value, 0, static_cast<int>(nmea::max_satellites));
+    } else if (key == "dop_k") {
+      f.dop_k = number(key, value, 1.0, 100.0);
+    } else if (key == "noise_k") {
+      f.noise_k = number(key, value, 0.0, 1000.0);
+    } else if (key == "db") {
+      f.db = number(key, value, 0.0, 60.0);
+    }
+  }
+  if (end_s) {
+    if (f.duration_s) throw std::invalid_argument("end: give duration or end, not both");
+    if (!(*end_s > f.at_s)) throw std::invalid_argument(fmt::format("end: {} s is not after at ({} s)", *end_s, f.at_s));
+    f.duration_s = *end_s - f.at_s;
+  }
+  if (f.kind == FaultKind::fix_quality && !seen.count("quality"))
+    throw std::invalid_argument("quality: missing (fix-quality forces gps, dgps, rtk-float, rtk-fixed or estimated)");
+  if (f.kind == FaultKind::jam && !seen.count("db")) throw std::invalid_argument("db: missing (jam lowers C/N0 by db dB)");
+  if (f.kind == FaultKind::degrade && !f.satellites && !f.dop_k && !f.noise_k)
+    throw std::invalid_argument("degrade: give at least one of satellites, dop_k, noise_k");
+  return f;
+}
+
+}  // namespace gpsemu::faults

@@ -1,0 +1,88 @@
+// A fault of the receiver channel as data (PX4's FailureInjector, ArduPilot SITL's SIM_GPS_*
+// parameters): what goes wrong, when, for which receiver, with its parameters in named units.
+// A scenario is a list of them (`--scenario FILE`, [[fault]] tables); fault_timeline.hpp applies
+// them to each epoch's fix after the receiver model and before the encoders. docs/faults.md is the
+// catalogue.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include "emulator/model/enu.hpp"
+#include "nmea/fix.hpp"
+
+namespace gpsemu::faults {
+
+/// The catalogue, in the order docs/faults.md lists it.
+enum class FaultKind {
+  outage,       ///< no satellites, no fix
+  freeze,       ///< the last fix repeated with new times (PX4's "stuck")
+  jump,         ///< a position step, staying or decaying (multipath, a bad fix)
+  wrong,        ///< a constant position offset (ramped in over ramp_s)
+  fix_quality,  ///< the reported quality forced (rtk-fixed, rtk-float, dgps, gps, estimated)
+  degrade,      ///< fewer satellites used, DOP x k, error x k
+  silence,      ///< the receiver writes nothing
+  jam,          ///< C/N0 down by db over ramp_s: weak satellites drop, accuracy follows, fix lost below 4
+};
+
+/// Every kind, in catalogue order.
+inline constexpr std::array<FaultKind, 8> kAllKinds{FaultKind::outage, FaultKind::freeze, FaultKind::jump,
+                                                    FaultKind::wrong, FaultKind::fix_quality, FaultKind::degrade,
+                                                    FaultKind::silence, FaultKind::jam};
+
+/// "outage", "fix-quality", ... (the scenario's `kind`).
+[[nodiscard]] std::string_view kind_name(FaultKind kind);
+/// The kind named `name`, if any.
+[[nodiscard]] std::optional<FaultKind> parse_kind(std::string_view name);
+/// Every kind's name, comma separated (for messages and help).
+[[nodiscard]] std::string kind_names();
+
+/// A C/N0 below this is not tracked (dB-Hz): a jammed satellite under it drops from the solution.
+inline constexpr double kTrackingThresholdDbHz = 20.0;
+/// Fewest satellites of a 3-D fix: below, a jammed or degraded receiver has no fix.
+inline constexpr int kMinFixSatellites = 4;
+
+struct Fault {
+  FaultKind kind = FaultKind::outage;
+  double at_s = 0.0;                  ///< start, seconds after the first epoch (`at`)
+  std::optional<double> duration_s;   ///< length in seconds (`duration`, or `end` - `at`); empty: to the end
+  double ramp_s = 0.0;                ///< jam, wrong, degrade: reaches full strength over this long (seconds)
+  std::optional<int> receiver;        ///< fleet index it applies to; empty: every receiver
+  Enu offset_m{};                     ///< jump, wrong: east_m, north_m, up_m
+  std::optional<double> decay_s;      ///< jump: the step decays with this time constant (seconds); empty: stays
+  nmea::FixQuality quality = nmea::FixQuality::gps;  ///< fix-quality: `quality`
+  std::optional<int> satellites;      ///< degrade: at most this many satellites used
+  std::optional<double> dop_k;        ///< degrade: DOP factor (default: from the satellites dropped)
+  std::optional<double> noise_k;      ///< degrade: factor on the position error and sigmas (default: dop_k)
+  double db = 0.0;                    ///< jam: C/N0 reduction at full strength (dB)
+
+  /// Whether epoch time `since_s` (seconds after the first epoch) is inside the fault.
+  /// Compared in whole nanoseconds, so 0.1 + 0.2 s ends at the epoch of 0.3 s.
+  [[nodiscard]] bool active_at(double since_s) const {
+    const auto ns = [](double s) { return std::llround(s * 1e9); };
+    return ns(since_s) >= ns(at_s) && (!duration_s || ns(since_s) < ns(at_s + *duration_s));
+  }
+  /// 0..1: how far the ramp is at `since_s` (1 without a ramp).
+  [[nodiscard]] double strength_at(double since_s) const;
+  /// "jam db=25 ramp_s=5 at 10 s for 20 s, receiver 0": for logs and the summary.
+  [[nodiscard]] std::string describe() const;
+  /// "jam db=25 ramp_s=5": the kind and its parameters.
+  [[nodiscard]] std::string parameters() const;
+};
+
+/// One key of a [[fault]] table (or a control message): a number or a string.
+using FaultValue = std::variant<double, std::string>;
+using FaultKeys = std::vector<std::pair<std::string, FaultValue>>;
+
+/// A fault from its keys: `kind` (required), `at`, `duration` or `end`, `receiver` (index or
+/// "all"), and the kind's own parameters. Throws std::invalid_argument naming the key for an
+/// unknown key, a key the kind does not take, or a value out of range.
+[[nodiscard]] Fault make_fault(const FaultKeys& keys);
+
+}  // namespace gpsemu::faults

@@ -1,0 +1,244 @@
+#include "emulator/faults/fault_timeline.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <spdlog/spdlog.h>
+
+#include "emulator/model/receiver.hpp"
+
+namespace gpsemu::faults {
+namespace {
+
+nmea::SatelliteInView& sat(nmea::Fix& fix, int i) { return fix.satellites[static_cast<std::size_t>(i)]; }
+
+int count_used(const nmea::Fix& fix) {
+  int n = 0;
+  for (int i = 0; i < fix.satellites_in_view; ++i) n += fix.satellites[static_cast<std::size_t>(i)].used;
+  return n;
+}
+
+/// DOPs and the reported accuracy of a fix scaled by `dop_k` and `sigma_k`.
+void scale_dops(nmea::Fix& fix, double dop_k, double sigma_k) {
+  fix.hdop *= dop_k;
+  fix.vdop *= dop_k;
+  fix.pdop *= dop_k;
+  fix.tdop *= dop_k;
+  fix.gdop *= dop_k;
+  fix.sigma_lat_m *= sigma_k;
+  fix.sigma_lon_m *= sigma_k;
+  fix.sigma_alt_m *= sigma_k;
+  fix.range_rms_m *= sigma_k;
+}
+
+/// The used satellites beyond `keep` stop being used, weakest first; returns how many stay used.
+int keep_strongest(nmea::Fix& fix, int keep) {
+  int used = count_used(fix);
+  while (used > keep) {
+    int weakest = -1;
+    for (int i = 0; i < fix.satellites_in_view; ++i) {
+      if (!sat(fix, i).used) continue;
+      if (weakest < 0 || sat(fix, i).snr_dbhz.value_or(0) <= sat(fix, weakest).snr_dbhz.value_or(0)) weakest = i;
+    }
+    sat(fix, weakest).used = false;
+    --used;
+  }
+  return used;
+}
+
+/// After `before` used satellites became `after` (>= kMinFixSatellites), with the error x `extra`:
+/// HDOP grows as 1/sqrt(satellites) (the receiver model's relation), the error and sigmas follow.
+void fewer_satellites(nmea::Fix& fix, int before, int after, double extra, const std::optional<Enu>& truth_m,
+                      const LocalFrame& frame) {
+  const double dop_k = after > 0 && before > after ? std::sqrt(double(before) / double(after)) : 1.0;
+  fix.satellites_used = after;
+  scale_dops(fix, dop_k, dop_k * extra);
+  if (truth_m) scale_error(fix, *truth_m, dop_k * extra, frame);
+}
+
+}  // namespace
+
+void offset_position(nmea::Fix& fix, const Enu& offset, const LocalFrame& frame) {
+  const Enu p = frame.to_enu({fix.lat_deg, fix.lon_deg, fix.alt_msl_m}) + offset;
+  const Geodetic g = frame.to_geodetic(p);
+  fix.lat_deg = g.lat_deg;
+  fix.lon_deg = g.lon_deg;
+  fix.alt_msl_m = g.alt_m;
+}
+
+void scale_error(nmea::Fix& fix, const Enu& truth_m, double k, const LocalFrame& frame) {
+  const Enu p = frame.to_enu({fix.lat_deg, fix.lon_deg, fix.alt_msl_m});
+  offset_position(fix, (k - 1.0) * (p - truth_m), frame);
+}
+
+void drop_fix(nmea::Fix& fix) {
+  nmea::Fix lost;
+  lost.time_utc = fix.time_utc;
+  lost.satellites_in_view = fix.satellites_in_view;
+  lost.satellites = fix.satellites;
+  for (int i = 0; i < lost.satellites_in_view; ++i) sat(lost, i).used = false;
+  fix = lost;
+}
+
+FaultTimeline::FaultTimeline(FaultPlan plan, UtcNs first_epoch) : who_(std::move(plan.who)), first_epoch_(first_epoch) {
+  for (Fault& f : plan.faults) {
+    keeps_last_ = keeps_last_ || f.kind == FaultKind::freeze;
+    entries_.push_back({std::move(f)});
+  }
+}
+
+EpochEffect FaultTimeline::apply(UtcNs t, nmea::Fix& fix, const std::optional<Enu>& truth_m, const LocalFrame& frame,
+                                 ubx::RfState* rf) {
+  EpochEffect effect;
+  const double since_s = std::chrono::duration<double>(t - first_epoch_).count();
+  for (Fault& f : pending_) {
+    f.at_s = since_s;
+    keeps_last_ = keeps_last_ || f.kind == FaultKind::freeze;
+    if (keeps_last_ && !last_) last_ = fix;  // a live freeze before any was kept: this epoch's
+    entries_.push_back({std::move(f)});
+  }
+  pending_.clear();
+  for (const FaultKind kind : pending_clears_) {
+    for (Entry& e : entries_) {
+      if (e.fault.kind != kind || e.ended) continue;
+      e.fault.duration_s = std::max(0.0, since_s - e.fault.at_s);
+      if (!e.active) e.ended = true;  // had not started: it never will
+    }
+  }
+  pending_clears_.clear();
+  last_epoch_.epochs++;
+  last_epoch_.since_s = since_s;
+  if (entries_.empty()) {
+    last_epoch_.quality = fix.quality;
+    last_epoch_.satellites_used = fix.satellites_used;
+    return effect;
+  }
+  bool freeze_ahead = false;
+  for (Entry& e : entries_) {
+    const bool active = e.fault.active_at(since_s);
+    if (active && !e.active) {
+      spdlog::info("{}fault {} starts at epoch {} (+{:.3f} s)", who_, e.fault.describe(), format_iso8601_utc(t), since_s);
+      if (e.fault.kind == FaultKind::freeze) frozen_ = last_;
+      if (e.fault.kind == FaultKind::jam && rf && !clean_rf_) clean_rf_ = *rf;
+    } else if (!active && e.active) {
+      spdlog::info("{}fault {} ends at epoch {} (+{:.3f} s) after {} epochs", who_, kind_name(e.fault.kind),
+                   format_iso8601_utc(t), since_s, e.epochs);
+      e.ended = true;
+      if (e.fault.kind == FaultKind::jam && rf && clean_rf_) *rf = *clean_rf_;
+    }
+    e.active = active;
+    if (active) {
+      ++e.epochs;
+      apply_one(e.fault, since_s, fix, truth_m, frame, rf, effect);
+    }
+    freeze_ahead = freeze_ahead || (e.fault.kind == FaultKind::freeze && !e.ended);
+  }
+  keeps_last_ = freeze_ahead;
+  last_epoch_.quality = fix.quality;
+  last_epoch_.satellites_used = fix.satellites_used;
+  last_epoch_.silent = effect.silent;
+  if (keeps_last_) {
+    last_ = fix;
+  } else {
+    last_.reset();
+  }
+  return effect;
+}
+
+void FaultTimeline::apply_one(const Fault& f, double since_s, nmea::Fix& fix, const std::optional<Enu>& truth_m,
+                              const LocalFrame& frame, ubx::RfState* rf, EpochEffect& effect) {
+  const double strength = f.strength_at(since_s);
+  switch (f.kind) {
+    case FaultKind::outage: {
+      nmea::Fix none;
+      none.time_utc = fix.time_utc;
+      fix = none;
+      break;
+    }
+    case FaultKind::freeze:
+      if (frozen_) {
+        const nmea::UtcTime now = fix.time_utc;
+        fix = *frozen_;
+        fix.time_utc = now;
+      }
+      break;
+    case FaultKind::jump:
+    case FaultKind::wrong: {
+      if (!fix.has_fix()) break;
+      double k = strength;
+      if (f.decay_s) k *= std::exp(-(since_s - f.at_s) / *f.decay_s);
+      offset_position(fix, k * f.offset_m, frame);
+      break;
+    }
+    case FaultKind::fix_quality: {
+      if (!fix.has_fix()) break;
+      const double k = noise_scale(f.quality) / noise_scale(fix.quality);
+      fix.quality = f.quality;
+      scale_dops(fix, 1.0, k);
+      if (truth_m) scale_error(fix, *truth_m, k, frame);
+      break;
+    }
+    case FaultKind::degrade: {
+      if (!fix.has_fix()) break;
+      const int before = count_used(fix);
+      const int after = f.satellites ? keep_strongest(fix, *f.satellites) : before;
+      if (after < kMinFixSatellites) {
+        drop_fix(fix);
+        break;
+      }
+      fix.satellites_used = after;
+      const double dop_k = f.dop_k ? *f.dop_k : (after > 0 && before > after ? std::sqrt(double(before) / after) : 1.0);
+      const double noise_k = f.noise_k.value_or(dop_k);
+      const double dk = 1.0 + strength * (dop_k - 1.0);
+      const double nk = 1.0 + strength * (noise_k - 1.0);
+      scale_dops(fix, dk, nk);
+      if (truth_m) scale_error(fix, *truth_m, nk, frame);
+      break;
+    }
+    case FaultKind::silence: effect.silent = true; break;
+    case FaultKind::jam: {
+      const double drop_db = strength * f.db;
+      if (rf) {
+        rf->jamming_indicator = static_cast<std::uint8_t>(std::clamp(9.0 + 8.0 * drop_db, 0.0, 255.0));
+        rf->jamming_state = drop_db < 6.0 ? 1 : drop_db < 15.0 ? 2 : 3;
+        rf->agc_count = static_cast<std::uint16_t>(std::lround(3140.0 * std::max(0.1, 1.0 - drop_db / 40.0)));
+        rf->noise_per_ms = static_cast<std::uint16_t>(std::lround(89.0 + 4.0 * drop_db));
+      }
+      const int before = count_used(fix);
+      for (int i = 0; i < fix.satellites_in_view; ++i) {
+        nmea::SatelliteInView& s = sat(fix, i);
+        if (!s.snr_dbhz) continue;
+        const double cn0 = *s.snr_dbhz - drop_db;
+        if (cn0 < kTrackingThresholdDbHz) {
+          s.snr_dbhz.reset();
+          s.used = false;
+        } else {
+          s.snr_dbhz = static_cast<int>(std::lround(cn0));
+        }
+      }
+      if (!fix.has_fix()) break;
+      const int after = count_used(fix);
+      if (after < kMinFixSatellites) {
+        drop_fix(fix);
+        break;
+      }
+      // The tracking error grows as 1/sqrt(C/N0): x 10^(dB/20) on the remaining satellites.
+      fewer_satellites(fix, before, after, std::pow(10.0, drop_db / 20.0), truth_m, frame);
+      break;
+    }
+  }
+}
+
+int FaultTimeline::clear(FaultKind kind) {
+  int n = 0;
+  for (const Entry& e : entries_) n += e.fault.kind == kind && !e.ended;
+  const auto waiting = std::erase_if(pending_, [kind](const Fault& f) { return f.kind == kind; });
+  pending_clears_.push_back(kind);
+  return n + static_cast<int>(waiting);
+}
+
+void FaultTimeline::log_summary() const {
+  for (const Entry& e : entries_) spdlog::info("{}fault {}: {} epochs", who_, e.fault.describe(), e.epochs);
+}
+
+}  // namespace gpsemu::faults

@@ -1,0 +1,95 @@
+// The faults of one receiver applied to its epochs: the one point of the channel where they act
+// (after the receiver model, before the encoders), so NMEA and UBX see the same fault. Given the
+// epoch time it changes the fix coherently (quality, dimension, satellites and their C/N0, DOPs,
+// position, GST sigmas) and a u-blox's RF state (MON-HW, MON-RF), and says whether the receiver
+// writes at all. Logs each fault's start and end with its epoch time and counts its epochs.
+// Deterministic: the same faults, truth and fixes give the same result.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "emulator/faults/fault.hpp"
+#include "emulator/model/enu.hpp"
+#include "emulator/model/geo.hpp"
+#include "emulator/model/time.hpp"
+#include "emulator/ubx/receiver_state.hpp"
+#include "nmea/fix.hpp"
+
+namespace gpsemu::faults {
+
+/// One receiver's faults, as the channel takes them.
+struct FaultPlan {
+  std::vector<Fault> faults;  ///< those that apply to this receiver, in scenario order
+  std::string who;            ///< log prefix ("" or "receiver 2: ")
+};
+
+/// What the faults of an epoch leave to the channel.
+struct EpochEffect {
+  bool silent = false;  ///< write nothing this epoch
+};
+
+class FaultTimeline {
+ public:
+  FaultTimeline(FaultPlan plan, UtcNs first_epoch);
+
+  /// Applies the faults active at `t` to `fix` (the receiver model's, for `truth_m` in `frame`;
+  /// no truth: the position is not touched) and to `rf` (a u-blox's; may be null). Call once per
+  /// epoch with non-decreasing `t`.
+  EpochEffect apply(UtcNs t, nmea::Fix& fix, const std::optional<Enu>& truth_m, const LocalFrame& frame,
+                    ubx::RfState* rf);
+
+  struct Entry {
+    Fault fault;
+    std::uint64_t epochs = 0;  ///< epochs it was active
+    bool active = false;
+    bool ended = false;
+  };
+  [[nodiscard]] const std::vector<Entry>& entries() const { return entries_; }
+  [[nodiscard]] bool empty() const { return entries_.empty(); }
+
+  /// A live fault (the control socket): it starts at the next epoch, its `at_s` ignored, and lasts
+  /// its duration from there (none: until cleared).
+  void add_live(Fault fault) { pending_.push_back(std::move(fault)); }
+  /// Ends at the next epoch every fault of `kind` that is active or waiting (live or from the
+  /// scenario); returns how many.
+  int clear(FaultKind kind);
+
+  /// The last epoch, as the control socket's status reports it.
+  struct LastEpoch {
+    std::uint64_t epochs = 0;  ///< epochs applied so far
+    double since_s = 0.0;      ///< the last epoch's time after the first epoch (seconds)
+    nmea::FixQuality quality = nmea::FixQuality::none;
+    int satellites_used = 0;
+    bool silent = false;
+  };
+  [[nodiscard]] const LastEpoch& last_epoch() const { return last_epoch_; }
+  /// One line per fault: what it was and how many epochs it covered.
+  void log_summary() const;
+
+ private:
+  void apply_one(const Fault& f, double since_s, nmea::Fix& fix, const std::optional<Enu>& truth_m,
+                 const LocalFrame& frame, ubx::RfState* rf, EpochEffect& effect);
+
+  std::vector<Entry> entries_;
+  std::vector<Fault> pending_;             ///< live faults to start at the next epoch
+  std::vector<FaultKind> pending_clears_;  ///< kinds to end at the next epoch
+  LastEpoch last_epoch_;
+  std::string who_;
+  UtcNs first_epoch_;
+  bool keeps_last_ = false;            ///< a freeze is still to come: keep the last fix
+  std::optional<nmea::Fix> last_;      ///< the last epoch's fix as written
+  std::optional<nmea::Fix> frozen_;    ///< the fix a freeze repeats
+  std::optional<ubx::RfState> clean_rf_;  ///< the RF state before a jam
+};
+
+/// Moves `fix`'s position by `offset` in `frame` (jump, wrong).
+void offset_position(nmea::Fix& fix, const Enu& offset, const LocalFrame& frame);
+/// Scales `fix`'s position error about `truth_m` by `k` (degrade, jam, fix-quality).
+void scale_error(nmea::Fix& fix, const Enu& truth_m, double k, const LocalFrame& frame);
+/// No fix: what a receiver reports when it lost its solution (satellites still listed, none used).
+void drop_fix(nmea::Fix& fix);
+
+}  // namespace gpsemu::faults

@@ -1,0 +1,100 @@
+// The control socket's protocol: live faults start at the next epoch, clear ends them there,
+// status reports each receiver; every bad line is an ERROR object, never an exception.
+#include "emulator/faults/control.hpp"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+
+#include <nlohmann/json.hpp>
+
+namespace gpsemu::faults {
+namespace {
+
+using nlohmann::json;
+using std::chrono::milliseconds;
+
+const UtcNs kStart = UtcNs{std::chrono::duration_cast<UtcNs::duration>(std::chrono::hours(24 * 20000))};
+
+struct TwoReceivers {
+  TwoReceivers() : frame({47.0, 8.0, 400.0}), a({{}, ""}, kStart), b({{}, ""}, kStart), control({&a, &b}) {}
+  /// Epoch `ms` after the start for both receivers: a fix of 8 satellites at the origin.
+  void epoch(int ms, nmea::Fix* out_a = nullptr) {
+    for (FaultTimeline* t : {&a, &b}) {
+      nmea::Fix fix;
+      fix.quality = nmea::FixQuality::gps;
+      fix.satellites_in_view = 8;
+      for (int i = 0; i < 8; ++i) {
+        fix.satellites[static_cast<std::size_t>(i)].used = true;
+        fix.satellites[static_cast<std::size_t>(i)].snr_dbhz = 40;
+      }
+      fix.satellites_used = 8;
+      (void)t->apply(kStart + milliseconds(ms), fix, Enu{}, frame, nullptr);
+      if (t == &a && out_a) *out_a = fix;
+    }
+  }
+  json ask(const std::string& line) { return json::parse(control.handle(line)); }
+  LocalFrame frame;
+  FaultTimeline a, b;
+  FaultControl control;
+};
+
+TEST(FaultControl, AFaultStartsAtTheNextEpochOfItsReceiverAndClearEndsIt) {
+  TwoReceivers r;
+  r.epoch(0);
+  const json answer = r.ask(R"({"fault":"jam","db":30,"receiver":0})");
+  EXPECT_EQ(answer["class"], "FAULT");
+  EXPECT_EQ(answer["receivers"], json::array({0}));
+  nmea::Fix fix;
+  r.epoch(100, &fix);
+  EXPECT_FALSE(fix.has_fix());  // 40 - 30 dB-Hz: under the tracking threshold
+  ASSERT_EQ(r.a.entries().size(), 1u);
+  EXPECT_DOUBLE_EQ(r.a.entries()[0].fault.at_s, 0.1);
+  EXPECT_TRUE(r.b.entries().empty());
+  const json status = r.ask(R"({"status":true})");
+  EXPECT_EQ(status["class"], "STATUS");
+  EXPECT_EQ(status["receivers"][0]["faults"][0]["fault"], "jam");
+  EXPECT_EQ(status["receivers"][0]["quality"], 0);
+  EXPECT_EQ(status["receivers"][1]["quality"], 1);
+  EXPECT_EQ(status["receivers"][1]["epochs"], 2);
+  const json cleared = r.ask(R"({"clear":"jam"})");
+  EXPECT_EQ(cleared["class"], "CLEAR");
+  EXPECT_EQ(cleared["cleared"], 1);
+  r.epoch(200, &fix);
+  EXPECT_TRUE(fix.has_fix());
+  EXPECT_EQ(r.a.entries()[0].epochs, 1u);
+  EXPECT_TRUE(r.ask(R"({"status":true})")["receivers"][0]["faults"].empty());
+}
+
+TEST(FaultControl, ALiveFaultWithADurationEndsByItself) {
+  TwoReceivers r;
+  r.epoch(0);
+  (void)r.ask(R"({"fault":"outage","duration":0.2})");
+  nmea::Fix fix;
+  r.epoch(100, &fix);
+  EXPECT_FALSE(fix.has_fix());
+  r.epoch(200, &fix);
+  EXPECT_FALSE(fix.has_fix());
+  r.epoch(300, &fix);
+  EXPECT_TRUE(fix.has_fix());
+  EXPECT_EQ(r.b.entries().size(), 1u);  // "receiver" absent: every receiver
+}
+
+TEST(FaultControl, EveryBadLineIsAnErrorObject) {
+  TwoReceivers r;
+  for (const char* line : {"", "nope", "[1,2]", "{}", R"({"fault":"meteor"})", R"({"fault":"jam"})",
+                           R"({"fault":"jam","db":25,"at":3})", R"({"fault":"jam","db":25,"receiver":2})",
+                           R"({"fault":"jam","db":25,"receiver":-1})", R"({"fault":"jam","db":[1]})",
+                           R"({"clear":"meteor"})", R"({"clear":3})", "{\"fault\":\"jam\",\"db\":1e999}",
+                           "{\"fault\":\"\xff\"}"}) {
+    const json answer = json::parse(r.control.handle(line), nullptr, false);
+    ASSERT_FALSE(answer.is_discarded()) << line;
+    EXPECT_EQ(answer["class"], "ERROR") << line;
+    EXPECT_FALSE(answer["message"].get<std::string>().empty()) << line;
+  }
+  EXPECT_EQ(r.ask(R"({"fault":"jam","db":25,"receiver":2})")["message"], "receiver: expected an index 0..1 or \"all\", got 2");
+  EXPECT_TRUE(r.a.entries().empty());
+}
+
+}  // namespace
+}  // namespace gpsemu::faults

@@ -1,0 +1,155 @@
+#include "transport/posix/unix_line_server.hpp"
+
+#include <poll.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "transport/posix/errors.hpp"
+
+namespace gpsemu::posix {
+namespace {
+
+bool send_line_blocking(int fd, std::string_view text) {
+  std::string line(text);
+  line += '\n';
+  std::size_t sent = 0;
+  while (sent < line.size()) {
+    const ssize_t n = ::send(fd, line.data() + sent, line.size() - sent, MSG_NOSIGNAL);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    sent += static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
+}  // namespace
+
+UnixLineServer::UnixLineServer(std::string path, Messages messages) : path_(std::move(path)), messages_(std::move(messages)) {
+  const auto fail = [this](const std::string& why) { return std::runtime_error(fmt::format("control socket {}: {}", path_, why)); };
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  if (path_.empty() || path_.size() >= sizeof address.sun_path)
+    throw fail(fmt::format("the path must have 1..{} characters", sizeof address.sun_path - 1));
+  std::memcpy(address.sun_path, path_.data(), path_.size());
+  struct stat st{};
+  if (::lstat(path_.c_str(), &st) == 0) {
+    if (!S_ISSOCK(st.st_mode)) throw fail("exists and is not a socket; remove it or choose another path");
+    ::unlink(path_.c_str());  // a socket left by an earlier run
+  }
+  listen_.reset(::socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0));
+  if (!listen_.valid()) throw fail(errno_text(errno));
+  if (::bind(listen_.get(), reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0) throw fail(errno_text(errno));
+  if (::listen(listen_.get(), 8) != 0) {
+    const int err = errno;
+    ::unlink(path_.c_str());
+    throw fail(errno_text(err));
+  }
+}
+
+UnixLineServer::~UnixLineServer() {
+  if (listen_.valid()) ::unlink(path_.c_str());
+}
+
+void UnixLineServer::fds(std::vector<int>& out) const {
+  out.push_back(listen_.get());
+  for (const Client& c : clients_) out.push_back(c.fd.get());
+}
+
+bool UnixLineServer::send_line(int fd, std::string_view text) {
+  std::string line(text);
+  line += '\n';
+  const ssize_t n = ::send(fd, line.data(), line.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+  return n == static_cast<ssize_t>(line.size());
+}
+
+void UnixLineServer::service(const Handler& handle) {
+  while (true) {
+    UniqueFd fd(::accept4(listen_.get(), nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC));
+    if (!fd.valid()) break;
+    if (clients_.size() >= kMaxClients) {
+      (void)send_line(fd.get(), messages_.too_many_clients);
+      ++clients_dropped_;
+      continue;
+    }
+    clients_.push_back({std::move(fd), {}, false});
+  }
+  char buffer[4096];
+  for (auto it = clients_.begin(); it != clients_.end();) {
+    Client& c = *it;
+    bool gone = false;
+    while (true) {
+      const ssize_t n = ::recv(c.fd.get(), buffer, sizeof buffer, MSG_DONTWAIT);
+      if (n == 0 || (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) {
+        gone = true;
+        break;
+      }
+      if (n < 0) break;
+      std::string_view chunk(buffer, static_cast<std::size_t>(n));
+      while (!chunk.empty() && !gone) {
+        const std::size_t nl = chunk.find('\n');
+        const std::string_view part = chunk.substr(0, nl);
+        if (!c.discarding) c.pending.append(part);
+        if (c.pending.size() > kMaxLineBytes) {
+          if (!c.discarding && !send_line(c.fd.get(), messages_.line_too_long)) gone = true;
+          c.discarding = true;
+          c.pending.clear();
+        }
+        if (nl == std::string_view::npos) break;
+        chunk.remove_prefix(nl + 1);
+        if (!c.discarding) {
+          std::string line = std::move(c.pending);
+          c.pending.clear();
+          if (!line.empty() && line.back() == '\r') line.pop_back();
+          if (!line.empty()) {
+            ++lines_answered_;
+            if (!send_line(c.fd.get(), handle(line))) gone = true;
+          }
+        }
+        c.discarding = false;
+      }
+      if (gone) break;
+    }
+    if (gone) {
+      it = clients_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+}
+
+std::string unix_request(const std::string& path, std::string_view line, std::chrono::milliseconds timeout) {
+  const auto fail = [&path](const std::string& why) { return std::runtime_error(fmt::format("control socket {}: {}", path, why)); };
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  if (path.empty() || path.size() >= sizeof address.sun_path) throw fail("path too long");
+  std::memcpy(address.sun_path, path.data(), path.size());
+  UniqueFd fd(::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
+  if (!fd.valid()) throw fail(errno_text(errno));
+  if (::connect(fd.get(), reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0)
+    throw fail(fmt::format("cannot connect: {} (is gpsemu running with --control unix:{}?)", errno_text(errno), path));
+  if (!send_line_blocking(fd.get(), line)) throw fail(fmt::format("cannot send: {}", errno_text(errno)));
+  std::string answer;
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  char buffer[4096];
+  while (answer.find('\n') == std::string::npos) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    pollfd p{fd.get(), POLLIN, 0};
+    if (left.count() <= 0 || ::poll(&p, 1, static_cast<int>(left.count())) == 0) throw fail("no answer");
+    const ssize_t n = ::recv(fd.get(), buffer, sizeof buffer, 0);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) throw fail("closed without an answer");
+    answer.append(buffer, static_cast<std::size_t>(n));
+  }
+  answer.resize(answer.find('\n'));
+  return answer;
+}
+
+}  // namespace gpsemu::posix
