@@ -32,7 +32,11 @@ Session::Client& Session::client(ClientId id) {
   return clients_[id];
 }
 
-void Session::client_left(ClientId id) { clients_.erase(id); }
+void Session::client_left(ClientId id) {
+  clients_.erase(id);
+  // A CFG-VALSET transaction begun and not applied goes with the client that left (counted).
+  if (machine_.transaction_open()) machine_.discard_transaction();
+}
 
 void Session::client_wrote(std::string_view bytes, ClientId id) {
   Client& c = client(id);
