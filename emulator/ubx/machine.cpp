@@ -273,6 +273,8 @@ bool ConfigMachine::apply_valset(std::string_view p, Before& before) {
       discard_transaction();
       transaction_ = Transaction{layers, std::move(*keys)};
       return true;
+    case kTransactionContinue:
+    case kTransactionApply:
     default:
       break;
   }
