@@ -217,8 +217,8 @@ std::string read_config_file(const std::string& path, std::string_view what) {
     throw ConfigError(fmt::format("{} {}: {}; give a regular TOML file", what, path, kind_of(st.st_mode)));
   }
   const auto too_large = [&path, what](std::uint64_t bytes) {
-    return ConfigError(fmt::format("{} {}: larger than 1 MiB ({} bytes); it may have at most {} "
-                                   "bytes", what, path, bytes, kMaxConfigFileBytes));
+    return ConfigError(fmt::format("{} {}: larger than 1 MiB ({} bytes); a {} may have at most {} "
+                                   "bytes", what, path, bytes, what, kMaxConfigFileBytes));
   };
   if (static_cast<std::uint64_t>(st.st_size) > kMaxConfigFileBytes) throw too_large(static_cast<std::uint64_t>(st.st_size));
   std::string text;

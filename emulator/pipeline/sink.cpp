@@ -114,7 +114,7 @@ void Sink::log_summary(std::size_t i) const {
                  s.epochs_written, s.bytes_written, s.epochs_dropped, s.epochs_failed,
                  s.epochs_empty != 0 ? fmt::format(", {} with nothing to send", s.epochs_empty) : "",
                  s.replies_written != 0
-                     ? fmt::format("; {} batches of answers to clients ({} bytes)", s.replies_written, s.reply_bytes_written)
+                     ? fmt::format("; {} replies to the client ({} bytes)", s.replies_written, s.reply_bytes_written)
                      : "");
     if (s.replies_dropped > 0) {
       spdlog::warn("{}{}: answers to clients: {} batches written, {} dropped whole ({} bytes; a batch answers one read "

@@ -68,7 +68,7 @@ TEST(CliConsistency, StartTimeNeedsTheUtcDesignatorAndRefusesOffsets) {
     for (const char* a : {"--fast", "--duration", "1", "--output", "stdout", "--log-level", "warn"}) args.push_back(a);
     const Result r = run(args);
     EXPECT_EQ(r.status, 0) << r.err;
-    EXPECT_NE(r.out.find("$GPRMC,120000.00,A"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("$GNRMC,120000.00,A"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find(",010524,"), std::string::npos) << r.out;
   }
 }

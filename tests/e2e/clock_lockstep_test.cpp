@@ -213,7 +213,7 @@ TEST(LockstepEndToEnd, SimTimeAtHalfRealSpeedGivesEpochsThatFollowSimTimeExactly
   // Every GGA, with the wall time its chunk was read.
   std::vector<std::pair<std::string, double>> ggas;
   for (const auto& c : gpsemu.chunks()) {
-    for (std::size_t at = c.bytes.find("$GPGGA,"); at != std::string::npos; at = c.bytes.find("$GPGGA,", at + 1)) {
+    for (std::size_t at = c.bytes.find("$GNGGA,"); at != std::string::npos; at = c.bytes.find("$GNGGA,", at + 1)) {
       ggas.emplace_back(c.bytes.substr(at, c.bytes.find('\n', at) - at), c.read_s);
     }
   }

@@ -79,7 +79,7 @@ std::vector<std::pair<double, double>> run_scaled(const std::string& clock, doub
   EXPECT_EQ(gpsemu.wait(seconds(60)), 0) << gpsemu.stderr_text();
   std::vector<std::pair<double, double>> out;
   for (const auto& c : gpsemu.chunks()) {
-    for (std::size_t at = c.bytes.find("$GPGGA,"); at != std::string::npos; at = c.bytes.find("$GPGGA,", at + 1)) {
+    for (std::size_t at = c.bytes.find("$GNGGA,"); at != std::string::npos; at = c.bytes.find("$GNGGA,", at + 1)) {
       out.emplace_back(time_of_day_s(c.bytes.substr(at + 7, 9)), c.read_s);
     }
   }

@@ -115,7 +115,7 @@ TEST(PtyLoopback, TenHertzDeliversEveryEpochOnTimeWithValidChecksums) {
   double worst_early_s = 0.0, sum_offset = 0.0;
   int measured = 0;
   for (const auto& [offset, wall] : chunk_starts) {
-    if (all.compare(offset, 6, "$GPRMC") != 0) continue;  // an epoch starts with RMC (u-blox order)
+    if (all.compare(offset, 6, "$GNRMC") != 0) continue;  // an epoch starts with RMC (u-blox order)
     const std::string line = all.substr(offset, all.find("\r\n", offset) - offset);
     const double day_s = std::fmod(wall, 86400.0);
     const double delta = day_s - time_of_day_s(field(line, 1));

@@ -84,7 +84,7 @@ bool take_whole_epoch(const std::string& bytes, Visit& v) {
     if (rmc && type == "GLL") {
       v.epoch.assign(split.sentences.begin() + static_cast<std::ptrdiff_t>(*rmc),
                      split.sentences.begin() + static_cast<std::ptrdiff_t>(i) + 1);
-      const auto first_rmc = bytes.find("RMC,");  // "$GPRMC,": the sentence starts 3 bytes earlier
+      const auto first_rmc = bytes.find("RMC,");  // "$GNRMC,": the sentence starts 3 bytes earlier
       v.before_first_rmc = bytes.substr(0, first_rmc >= 3 ? first_rmc - 3 : 0);
       for (const auto& s : v.epoch) v.invalid += test::valid_sentence(s) ? 0 : 1;
       return true;

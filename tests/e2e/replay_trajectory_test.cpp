@@ -163,10 +163,10 @@ TEST(TrajectoryReplay, SameDriveAndSeedGiveByteIdenticalNmeaOtherSeedsAndModelsD
   EXPECT_NE(a, d) << "another noise model";
   // 20 s at 5 Hz, both ends included: the run stops with the trajectory.
   std::size_t rmc = 0;
-  for (std::size_t at = a.find("$GPRMC,"); at != std::string::npos; at = a.find("$GPRMC,", at + 1)) ++rmc;
+  for (std::size_t at = a.find("$GNRMC,"); at != std::string::npos; at = a.find("$GNRMC,", at + 1)) ++rmc;
   EXPECT_EQ(rmc, 101u);
-  EXPECT_NE(a.find("$GPRMC,120020.00,A,"), std::string::npos);
-  EXPECT_EQ(a.find("$GPRMC,120020.20,"), std::string::npos);
+  EXPECT_NE(a.find("$GNRMC,120020.00,A,"), std::string::npos);
+  EXPECT_EQ(a.find("$GNRMC,120020.20,"), std::string::npos);
 }
 
 TEST(TrajectoryReplay, WithoutNoiseTheReceiverReportsTheFilesPositionsAndSpeeds) {
@@ -174,7 +174,7 @@ TEST(TrajectoryReplay, WithoutNoiseTheReceiverReportsTheFilesPositionsAndSpeeds)
   const auto csv = write("drive_none.csv", drive_csv());
   const std::string nmea = run_drive(csv, "none.nmea", {"--noise", "none", "--sentences", "GGA,RMC"});
   int checked = 0;
-  for (std::size_t at = nmea.find("$GPGGA,"); at != std::string::npos; at = nmea.find("$GPGGA,", at + 1)) {
+  for (std::size_t at = nmea.find("$GNGGA,"); at != std::string::npos; at = nmea.find("$GNGGA,", at + 1)) {
     const std::string line = nmea.substr(at, nmea.find('\n', at) - at);
     std::vector<std::string> f;
     std::stringstream ss(line);
@@ -190,8 +190,8 @@ TEST(TrajectoryReplay, WithoutNoiseTheReceiverReportsTheFilesPositionsAndSpeeds)
   }
   EXPECT_EQ(checked, 101);
   // RMC speed: 2 m/s = 3.888 kn on the first leg.
-  EXPECT_NE(nmea.find("$GPRMC,120005.00,A,"), std::string::npos);
-  const auto rmc = nmea.substr(nmea.find("$GPRMC,120005.00,A,"), 80);
+  EXPECT_NE(nmea.find("$GNRMC,120005.00,A,"), std::string::npos);
+  const auto rmc = nmea.substr(nmea.find("$GNRMC,120005.00,A,"), 80);
   EXPECT_NE(rmc.find(",3.888,"), std::string::npos) << rmc;
 }
 

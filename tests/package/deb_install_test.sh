@@ -116,7 +116,7 @@ print(gpsemu.__version__, gpsemu.__file__)"
   step "the example config"
   quiet "$bin" --config "$root/usr/share/doc/gpsemu/examples/car1.toml" --source sim:stationary --output stdout \
     --fast --duration 1
-  grep -q 'GPGGA,' "$work/last.log" || fail "example config: no GGA"
+  grep -qE 'G[PN]GGA,' "$work/last.log" || fail "example config: no GGA"
 
   step "a C++ consumer of the installed CMake package"
   quiet cmake -S "$source/tests/package_consumer" -B "$work/consumer" -G "$generator" -DCMAKE_BUILD_TYPE=Release \

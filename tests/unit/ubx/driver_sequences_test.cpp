@@ -114,7 +114,8 @@ TEST(UbxDriverSequences, RosUbloxGpsConfiguresAFactoryM8nAndF9pAndItsSaveSurvive
     EXPECT_EQ(s.dyn_model(), 8);
     EXPECT_EQ(get_u1(s.sbas, 0), 0);
     EXPECT_EQ(s.ports[1].baud, 115200u);
-    EXPECT_EQ(due_messages(s, Port::uart1, 0), (std::vector<MessageId>{msg::nav_pvt, msg::nav_sat}));
+    // NAV-PVT, NAV-SAT and MON-HW (the driver turns MON-HW on; an M8 and an F9 both have it).
+    EXPECT_EQ(due_messages(s, Port::uart1, 0), (std::vector<MessageId>{msg::nav_pvt, msg::nav_sat, msg::mon_hw}));
     EXPECT_TRUE(due_sentences(s, Port::uart1, 0).empty()) << "UART1 outputs UBX only";
   }
 }
@@ -135,8 +136,10 @@ TEST(UbxDriverSequences, UbxtoolPresetsBinaryNmeaSaveColdbootAndReset) {
   for (const std::uint8_t id : {0x00, 0x02, 0x03, 0x04, 0x05, 0x07, 0x08, 0x09, 0x01}) {
     (void)send(m, msg::cfg_msg, cfg_msg3({0xF0, id}, 0));
   }
-  const std::vector<MessageId> binary = {msg::nav_posecef, msg::nav_dop, msg::nav_pvt, msg::nav_velecef,
-                                         msg::nav_timegps, msg::nav_sat, msg::nav_eoe};
+  // TIMELS every 255 solutions is due at solution 0; SIG is an F9P's.
+  const std::vector<MessageId> binary = {msg::nav_posecef, msg::nav_dop,    msg::nav_pvt, msg::nav_velecef,
+                                         msg::nav_timegps, msg::nav_timels, msg::nav_sat, msg::nav_sig,
+                                         msg::nav_eoe};
   EXPECT_EQ(due_messages(m.settings(), Port::uart1, 0), binary);
   EXPECT_TRUE(due_sentences(m.settings(), Port::uart1, 0).empty());
   // -p SAVE: CFG-CFG save 0x0f1f, device mask 0x17; then -p COLDBOOT (CFG-RST 0xffff, hardware).
