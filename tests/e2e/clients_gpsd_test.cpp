@@ -75,7 +75,7 @@ GpsdRun run_with_gpsd(const std::string& name, std::vector<std::string> args, do
                                 "--duration", fmt::format("{}", duration_s), "--log-level", "info"};
   argv.insert(argv.end(), args.begin(), args.end());
   test::Process gpsemu(argv);
-  if (!gpsemu.wait_for_stderr("NMEA on", seconds(20))) {
+  if (!gpsemu.wait_for_stderr("on /dev/pts", seconds(20))) {
     ADD_FAILURE() << "gpsemu did not start: " << gpsemu.stderr_text();
     return run;
   }
