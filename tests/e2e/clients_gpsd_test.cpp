@@ -52,7 +52,7 @@ struct Emitted {
 struct GpsdRun {
   std::vector<Report> tpv;                       ///< every TPV gpsd sent, in order
   std::map<std::int64_t, Emitted> epochs;        ///< the GGA of each epoch gpsemu wrote, by ms of day
-  std::int64_t first_epoch_ms = 0;
+  std::int64_t first_epoch_ms = 0;               ///< the time of the first epoch written (timed or not)
   int sky_reports = 0;
   json last_sky;                                 ///< the last SKY with a satellite list
   int last_gga_satellites_used = 0;              ///< GGA field 7 of the last epoch written
@@ -75,7 +75,7 @@ GpsdRun run_with_gpsd(const std::string& name, std::vector<std::string> args, do
                                 "--duration", fmt::format("{}", duration_s), "--log-level", "info"};
   argv.insert(argv.end(), args.begin(), args.end());
   test::Process gpsemu(argv);
-  if (!gpsemu.wait_for_stderr("NMEA on", seconds(20))) {
+  if (!gpsemu.wait_for_stderr("on /dev/pts", seconds(20))) {
     ADD_FAILURE() << "gpsemu did not start: " << gpsemu.stderr_text();
     return run;
   }
@@ -113,6 +113,7 @@ GpsdRun run_with_gpsd(const std::string& name, std::vector<std::string> args, do
   text << in.rdbuf();
   nmea::StreamReader reader;
   bool first = true;
+  int untimed_before_first = 0;  // a cold receiver writes its first epochs without a time (docs/sky.md)
   for (const auto& s : reader.feed(text.str())) {
     if (s.type == "GSV" && s.fields.size() >= 3) {
       if (s.talker == "GP" && s.fields[1] == "1") run.last_written.clear();  // a new epoch's sky
@@ -128,13 +129,23 @@ GpsdRun run_with_gpsd(const std::string& name, std::vector<std::string> args, do
     }
     if (s.type != "GGA") continue;
     const auto gga = nmea::parse_gga(s);
-    if (!gga.ok() || !gga->time_of_day) continue;
+    if (!gga.ok()) continue;
+    if (!gga->time_of_day) {
+      untimed_before_first += first;
+      continue;
+    }
     const std::int64_t ms = gga->time_of_day->count();
     run.last_gga_satellites_used = gga->satellites.value_or(0);
     if (first) run.first_epoch_ms = ms;
     first = false;
     run.epochs[ms] = {gga->quality != nmea::FixQuality::none && gga->lat_deg.has_value(),
                       gga->lat_deg.value_or(NAN), gga->lon_deg.value_or(NAN)};
+  }
+  // The first epoch is the first GGA written, timed or not: the untimed ones before the first
+  // timed GGA are whole epoch periods earlier.
+  if (untimed_before_first > 0 && run.epochs.size() >= 2) {
+    const std::int64_t period_ms = std::next(run.epochs.begin())->first - run.epochs.begin()->first;
+    run.first_epoch_ms -= untimed_before_first * period_ms;
   }
   fs::remove_all(dir);
   return run;
