@@ -408,7 +408,8 @@ std::vector<SlowChoice> choose_slow(const AxisStats& real, const AxisStats& fast
   }
   std::sort(ranked.begin(), ranked.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
   std::vector<SlowChoice> out;
-  for (const auto& [e, c] : ranked) {
+  for (const auto& ranked_choice : ranked) {
+    const SlowChoice& c = ranked_choice.second;
     // Distinct candidates: another share or a time constant at least 1.5x away.
     const bool near = std::any_of(out.begin(), out.end(), [&](const SlowChoice& o) {
       return std::abs(o.share - c.share) < 0.15 && std::abs(std::log(o.tau_s / c.tau_s)) < std::log(1.5);
