@@ -25,7 +25,6 @@ void settime(gpsemu::rtk::GTime) {}
 namespace gpsemu::sky {
 namespace {
 
-constexpr double kGpsEpochUnixS = 315964800.0;  // 1980-01-06T00:00:00 as a time_t
 constexpr double kWeekS = 604800.0;
 constexpr double kDayS = 86400.0;
 constexpr double kPi = 3.14159265358979323846;
