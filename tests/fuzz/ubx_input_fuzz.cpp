@@ -25,6 +25,8 @@
 #include "emulator/ubx/cfg_legacy.hpp"
 #include "emulator/ubx/machine.hpp"
 #include "emulator/ubx/nav.hpp"
+#include "emulator/ubx/model.hpp"
+#include "emulator/ubx/output.hpp"
 #include "emulator/ubx/session.hpp"
 #include "tests/fuzz/fuzz_check.hpp"
 
@@ -107,7 +109,12 @@ void fuzz_session(std::string_view input) {
     session.client_wrote(piece);
     for (const ClientMessage& m : polls_seen.feed(piece)) {
       const auto* f = std::get_if<Frame>(&m);
-      nav_polls += f && f->id.msg_class == 0x01 && f->payload.empty() && nav_encodes(f->id) ? 1 : 0;
+      // As the machine answers them: a NAV or MON poll of a message the model has waits for the
+      // next solution (one it lacks gets nothing).
+      nav_polls += f && (f->id.msg_class == 0x01 || f->id.msg_class == 0x0A) && f->payload.empty() &&
+                           solution_encodes(f->id) && model_has_message(settings.start.model, f->id)
+                       ? 1
+                       : 0;
     }
     check_answer(session.take_reply());
     GPSEMU_FUZZ_CHECK(session.polls_waiting() <= 16);
