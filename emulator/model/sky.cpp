@@ -138,7 +138,8 @@ std::optional<sky::Ecef> Sky::position(std::size_t k, double t) {
   // Four nodes around t: base-1, base, base+1, base+2, with base = floor(t / node).
   const auto base = static_cast<std::int64_t>(std::floor(t / kNodeS));
   if (base != node_base_) {
-    const std::int64_t shift = base - node_base_;
+    // No nodes yet (INT64_MIN): every node computed (shift 0), without overflowing the subtraction.
+    const std::int64_t shift = node_base_ == INT64_MIN ? 0 : base - node_base_;
     for (std::size_t j = 0; j < tracked_.size(); ++j) {
       auto& n = nodes_[j];
       if (shift > 0 && shift < 4) {
