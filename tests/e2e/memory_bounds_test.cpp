@@ -27,6 +27,7 @@
 #include <fmt/format.h>
 
 #include "nmea/sentences.hpp"
+#include "tests/support/asan.hpp"
 #include "tests/support/process.hpp"
 #include "tests/support/scratch.hpp"
 
@@ -148,16 +149,10 @@ TEST(MemoryBounds, AnEpochOfOneRepeatedTimeWithHundredsOfThousandsOfSentencesIsS
 // (measured 95-103 MB); a log held whole takes gigabytes either way (2.8 GB without sanitizers).
 #if defined(__SANITIZE_ADDRESS__)
 constexpr long kPeakBoundKb = 192 * 1024;
-void without_asan_quarantine() {
-  const char* options = std::getenv("ASAN_OPTIONS");
-  const std::string merged = std::string(options ? options : "") + (options && *options ? ":" : "") +
-                             "quarantine_size_mb=0";
-  ::setenv("ASAN_OPTIONS", merged.c_str(), 1);
-}
 #else
 constexpr long kPeakBoundKb = 64 * 1024;
-void without_asan_quarantine() {}
 #endif
+using test::without_asan_quarantine;
 
 TEST(MemoryBounds, ReplayingA150MBLogPeaksUnder64MBAndSendsEveryEpoch) {
   const auto dir = test::scratch_dir("memory", "replay_rss");
