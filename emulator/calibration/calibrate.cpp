@@ -18,7 +18,6 @@ namespace gpsemu::calibration {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-const char* const kAxisNames[3] = {"east", "north", "up"};
 // An axis whose fixes span less than this is constant (a receiver that holds its altitude: the
 // east/north offsets still give its up coordinate nanometres of curvature): no noise on it.
 constexpr double kConstantAxisRange_m = 1e-3;

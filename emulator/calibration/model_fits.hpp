@@ -54,6 +54,15 @@ namespace gpsemu::calibration {
                                                      std::array<noise::CgrwFit, 3>& fits,
                                                      std::vector<std::string>& notes);
 
+/// The axes' names in notes and keys.
+inline constexpr const char* kAxisNames[3] = {"east", "north", "up"};
+
+/// One axis's cgrw statistics as written to a config file (6 significant digits) that the walk
+/// reaches, from `target` over `window` samples; `fit` gets the fit (shared by the cgrw and the
+/// composite fits).
+[[nodiscard]] noise::CgrwAxis written_cgrw(const noise::CgrwAxis& target, double window, std::size_t axis,
+                                           noise::CgrwFit& fit);
+
 /// The composite model (noise::CompositeParams) of the log: jumps found in the first differences
 /// (beyond 5 robust standard deviations and 2 quanta of the resolution: rate, rms size, decay of
 /// the smooth component's tau), then the smooth component's sigma and tau and the white jitter
