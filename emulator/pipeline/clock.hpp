@@ -143,6 +143,10 @@ class EpochClock {
   /// step), so the epochs go on one period apart from now and their times never go back (a
   /// receiver keeps its own time). Returns how far the deadlines moved (0: the clock did not go back).
   [[nodiscard]] std::chrono::nanoseconds follow_step_back(UtcNs t, UtcNs now);
+  /// The epoch follow_step_back() was asked for last was given up before its deadline (a client
+  /// changed the solution rate): the next epoch is compared with the one before it, not with this
+  /// one, whose later deadline would look like a wall clock that went back.
+  void abandon_current() { current_ = previous_; }
   /// How far the deadlines moved back in all (the epochs' times are that far ahead of the wall clock).
   [[nodiscard]] std::chrono::nanoseconds moved_back() const { return moved_back_; }
 

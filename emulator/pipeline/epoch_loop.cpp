@@ -172,6 +172,7 @@ bool EpochLoop::rescheduled(ClockIo& io) {
   const std::optional<UtcNs> now = clock_.epoch_time_at(io.now());
   if (!now) return false;
   producer_.reschedule(*now);
+  clock_.abandon_current();
   ++stats_.reschedules;
   return true;
 }
