@@ -126,7 +126,11 @@ EpochEffect FaultTimeline::apply(UtcNs t, nmea::Fix& fix, const std::optional<En
       spdlog::info("{}fault {} ends at epoch {} (+{:.3f} s) after {} epochs", who_, kind_name(e.fault.kind),
                    format_iso8601_utc(t), since_s, e.epochs);
       e.ended = true;
-      if (e.fault.kind == FaultKind::jam && rf && clean_rf_) *rf = *clean_rf_;
+      if (e.fault.kind == FaultKind::jam && rf && clean_rf_) {
+        const std::uint8_t spoofing = rf->spoof_detection_state;  // a spoof's, still active or not
+        *rf = *clean_rf_;
+        rf->spoof_detection_state = spoofing;
+      }
       if (e.fault.kind == FaultKind::spoof && rf) rf->spoof_detection_state = 0;
     }
     e.active = active;
