@@ -10,6 +10,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "emulator/faults/control.hpp"
 #include "emulator/faults/fault_timeline.hpp"
 #include "emulator/ubx/bytes.hpp"
 #include "emulator/ubx/nav.hpp"
@@ -213,6 +214,22 @@ TEST(SecondStageFaults, BadKeysAreRefusedWithTheReason) {
   refused({{"kind", std::string("reset")}, {"db", 5.0}}, "db: not a parameter of reset (its parameters: silent_s, ttff_s");
   EXPECT_EQ(make_fault({{"kind", std::string("spoof")}, {"speed_mps", 2.0}, {"detected", 1.0}}).describe(),
             "spoof speed_mps=2 bearing_deg=0 detected at 0 s to the end");
+}
+
+TEST(SecondStageFaults, LiveControlTakesTheNewKindsWithJsonBooleans) {
+  Epochs run({});
+  FaultControl control({&run.timeline});
+  const std::string spoof = control.handle(R"({"fault":"spoof","speed_mps":3,"detected":true,"duration":2})");
+  EXPECT_NE(spoof.find(R"("class":"FAULT")"), std::string::npos) << spoof;
+  EXPECT_NE(spoof.find("spoof speed_mps=3 bearing_deg=0 detected for 2 s"), std::string::npos) << spoof;
+  const std::string mask = control.handle(R"({"fault":"sky-mask","mask":"180-360:60"})");
+  EXPECT_NE(mask.find(R"("class":"FAULT")"), std::string::npos) << mask;
+  const std::string reset = control.handle(R"({"fault":"reset","duration":3})");
+  EXPECT_NE(reset.find(R"("class":"ERROR")"), std::string::npos) << reset;
+  EXPECT_NE(reset.find("reset: an event"), std::string::npos) << reset;
+  const nmea::Fix f = run.at(1);
+  EXPECT_EQ(run.rf.spoof_detection_state, 3);
+  EXPECT_EQ(f.satellites_in_view, 9) << "azimuths 180, 210, 240 at 45..55 degrees hidden";
 }
 
 }  // namespace
