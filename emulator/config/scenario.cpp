@@ -25,8 +25,11 @@ std::vector<faults::Fault> parse_fault_tables(const std::string& file, const tom
         keys.emplace_back(name, *value.value<std::string>());
       } else if (value.is_integer() || value.is_floating_point()) {
         keys.emplace_back(name, *value.value<double>());
+      } else if (value.is_boolean()) {
+        keys.emplace_back(name, std::string(*value.value<bool>() ? "true" : "false"));
       } else {
-        throw ConfigError(fmt::format("{}:{}: [[fault]] key '{}': expected a number or a string", file, key_line, name));
+        throw ConfigError(fmt::format("{}:{}: [[fault]] key '{}': expected a number, a string or true/false", file,
+                                      key_line, name));
       }
     }
     try {

@@ -42,6 +42,8 @@ std::string fault_message(const json& message, const std::vector<FaultTimeline*>
       keys.emplace_back(name, value.get<double>());
     } else if (value.is_string()) {
       keys.emplace_back(name, value.get<std::string>());
+    } else if (value.is_boolean()) {
+      keys.emplace_back(name, std::string(value.get<bool>() ? "true" : "false"));
     } else {
       throw std::invalid_argument(fmt::format("{}: expected a number or a string, got {}", key, value.dump()));
     }

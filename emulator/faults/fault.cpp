@@ -11,7 +11,7 @@
 namespace gpsemu::faults {
 namespace {
 
-constexpr std::array<std::pair<FaultKind, std::string_view>, 8> kKinds{{
+constexpr std::array<std::pair<FaultKind, std::string_view>, 12> kKinds{{
     {FaultKind::outage, "outage"},
     {FaultKind::freeze, "freeze"},
     {FaultKind::jump, "jump"},
@@ -20,6 +20,10 @@ constexpr std::array<std::pair<FaultKind, std::string_view>, 8> kKinds{{
     {FaultKind::degrade, "degrade"},
     {FaultKind::silence, "silence"},
     {FaultKind::jam, "jam"},
+    {FaultKind::sky_mask, "sky-mask"},
+    {FaultKind::spoof, "spoof"},
+    {FaultKind::time, "time"},
+    {FaultKind::reset, "reset"},
 }};
 
 /// The parameters each kind takes beside kind, at, duration, end and receiver.
@@ -30,6 +34,11 @@ std::set<std::string_view> parameters_of(FaultKind kind) {
     case FaultKind::fix_quality: return {"quality"};
     case FaultKind::degrade: return {"satellites", "dop_k", "noise_k", "ramp_s"};
     case FaultKind::jam: return {"db", "ramp_s"};
+    case FaultKind::sky_mask: return {"mask"};
+    case FaultKind::spoof:
+      return {"speed_mps", "bearing_deg", "east_m", "north_m", "up_m", "ramp_s", "time_drift_ms_per_s", "detected"};
+    case FaultKind::time: return {"mode", "jump_s"};
+    case FaultKind::reset: return {"silent_s", "ttff_s"};
     default: return {};
   }
 }
@@ -76,6 +85,29 @@ std::string_view quality_name(nmea::FixQuality q) {
     case nmea::FixQuality::rtk_fixed: return "rtk-fixed";
     case nmea::FixQuality::estimated: return "estimated";
     default: return "gps";
+  }
+}
+
+bool yes_no(const std::string& key, const FaultValue& value) {
+  if (const auto* s = std::get_if<std::string>(&value)) {
+    if (*s == "true") return true;
+    if (*s == "false") return false;
+    throw std::invalid_argument(fmt::format("{}: expected true or false, got '{}'", key, *s));
+  }
+  return whole(key, value, 0, 1) == 1;
+}
+
+/// The sectors of a sky-mask's `mask`: the presets of docs/faults.md, or FROM-TO:ELEV sectors.
+std::vector<SkyMaskSector> parse_fault_mask(const std::string& text) {
+  // Trees along the west side of the road: nothing below 30 degrees from south through west to north.
+  if (text == "tree-line") return {{180.0, 360.0, 30.0}};
+  // A tunnel portal ahead (north): only a 60-degree window above 10 degrees is left.
+  if (text == "tunnel-entry") return {{30.0, 330.0, 90.01}, {330.0, 30.0, 10.0}};
+  if (text == "open") throw std::invalid_argument("mask: 'open' blocks nothing (urban-canyon, tree-line, tunnel-entry or FROM-TO:ELEV,...)");
+  try {
+    return parse_sky_mask(text);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(fmt::format("mask: {} (presets: urban-canyon, tree-line, tunnel-entry)", e.what()));
   }
 }
 
@@ -135,6 +167,29 @@ std::string Fault::parameters() const {
       if (noise_k) add("noise_k", *noise_k);
       break;
     case FaultKind::jam: add("db", db); break;
+    case FaultKind::sky_mask: s += fmt::format(" mask={}", mask_name); break;
+    case FaultKind::spoof:
+      add("speed_mps", speed_mps);
+      add("bearing_deg", bearing_deg);
+      if (offset_m.east_m != 0.0 || offset_m.north_m != 0.0 || offset_m.up_m != 0.0) {
+        add("east_m", offset_m.east_m);
+        add("north_m", offset_m.north_m);
+        add("up_m", offset_m.up_m);
+      }
+      if (time_drift_ms_per_s != 0.0) add("time_drift_ms_per_s", time_drift_ms_per_s);
+      s += detected ? " detected" : " undetected";
+      break;
+    case FaultKind::time:
+      if (time_mode == TimeFaultMode::rollover) {
+        s += " mode=rollover";
+      } else {
+        add("jump_s", jump_s);
+      }
+      break;
+    case FaultKind::reset:
+      add("silent_s", silent_s);
+      add("ttff_s", ttff_s);
+      break;
     default: break;
   }
   if (ramp_s > 0.0) add("ramp_s", ramp_s);
@@ -195,6 +250,34 @@ Fault make_fault(const FaultKeys& keys) {
       f.noise_k = number(key, value, 0.0, 1000.0);
     } else if (key == "db") {
       f.db = number(key, value, 0.0, 60.0);
+    } else if (key == "mask") {
+      f.mask_name = text(key, value);
+      f.mask = parse_fault_mask(f.mask_name);
+    } else if (key == "speed_mps") {
+      f.speed_mps = number(key, value, 0.0, 1000.0);
+    } else if (key == "bearing_deg") {
+      f.bearing_deg = number(key, value, 0.0, 360.0);
+    } else if (key == "time_drift_ms_per_s") {
+      f.time_drift_ms_per_s = number(key, value, -1000.0, 1000.0);
+    } else if (key == "detected") {
+      f.detected = yes_no(key, value);
+    } else if (key == "mode") {
+      const std::string mode = text(key, value);
+      if (mode == "jump") {
+        f.time_mode = TimeFaultMode::jump;
+      } else if (mode == "rollover") {
+        f.time_mode = TimeFaultMode::rollover;
+      } else {
+        throw std::invalid_argument(fmt::format("mode: expected jump or rollover, got '{}'", mode));
+      }
+    } else if (key == "jump_s") {
+      f.jump_s = number(key, value, -kMaxSeconds, kMaxSeconds);
+      if (f.jump_s * 1000.0 != std::round(f.jump_s * 1000.0))
+        throw std::invalid_argument(fmt::format("jump_s: {} is not a whole number of milliseconds", f.jump_s));
+    } else if (key == "silent_s") {
+      f.silent_s = number(key, value, 0.0, 3600.0);
+    } else if (key == "ttff_s") {
+      f.ttff_s = number(key, value, 0.0, 3600.0);
     }
   }
   if (end_s) {
@@ -205,6 +288,22 @@ Fault make_fault(const FaultKeys& keys) {
   if (f.kind == FaultKind::fix_quality && !seen.count("quality"))
     throw std::invalid_argument("quality: missing (fix-quality forces gps, dgps, rtk-float, rtk-fixed or estimated)");
   if (f.kind == FaultKind::jam && !seen.count("db")) throw std::invalid_argument("db: missing (jam lowers C/N0 by db dB)");
+  if (f.kind == FaultKind::sky_mask && !seen.count("mask"))
+    throw std::invalid_argument("mask: missing (urban-canyon, tree-line, tunnel-entry or FROM-TO:ELEV,... in degrees)");
+  if (f.kind == FaultKind::spoof && f.speed_mps == 0.0 && f.offset_m.east_m == 0.0 && f.offset_m.north_m == 0.0 &&
+      f.offset_m.up_m == 0.0 && f.time_drift_ms_per_s == 0.0)
+    throw std::invalid_argument("spoof: give speed_mps (with bearing_deg), an offset (east_m, north_m, up_m) or time_drift_ms_per_s");
+  if (f.kind == FaultKind::time && !seen.count("mode")) throw std::invalid_argument("mode: missing (jump or rollover)");
+  if (f.kind == FaultKind::time && f.time_mode == TimeFaultMode::jump && !seen.count("jump_s"))
+    throw std::invalid_argument("jump_s: missing (a time jump steps the reported time by jump_s seconds)");
+  if (f.kind == FaultKind::time && f.time_mode == TimeFaultMode::rollover && seen.count("jump_s"))
+    throw std::invalid_argument("jump_s: not a parameter of a rollover (it takes the date back 1024 weeks)");
+  if (f.kind == FaultKind::reset) {
+    if (seen.count("duration") || seen.count("end"))
+      throw std::invalid_argument("reset: an event, it takes no duration or end (it lasts silent_s + ttff_s)");
+    f.duration_s = f.silent_s + f.ttff_s;
+    if (!(*f.duration_s > 0.0)) throw std::invalid_argument("reset: silent_s + ttff_s must be > 0 seconds");
+  }
   if (f.kind == FaultKind::degrade && !f.satellites && !f.dop_k && !f.noise_k)
     throw std::invalid_argument("degrade: give at least one of satellites, dop_k, noise_k");
   return f;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "emulator/model/enu.hpp"
+#include "emulator/model/sky.hpp"
 #include "nmea/fix.hpp"
 
 namespace gpsemu::faults {
@@ -29,12 +30,25 @@ enum class FaultKind {
   degrade,      ///< fewer satellites used, DOP x k, error x k
   silence,      ///< the receiver writes nothing
   jam,          ///< C/N0 down by db over ramp_s: weak satellites drop, accuracy follows, fix lost below 4
+  sky_mask,     ///< azimuth/elevation sectors blocked: those satellites gone, DOPs from the rest (sky_faults.hpp)
+  spoof,        ///< position (and time) dragged away at speed_mps, velocity consistent (sky_faults.hpp)
+  time,         ///< a time jump or a GPS week-number rollover (sky_faults.hpp)
+  reset,        ///< the receiver reboots: silent, then a cold start with its RAM configuration lost
 };
 
 /// Every kind, in catalogue order.
-inline constexpr std::array<FaultKind, 8> kAllKinds{FaultKind::outage, FaultKind::freeze, FaultKind::jump,
-                                                    FaultKind::wrong, FaultKind::fix_quality, FaultKind::degrade,
-                                                    FaultKind::silence, FaultKind::jam};
+inline constexpr std::array<FaultKind, 12> kAllKinds{FaultKind::outage,  FaultKind::freeze,   FaultKind::jump,
+                                                     FaultKind::wrong,   FaultKind::fix_quality, FaultKind::degrade,
+                                                     FaultKind::silence, FaultKind::jam,    FaultKind::sky_mask,
+                                                     FaultKind::spoof,   FaultKind::time,   FaultKind::reset};
+
+/// What a `time` fault does to the reported time.
+enum class TimeFaultMode {
+  jump,      ///< the reported time steps by jump_s (and stays off while the fault lasts)
+  rollover,  ///< GPS week-number rollover as buggy firmware does it: the date 1024 weeks early
+};
+/// Weeks a week-number rollover takes the date back (the 10-bit GPS week).
+inline constexpr int kRolloverWeeks = 1024;
 
 /// "outage", "fix-quality", ... (the scenario's `kind`).
 [[nodiscard]] std::string_view kind_name(FaultKind kind);
@@ -61,6 +75,16 @@ struct Fault {
   std::optional<double> dop_k;        ///< degrade: DOP factor (default: from the satellites dropped)
   std::optional<double> noise_k;      ///< degrade: factor on the position error and sigmas (default: dop_k)
   double db = 0.0;                    ///< jam: C/N0 reduction at full strength (dB)
+  std::vector<SkyMaskSector> mask;    ///< sky-mask: the sectors blocked (`mask`: a preset or FROM-TO:ELEV,...)
+  std::string mask_name;              ///< sky-mask: `mask` as given (for logs)
+  double speed_mps = 0.0;             ///< spoof: the position is dragged away at this speed (m/s)
+  double bearing_deg = 0.0;           ///< spoof: towards this direction (degrees true)
+  double time_drift_ms_per_s = 0.0;   ///< spoof: the reported time drifts this much a second (ms/s)
+  bool detected = false;              ///< spoof: the receiver says so (NAV-STATUS spoofDetState 3, else 1)
+  TimeFaultMode time_mode = TimeFaultMode::jump;  ///< time: `mode`
+  double jump_s = 0.0;                ///< time: the step of a jump (seconds, whole milliseconds)
+  double silent_s = 2.0;              ///< reset: the receiver boots this long, writing nothing (seconds)
+  double ttff_s = 26.0;               ///< reset: then a cold start, no fix for this long (seconds)
 
   /// Whether epoch time `since_s` (seconds after the first epoch) is inside the fault.
   /// Compared in whole nanoseconds, so 0.1 + 0.2 s ends at the epoch of 0.3 s.

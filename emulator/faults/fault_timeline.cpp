@@ -5,6 +5,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "emulator/faults/sky_faults.hpp"
 #include "emulator/model/receiver.hpp"
 
 namespace gpsemu::faults {
@@ -120,11 +121,17 @@ EpochEffect FaultTimeline::apply(UtcNs t, nmea::Fix& fix, const std::optional<En
       spdlog::info("{}fault {} starts at epoch {} (+{:.3f} s)", who_, e.fault.describe(), format_iso8601_utc(t), since_s);
       if (e.fault.kind == FaultKind::freeze) frozen_ = last_;
       if (e.fault.kind == FaultKind::jam && rf && !clean_rf_) clean_rf_ = *rf;
+      if (e.fault.kind == FaultKind::reset) effect.reboot_cold_start_s = e.fault.silent_s + e.fault.ttff_s;
     } else if (!active && e.active) {
       spdlog::info("{}fault {} ends at epoch {} (+{:.3f} s) after {} epochs", who_, kind_name(e.fault.kind),
                    format_iso8601_utc(t), since_s, e.epochs);
       e.ended = true;
-      if (e.fault.kind == FaultKind::jam && rf && clean_rf_) *rf = *clean_rf_;
+      if (e.fault.kind == FaultKind::jam && rf && clean_rf_) {
+        const std::uint8_t spoofing = rf->spoof_detection_state;  // a spoof's, still active or not
+        *rf = *clean_rf_;
+        rf->spoof_detection_state = spoofing;
+      }
+      if (e.fault.kind == FaultKind::spoof && rf) rf->spoof_detection_state = 0;
     }
     e.active = active;
     if (active) {
@@ -226,6 +233,13 @@ void FaultTimeline::apply_one(const Fault& f, double since_s, nmea::Fix& fix, co
       fewer_satellites(fix, before, after, std::pow(10.0, drop_db / 20.0), truth_m, frame);
       break;
     }
+    case FaultKind::sky_mask: mask_sky(fix, f.mask, truth_m, frame); break;
+    case FaultKind::spoof:
+      if (rf) rf->spoof_detection_state = spoof_detection_state(f.detected);
+      spoof(fix, f, since_s, frame);
+      break;
+    case FaultKind::time: shift_time(fix, f); break;
+    case FaultKind::reset: effect.silent = effect.silent || since_s < f.at_s + f.silent_s; break;
   }
 }
 

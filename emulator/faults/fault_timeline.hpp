@@ -29,6 +29,9 @@ struct FaultPlan {
 /// What the faults of an epoch leave to the channel.
 struct EpochEffect {
   bool silent = false;  ///< write nothing this epoch
+  /// A reset starts: the receiver reboots at this epoch (a u-blox reloads its configuration from
+  /// its layers) and starts cold, no fix for this long from now (seconds).
+  std::optional<double> reboot_cold_start_s;
 };
 
 class FaultTimeline {

@@ -84,7 +84,8 @@ Receiver::Receiver(const LocalFrame& frame, const ReceiverOptions& options,
       first_epoch_(first_epoch),
       sky_(sky_options(options), ellipsoidal(frame.origin(), geoid_at(frame, options))),
       geoid_sep_m_(geoid_at(frame, options)),
-      uere_m_(options.uere_m.value_or(options.profile.uere_m)) {
+      uere_m_(options.uere_m.value_or(options.profile.uere_m)),
+      configured_cold_start_s_(options.cold_start_s) {
   nmea::Fix scratch;
   const SkyState s = sky_.fill(first_epoch, {}, scratch);
   geometry_.satellites_in_view = s.listed;

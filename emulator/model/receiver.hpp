@@ -113,8 +113,12 @@ class Receiver {
 
   /// Starts again at `t` (a cold start, CFG-RST): the cold-start phases and outages of the
   /// options count from `t`, the held course is forgotten.
-  void restart(UtcNs t) {
+  void restart(UtcNs t) { restart(t, configured_cold_start_s_); }
+  /// The same with a cold start of `cold_start_s` (a reset fault's boot and TTFF) in place of
+  /// the options' (--cold-start); the 2-D phase of the options follows it.
+  void restart(UtcNs t, double cold_start_s) {
     first_epoch_ = t;
+    options_.cold_start_s = cold_start_s;
     last_course_deg_.reset();
   }
 
@@ -131,6 +135,7 @@ class Receiver {
   double geoid_sep_m_;
   double uere_m_;
   std::optional<double> last_course_deg_;
+  double configured_cold_start_s_ = 0.0;  ///< the options' (--cold-start)
 };
 
 }  // namespace gpsemu

@@ -1,5 +1,11 @@
 #include "emulator/pipeline/channel.hpp"
 
+#include <limits>
+#include <utility>
+
+#include "emulator/ubx/bytes.hpp"
+#include "emulator/ubx/frame.hpp"
+
 namespace gpsemu {
 
 Channel::Channel(const ChannelSettings& settings, UtcNs first_epoch) : settings_(settings), frame_(settings.origin) {
@@ -25,7 +31,9 @@ nmea::Fix Channel::step(UtcNs t, const std::optional<sources::Truth>& truth) {
   nmea::Fix fix = receiver_->fix_at(t, truth);  // one fix a step, never copied
   bytes_.clear();
   const std::optional<Enu> truth_m = truth ? std::optional<Enu>(truth->position_m) : std::nullopt;
-  silent_ = faults_->apply(t, fix, truth_m, frame_, ubx_ ? &ubx_->rf() : nullptr).silent;
+  const faults::EpochEffect effect = faults_->apply(t, fix, truth_m, frame_, ubx_ ? &ubx_->rf() : nullptr);
+  silent_ = effect.silent;
+  if (effect.reboot_cold_start_s) reboot(t, *effect.reboot_cold_start_s);
   if (silent_) {
     ++stats_.epochs_silent;
     return fix;
@@ -35,7 +43,26 @@ nmea::Fix Channel::step(UtcNs t, const std::optional<sources::Truth>& truth) {
   return fix;
 }
 
-void Channel::cold_start(UtcNs t) { receiver_->restart(t); }
+void Channel::cold_start(UtcNs t) {
+  if (std::exchange(rebooted_, false)) return;  // the reboot's own CFG-RST: the receiver restarted already
+  receiver_->restart(t);
+}
+
+void Channel::reboot(UtcNs t, double cold_start_s) {
+  receiver_->restart(t, cold_start_s);
+  if (!ubx_) return;
+  // A hardware reset with every navigation data cleared: RAM reloaded from BBR, flash and the
+  // defaults, the receiver's own state (msss, TTFF, time validity) starts again. Fed through the
+  // machine's CFG-RST path, from a client of its own that no output answers.
+  std::string payload;
+  ubx::put_u2(payload, 0xFFFF);  // navBbrMask: cold start
+  ubx::put_u1(payload, 0x00);    // resetMode: hardware reset (watchdog) immediately
+  ubx::put_u1(payload, 0);
+  constexpr transport::ClientId kRebootClient = std::numeric_limits<transport::ClientId>::max();
+  ubx_->client_wrote(ubx::frame_bytes(ubx::msg::cfg_rst, payload), kRebootClient);
+  ubx_->client_left(kRebootClient);
+  rebooted_ = true;
+}
 
 void Channel::client_wrote(std::string_view bytes, transport::ClientId client) {
   for (const auto& encoder : encoders_) encoder->client_wrote(bytes, client);

@@ -83,7 +83,12 @@ class Channel final : public transport::ClientInput {
   /// The UBX encoder (settings.ubx), null for an NMEA channel.
   [[nodiscard]] UbxEncoder* ubx_encoder() const { return ubx_; }
   /// Cold start at `t` (CFG-RST): the receiver model starts again, no fix until it reacquires.
+  /// The cold start of a reset fault's own CFG-RST (reboot()) is not applied twice.
   void cold_start(UtcNs t);
+  /// A reset fault at `t`: the receiver model starts again with a cold start of `cold_start_s`;
+  /// a u-blox takes a hardware CFG-RST (RAM from its layers, its rate and messages back to
+  /// them; the period and baud effects follow at the next epoch).
+  void reboot(UtcNs t, double cold_start_s);
 
   [[nodiscard]] const LocalFrame& frame() const { return frame_; }
   [[nodiscard]] const Receiver& receiver() const { return *receiver_; }
@@ -105,6 +110,7 @@ class Channel final : public transport::ClientInput {
   std::string bytes_;
   bool ended_ = false;
   bool silent_ = false;  ///< the last epoch was silenced: answers are withheld too
+  bool rebooted_ = false;  ///< reboot() fed a CFG-RST whose cold-start effect is still to come
   ReceiverStats stats_;
 };
 

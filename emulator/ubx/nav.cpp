@@ -233,7 +233,8 @@ std::string nav_status(const nmea::Fix& fix, const NavExtras& extras) {
   put_u1(p, s.fix_type);
   put_u1(p, status_flags(s, extras.time));
   put_u1(p, (s.differential ? 0x01u : 0u) | (s.carrier != 0 ? 0x02u : 0u));  // fixStat: diffCorr, carrSolnValid
-  put_u1(p, static_cast<std::uint32_t>(s.carrier) << 6);                     // flags2: carrSoln
+  // flags2: carrSoln, spoofDetState
+  put_u1(p, static_cast<std::uint32_t>(s.carrier) << 6 | (extras.rf.spoof_detection_state & 3u) << 3);
   put_u4(p, static_cast<std::uint32_t>(extras.time_to_first_fix.count()));
   put_u4(p, static_cast<std::uint32_t>(extras.since_start.count()));
   return p;

@@ -31,6 +31,9 @@ struct RfState {
   std::uint8_t jamming_state = 1;    ///< 0 unknown, 1 ok, 2 warning, 3 critical
   std::uint8_t antenna_status = 2;   ///< 0 init, 1 don't know, 2 ok, 3 short, 4 open
   std::uint8_t antenna_power = 1;    ///< 0 off, 1 on, 2 don't know
+  /// NAV-STATUS spoofDetState: 0 unknown or off, 1 no spoofing indicated, 2 spoofing indicated,
+  /// 3 multiple spoofing indications (a spoof fault sets it).
+  std::uint8_t spoof_detection_state = 0;
 };
 
 /// The receiver clock (NAV-CLOCK).

@@ -1,0 +1,95 @@
+#include "emulator/faults/sky_faults.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <numbers>
+
+#include "emulator/faults/fault_timeline.hpp"
+#include "emulator/model/sky/dop.hpp"
+
+namespace gpsemu::faults {
+namespace {
+
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+
+sky::Dops used_dops(const nmea::Fix& fix) {
+  std::vector<sky::UsedSatellite> used;
+  for (int i = 0; i < fix.satellites_in_view; ++i) {
+    const nmea::SatelliteInView& s = fix.satellites[static_cast<std::size_t>(i)];
+    if (s.used) used.push_back({double(s.azimuth_deg), double(s.elevation_deg), s.system});
+  }
+  return sky::multi_clock_dops(used);
+}
+
+double ratio(double after, double before) { return before > 0.0 ? after / before : 1.0; }
+
+}  // namespace
+
+bool masked(const std::vector<SkyMaskSector>& mask, double azimuth_deg, double elevation_deg) {
+  for (const SkyMaskSector& s : mask) {
+    const bool inside = s.from_azimuth_deg <= s.to_azimuth_deg
+                            ? (azimuth_deg >= s.from_azimuth_deg && azimuth_deg < s.to_azimuth_deg)
+                            : (azimuth_deg >= s.from_azimuth_deg || azimuth_deg < s.to_azimuth_deg);
+    if (inside && elevation_deg < s.min_elevation_deg) return true;
+  }
+  return false;
+}
+
+void mask_sky(nmea::Fix& fix, const std::vector<SkyMaskSector>& mask, const std::optional<Enu>& truth_m,
+              const LocalFrame& frame) {
+  const sky::Dops before = used_dops(fix);
+  int kept = 0, used = 0;
+  for (int i = 0; i < fix.satellites_in_view; ++i) {
+    const nmea::SatelliteInView s = fix.satellites[static_cast<std::size_t>(i)];
+    if (masked(mask, s.azimuth_deg, s.elevation_deg)) continue;
+    fix.satellites[static_cast<std::size_t>(kept++)] = s;
+    used += s.used;
+  }
+  for (int i = kept; i < fix.satellites_in_view; ++i) fix.satellites[static_cast<std::size_t>(i)] = {};
+  fix.satellites_in_view = kept;
+  if (!fix.has_fix()) return;
+  const sky::Dops after = used_dops(fix);
+  if (used < kMinFixSatellites || !after.valid()) {
+    drop_fix(fix);
+    return;
+  }
+  fix.satellites_used = used;
+  const double kh = ratio(after.hdop, before.hdop), kv = ratio(after.vdop, before.vdop);
+  fix.hdop *= kh;
+  fix.vdop *= kv;
+  fix.pdop *= ratio(after.pdop, before.pdop);
+  fix.tdop *= ratio(after.tdop, before.tdop);
+  fix.gdop *= ratio(after.gdop, before.gdop);
+  fix.sigma_lat_m *= kh;
+  fix.sigma_lon_m *= kh;
+  fix.sigma_alt_m *= kv;
+  if (truth_m) scale_error(fix, *truth_m, kh, frame);
+}
+
+void spoof(nmea::Fix& fix, const Fault& f, double since_s, const LocalFrame& frame) {
+  const double elapsed_s = std::max(0.0, since_s - f.at_s);
+  fix.time_utc += std::chrono::milliseconds(std::llround(f.time_drift_ms_per_s * elapsed_s));
+  if (!fix.has_fix()) return;
+  const double bearing = f.bearing_deg * kDegToRad;
+  const Enu drag_mps{f.speed_mps * std::sin(bearing), f.speed_mps * std::cos(bearing), 0.0};
+  offset_position(fix, elapsed_s * drag_mps + f.strength_at(since_s) * f.offset_m, frame);
+  const double course = fix.course_deg_true.value_or(0.0) * kDegToRad;
+  const double east_mps = fix.speed_mps * std::sin(course) + drag_mps.east_m;
+  const double north_mps = fix.speed_mps * std::cos(course) + drag_mps.north_m;
+  fix.speed_mps = std::hypot(east_mps, north_mps);
+  if (fix.speed_mps > 0.05) {
+    double deg = std::atan2(east_mps, north_mps) / kDegToRad;
+    if (deg < 0.0) deg += 360.0;
+    fix.course_deg_true = deg;
+  }
+}
+
+void shift_time(nmea::Fix& fix, const Fault& f) {
+  if (f.time_mode == TimeFaultMode::rollover) {
+    fix.time_utc -= std::chrono::weeks(kRolloverWeeks);
+  } else {
+    fix.time_utc += std::chrono::milliseconds(std::llround(f.jump_s * 1000.0));
+  }
+}
+
+}  // namespace gpsemu::faults

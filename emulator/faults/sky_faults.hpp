@@ -1,0 +1,40 @@
+// The effects of the faults on the sky, the position's drift and the time (sky-mask, spoof, time):
+// plain functions of a fix that fault_timeline.cpp applies at the epochs a fault covers.
+// docs/faults.md is the catalogue.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "emulator/faults/fault.hpp"
+#include "emulator/model/enu.hpp"
+#include "emulator/model/geo.hpp"
+#include "emulator/model/sky.hpp"
+#include "nmea/fix.hpp"
+
+namespace gpsemu::faults {
+
+/// Whether a satellite at `azimuth_deg`, `elevation_deg` is behind one of `mask`'s sectors.
+[[nodiscard]] bool masked(const std::vector<SkyMaskSector>& mask, double azimuth_deg, double elevation_deg);
+
+/// sky-mask: the satellites behind `mask` leave the sky (not in view: GSV, NAV-SAT) and the
+/// solution; the DOPs follow the geometry of the used ones left (sky::multi_clock_dops, the ratio
+/// applied to the fix's own DOPs), the sigmas and the position error about `truth_m` (when given)
+/// grow with HDOP and VDOP; under kMinFixSatellites used, or a geometry that fixes nothing: no fix.
+void mask_sky(nmea::Fix& fix, const std::vector<SkyMaskSector>& mask, const std::optional<Enu>& truth_m,
+              const LocalFrame& frame);
+
+/// spoof, `since_s` after the first epoch: the position moved by speed_mps x (since_s - at_s)
+/// towards bearing_deg plus the offset (ramped in over ramp_s), the velocity (speed, course) plus
+/// the drag's, the time plus time_drift_ms_per_s x (since_s - at_s): a consistent false
+/// trajectory a naive filter follows. Without a fix only the time moves.
+void spoof(nmea::Fix& fix, const Fault& f, double since_s, const LocalFrame& frame);
+
+/// time: the reported time stepped by jump_s, or the date 1024 weeks early (a rollover).
+void shift_time(nmea::Fix& fix, const Fault& f);
+
+/// NAV-STATUS spoofDetState (flags2 bits 3-4) a spoof reports: 3 (multiple spoofing indications)
+/// when detected, 1 (no spoofing indicated) when not; 0 (unknown) without a spoof.
+[[nodiscard]] inline std::uint8_t spoof_detection_state(bool detected) { return detected ? 3 : 1; }
+
+}  // namespace gpsemu::faults
