@@ -1,5 +1,7 @@
 #include "emulator/pipeline/channel.hpp"
 
+#include "emulator/pipeline/rtk_receiver.hpp"
+
 namespace gpsemu {
 
 Channel::Channel(const ChannelSettings& settings, UtcNs first_epoch) : settings_(settings), frame_(settings.origin) {
@@ -13,8 +15,11 @@ Channel::Channel(const ChannelSettings& settings, UtcNs first_epoch) : settings_
     encoders_.push_back(std::make_unique<NmeaEncoder>(settings_.format));
   }
   faults_.emplace(settings_.faults, first_epoch);  // without faults: a few compares an epoch
+  rtk_ = std::make_unique<RtkReceiver>(settings_.rtk, settings_.rtcm);
   bytes_.reserve(1024);
 }
+
+Channel::~Channel() = default;
 
 nmea::Fix Channel::step(UtcNs t) {
   source_->service();
@@ -25,6 +30,8 @@ nmea::Fix Channel::step(UtcNs t, const std::optional<sources::Truth>& truth) {
   nmea::Fix fix = receiver_->fix_at(t, truth);  // one fix a step, never copied
   bytes_.clear();
   const std::optional<Enu> truth_m = truth ? std::optional<Enu>(truth->position_m) : std::nullopt;
+  rtk_->service();
+  rtk_->apply(t, fix, truth_m, frame_);  // corrections before faults: a forced quality or an outage wins
   silent_ = faults_->apply(t, fix, truth_m, frame_, ubx_ ? &ubx_->rf() : nullptr).silent;
   if (silent_) {
     ++stats_.epochs_silent;
@@ -35,10 +42,16 @@ nmea::Fix Channel::step(UtcNs t, const std::optional<sources::Truth>& truth) {
   return fix;
 }
 
-void Channel::cold_start(UtcNs t) { receiver_->restart(t); }
+void Channel::cold_start(UtcNs t) {
+  receiver_->restart(t);
+  rtk_->restart();
+}
 
 void Channel::client_wrote(std::string_view bytes, transport::ClientId client) {
   for (const auto& encoder : encoders_) encoder->client_wrote(bytes, client);
+  if (ubx_ != nullptr) {
+    for (const rtk::Rtcm3Message& m : ubx_->take_rtcm()) rtk_->received(m);
+  }
 }
 
 std::string Channel::take_reply(transport::ClientId client) {

@@ -81,7 +81,7 @@ void BitWriter::u(std::uint64_t value, int bits) {
       bytes_.push_back('\0');
       used_bits_in_last_ = 0;
     }
-    const unsigned bit = static_cast<unsigned>((value >> i) & 1u);
+    const unsigned bit = i >= 64 ? 0u : static_cast<unsigned>((value >> i) & 1u);
     bytes_.back() = static_cast<char>(static_cast<std::uint8_t>(bytes_.back()) | (bit << (7 - used_bits_in_last_)));
     ++used_bits_in_last_;
   }
@@ -161,12 +161,19 @@ std::string encode_msm(std::uint16_t type, std::uint16_t station_id, std::uint32
   w.u(station_id, 12);
   w.u(epoch_time, 30);
   w.u(0, 1 + 3 + 7 + 2 + 2 + 1 + 3);
-  w.u(satellites >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << satellites) - 1, 64);  // PRNs 64-n+1..64 bits
-  w.u(signals >= 32 ? 0xFFFFFFFFu : (std::uint64_t{1} << signals) - 1, 32);
+  // Satellites 1..n (DF394's first bits) and signals 2..n+1 (DF395; 2 is L1 C/A for GPS, 1 is reserved).
+  w.u(satellites <= 0 ? 0 : satellites >= 64 ? ~std::uint64_t{0} : ~std::uint64_t{0} << (64 - satellites), 64);
+  w.u(signals <= 0 ? 0 : signals >= 31 ? 0x7FFFFFFFu : ((std::uint64_t{1} << signals) - 1) << (31 - signals), 32);
   const int cells = satellites * signals;
   w.u(cells >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << cells) - 1, cells);
   if (msm >= 1 && msm <= 7) {
-    const int body = satellites * kSatelliteBits[static_cast<std::size_t>(msm)] + cells * kCellBits[static_cast<std::size_t>(msm)];
+    // MSM4..7 start with each satellite's rough range in whole milliseconds (DF397): 70 + its
+    // index, a plausible range (about 21 000 km); every other field zero (valid values).
+    int body = satellites * kSatelliteBits[static_cast<std::size_t>(msm)] + cells * kCellBits[static_cast<std::size_t>(msm)];
+    if (msm >= 4) {
+      for (int i = 0; i < satellites; ++i) w.u(static_cast<std::uint64_t>(70 + i), 8);
+      body -= 8 * satellites;
+    }
     for (int left = body; left > 0; left -= 32) w.u(0, left < 32 ? left : 32);
   }
   return w.bytes();

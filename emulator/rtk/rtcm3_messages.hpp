@@ -81,9 +81,9 @@ struct Rtcm3Message {
 
 /// The payload of a 1005 (antenna_height_m ignored) or 1006 message for `base`.
 [[nodiscard]] std::string encode_base_position(const BasePosition& base, bool with_height);
-/// The payload of an MSM of type `type` (1071..1137) whose masks hold `satellites` satellites and
-/// `signals` signals, all cells observed, the observation fields zero (the header and the body's
-/// length as a receiver sends them).
+/// The payload of an MSM of type `type` (1071..1137) whose masks hold `satellites` satellites
+/// (1..n, at most 64) and `signals` signals (ids 2..n+1, at most 31), all cells observed (at most 64): the header and the body's length as a receiver sends
+/// them, MSM4..7 with each satellite's rough range 70 + its index ms, every other field zero.
 [[nodiscard]] std::string encode_msm(std::uint16_t type, std::uint16_t station_id, std::uint32_t epoch_time,
                                      int satellites, int signals);
 /// The payload of a 1230 (GLONASS code-phase biases, none given).

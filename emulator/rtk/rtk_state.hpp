@@ -26,7 +26,8 @@
 
 namespace gpsemu::rtk {
 
-/// The timeline's parameters (docs/rtk.md; --rtk-* options). All durations in seconds.
+/// The timeline's parameters (docs/rtk.md; --rtk-convergence, --rtk-timeouts, --rtk-max-baseline).
+/// All durations in seconds.
 struct RtkTimeline {
   double float_after_s = 3.0;     ///< from the first MSM to RTK float, >= 0
   double fix_base_s = 10.0;       ///< from the first MSM to RTK fixed at a zero baseline, >= float_after_s
