@@ -95,10 +95,10 @@ void RtkReceiver::apply(UtcNs t, nmea::Fix& fix, const std::optional<Enu>& truth
   if (!fix.has_fix()) return;
   if (logged_ != s.quality) {
     if (logged_ || s.differential()) {
-      spdlog::info("RTK: {}{}", state_name(s.quality),
-                   s.baseline_m ? fmt::format(" (baseline {:.0f} m, correction age {:.1f} s)", *s.baseline_m,
-                                              s.correction_age_s.value_or(0.0))
-                                : std::string{});
+      std::string detail;
+      if (s.baseline_m) detail = fmt::format("baseline {:.0f} m", *s.baseline_m);
+      if (s.correction_age_s) detail += fmt::format("{}correction age {:.1f} s", detail.empty() ? "" : ", ", *s.correction_age_s);
+      spdlog::info("RTK: {}{}", state_name(s.quality), detail.empty() ? std::string{} : " (" + detail + ")");
     }
     logged_ = s.quality;
   }

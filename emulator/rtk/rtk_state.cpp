@@ -30,15 +30,15 @@ void require(bool ok, std::string_view key, double value, std::string_view range
 }  // namespace
 
 void validate(const RtkTimeline& t) {
-  require(std::isfinite(t.float_after_s) && t.float_after_s >= 0, "rtk-convergence: seconds to float", t.float_after_s, "seconds >= 0");
-  require(std::isfinite(t.fix_base_s) && t.fix_base_s >= t.float_after_s, "rtk-convergence: seconds to fixed", t.fix_base_s,
+  require(std::isfinite(t.float_after_s) && t.float_after_s >= 0, "seconds to float", t.float_after_s, "seconds >= 0");
+  require(std::isfinite(t.fix_base_s) && t.fix_base_s >= t.float_after_s, "seconds to fixed", t.fix_base_s,
           "seconds >= the seconds to float");
-  require(std::isfinite(t.fix_per_km_s) && t.fix_per_km_s >= 0, "rtk-convergence: seconds per km", t.fix_per_km_s, "seconds >= 0");
-  require(std::isfinite(t.max_baseline_km) && t.max_baseline_km > 0, "rtk-max-baseline", t.max_baseline_km, "km > 0");
-  require(std::isfinite(t.fixed_max_age_s) && t.fixed_max_age_s > 0, "rtk-timeouts: fixed", t.fixed_max_age_s, "seconds > 0");
-  require(std::isfinite(t.float_max_age_s) && t.float_max_age_s >= t.fixed_max_age_s, "rtk-timeouts: float",
+  require(std::isfinite(t.fix_per_km_s) && t.fix_per_km_s >= 0, "seconds per km", t.fix_per_km_s, "seconds >= 0");
+  require(std::isfinite(t.max_baseline_km) && t.max_baseline_km > 0, "maximum baseline", t.max_baseline_km, "km > 0");
+  require(std::isfinite(t.fixed_max_age_s) && t.fixed_max_age_s > 0, "fixed timeout", t.fixed_max_age_s, "seconds > 0");
+  require(std::isfinite(t.float_max_age_s) && t.float_max_age_s >= t.fixed_max_age_s, "float timeout",
           t.float_max_age_s, "seconds >= the fixed timeout");
-  require(std::isfinite(t.dgps_max_age_s) && t.dgps_max_age_s >= t.float_max_age_s, "rtk-timeouts: DGPS",
+  require(std::isfinite(t.dgps_max_age_s) && t.dgps_max_age_s >= t.float_max_age_s, "DGPS timeout",
           t.dgps_max_age_s, "seconds >= the float timeout");
 }
 

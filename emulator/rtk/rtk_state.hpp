@@ -74,7 +74,8 @@ class RtkState {
   std::optional<double> converging_from_s_;  // first MSM of the current streak
 };
 
-/// Validates `t` (at start-up); throws std::invalid_argument naming the field and its range.
+/// Validates `t` (at start-up); throws std::invalid_argument naming the field ("seconds to fixed")
+/// and its range; the caller prefixes the option's name.
 void validate(const RtkTimeline& t);
 
 }  // namespace gpsemu::rtk

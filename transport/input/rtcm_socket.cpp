@@ -99,7 +99,7 @@ RtcmInputSpec parse_rtcm_input_spec(std::string_view text) {
   } else if (text.starts_with("udp:")) {
     spec.tcp = false;
   } else {
-    throw std::invalid_argument(fmt::format("rtcm: expected tcp:[HOST:]PORT or udp:[HOST:]PORT, got '{}'", text));
+    throw std::invalid_argument(fmt::format("expected tcp:[HOST:]PORT or udp:[HOST:]PORT, got '{}'", text));
   }
   spec.endpoint = posix::parse_endpoint(text.substr(4));
   return spec;

@@ -133,7 +133,7 @@ TEST(RtkTimelineValidation, NamesTheFieldAndRange) {
     validate(t);
     FAIL() << "no throw";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("rtk-convergence: seconds to fixed"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("seconds to fixed: expected seconds >= the seconds to float"), std::string::npos) << e.what();
   }
   EXPECT_NO_THROW(validate(RtkTimeline{}));
 }
