@@ -78,6 +78,11 @@ struct Fix {
   /// time and date fields are written empty, as a u-blox does.
   bool time_valid = true;
 
+  /// Age of the differential corrections (seconds), GGA field 13; empty without corrections.
+  std::optional<double> diff_age_s;
+  /// Reference station ID of the corrections, 0..4095, GGA field 14; empty without corrections.
+  std::optional<int> diff_station_id;
+
   [[nodiscard]] bool has_fix() const { return quality != FixQuality::none; }
 };
 

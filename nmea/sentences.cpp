@@ -21,10 +21,10 @@ constexpr double max_alt_m = 1e6;
 constexpr double max_geoid_sep_m = 1e4;
 constexpr double max_speed_knots = 1e6;
 
-// Most bytes put_gga or put_rmc writes besides the talker (GGA: at most 109, with 8 decimals of
-// minutes, 3 of seconds, a 20-digit quality and "-1000000.0" altitudes; RMC fewer), plus the 16
-// bytes put_field may copy past the end of a field.
-constexpr std::size_t max_sentence_bytes = 112 + 16;
+// Most bytes put_gga or put_rmc writes besides the talker (GGA: at most 119, with 8 decimals of
+// minutes, 3 of seconds, a 20-digit quality, "-1000000.0" altitudes and "999.9,4095" of
+// differential data; RMC fewer), plus the 16 bytes put_field may copy past the end of a field.
+constexpr std::size_t max_sentence_bytes = 122 + 16;
 
 // Writes ",value,unit" ("545.4,M") of a value with one decimal; two empty fields when the value
 // is left empty (a 2-D fix, or it does not fit below max_abs).
@@ -76,7 +76,10 @@ char* put_gga(char* const begin, const Fix& fix, const FormatOptions& options, c
   p = fields::put_fixed(p, hdop, 2, 100.0);
   p = put_with_unit(p, two_d, fix.alt_msl_m, max_alt_m, 'M');
   p = put_with_unit(p, two_d, fix.geoid_sep_m, max_geoid_sep_m, 'M');
-  p = text::put_chars(p, ",,");
+  *p++ = ',';  // age of differential data (seconds) and reference station, as a u-blox writes them
+  if (fix.diff_age_s) p = fields::put_fixed(p, std::clamp(*fix.diff_age_s, 0.0, 999.9), 1, 1000.0);
+  *p++ = ',';
+  if (fix.diff_station_id) p = text::put_uint(p, static_cast<std::uint64_t>(std::clamp(*fix.diff_station_id, 0, 4095)), 4);
   return text::put_checksum(begin, p);
 }
 

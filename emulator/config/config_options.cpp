@@ -432,6 +432,7 @@ std::vector<OptionDef> make_option_table() {
         d.receivers = static_cast<int>(n);
         d.receivers_given = true;
       });
+  add_rtk_options(t);
   return t;
 }
 

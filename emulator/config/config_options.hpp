@@ -67,6 +67,9 @@ struct ConfigDraft {
 /// Every fault's receiver index exists among `receivers`. Throws ConfigError.
 void check_fault_receivers(const std::vector<faults::Fault>& faults, std::size_t receivers);
 
+/// Appends the RTK options (--rtcm, --rtk-*; rtk_options.cpp) to `table`.
+void add_rtk_options(std::vector<OptionDef>& table);
+
 /// Every option, in --help order.
 [[nodiscard]] std::vector<OptionDef> make_option_table();
 

@@ -17,10 +17,12 @@
 #include "emulator/model/time.hpp"
 #include "emulator/pipeline/clock.hpp"
 #include "emulator/replay/replay_options.hpp"
+#include "emulator/rtk/rtk_state.hpp"
 #include "emulator/sources/sim.hpp"
 #include "emulator/sources/source_spec.hpp"
 #include "emulator/ubx/model.hpp"
 #include "nmea/fix.hpp"
+#include "transport/input/rtcm_socket.hpp"
 #include "transport/output_spec.hpp"
 #include "transport/posix/realtime.hpp"
 #include "transport/pps.hpp"
@@ -74,6 +76,8 @@ struct ReceiverSettings {
   ubx::ReceiverModel ublox_model = ubx::ReceiverModel::generic;  ///< --receiver (MON-VER, configuration interface)
   std::vector<transport::OutputSpec> outputs;  ///< where NMEA goes (parsed --output specs)
   std::optional<std::string> tee;              ///< file copying everything sent, with send times (default none)
+  std::optional<transport::RtcmInputSpec> rtcm;  ///< --rtcm: a base station's RTCM3 stream (docs/rtk.md)
+  rtk::RtkTimeline rtk;                        ///< --rtk-*: the RTK state timeline (docs/rtk.md)
 };
 
 /// `gpsemu replay LOG`: speed, loop, from/to, retime (replay_options.hpp).

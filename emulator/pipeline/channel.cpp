@@ -3,6 +3,7 @@
 #include <limits>
 #include <utility>
 
+#include "emulator/pipeline/rtk_receiver.hpp"
 #include "emulator/ubx/bytes.hpp"
 #include "emulator/ubx/frame.hpp"
 
@@ -19,8 +20,11 @@ Channel::Channel(const ChannelSettings& settings, UtcNs first_epoch) : settings_
     encoders_.push_back(std::make_unique<NmeaEncoder>(settings_.format));
   }
   faults_.emplace(settings_.faults, first_epoch);  // without faults: a few compares an epoch
+  rtk_ = std::make_unique<RtkReceiver>(settings_.rtk, settings_.rtcm);
   bytes_.reserve(1024);
 }
+
+Channel::~Channel() = default;
 
 nmea::Fix Channel::step(UtcNs t) {
   source_->service();
@@ -31,6 +35,8 @@ nmea::Fix Channel::step(UtcNs t, const std::optional<sources::Truth>& truth) {
   nmea::Fix fix = receiver_->fix_at(t, truth);  // one fix a step, never copied
   bytes_.clear();
   const std::optional<Enu> truth_m = truth ? std::optional<Enu>(truth->position_m) : std::nullopt;
+  rtk_->service();
+  rtk_->apply(t, fix, truth_m, frame_);  // corrections before faults: a forced quality or an outage wins
   const faults::EpochEffect effect = faults_->apply(t, fix, truth_m, frame_, ubx_ ? &ubx_->rf() : nullptr);
   silent_ = effect.silent;
   if (effect.reboot_cold_start_s) reboot(t, *effect.reboot_cold_start_s);
@@ -46,10 +52,12 @@ nmea::Fix Channel::step(UtcNs t, const std::optional<sources::Truth>& truth) {
 void Channel::cold_start(UtcNs t) {
   if (std::exchange(rebooted_, false)) return;  // the reboot's own CFG-RST: the receiver restarted already
   receiver_->restart(t);
+  rtk_->restart();
 }
 
 void Channel::reboot(UtcNs t, double cold_start_s) {
   receiver_->restart(t, cold_start_s);
+  rtk_->restart();
   if (!ubx_) return;
   // A hardware reset with every navigation data cleared: RAM reloaded from BBR, flash and the
   // defaults, the receiver's own state (msss, TTFF, time validity) starts again. Fed through the
@@ -66,6 +74,9 @@ void Channel::reboot(UtcNs t, double cold_start_s) {
 
 void Channel::client_wrote(std::string_view bytes, transport::ClientId client) {
   for (const auto& encoder : encoders_) encoder->client_wrote(bytes, client);
+  if (ubx_ != nullptr) {
+    for (const rtk::Rtcm3Message& m : ubx_->take_rtcm()) rtk_->received(m);
+  }
 }
 
 std::string Channel::take_reply(transport::ClientId client) {

@@ -18,11 +18,15 @@
 #include "emulator/model/time.hpp"
 #include "emulator/pipeline/encoder.hpp"
 #include "emulator/pipeline/ubx_encoder.hpp"
+#include "emulator/rtk/rtk_state.hpp"
 #include "emulator/sources/pose_source.hpp"
 #include "nmea/fix.hpp"
+#include "transport/input/rtcm_socket.hpp"
 #include "transport/output.hpp"
 
 namespace gpsemu {
+
+class RtkReceiver;
 
 /// What a channel is made from (pipeline/settings.hpp builds it from a Config).
 struct ChannelSettings {
@@ -38,6 +42,10 @@ struct ChannelSettings {
   std::optional<std::string> receiver_state;
   /// The faults of this receiver (--scenario), applied to each fix before the encoders.
   faults::FaultPlan faults;
+  /// The RTK state timeline (corrections from the u-blox port or `rtcm`; docs/rtk.md).
+  rtk::RtkTimeline rtk;
+  /// --rtcm: a base station's RTCM3 stream read each epoch.
+  std::optional<transport::RtcmInputSpec> rtcm;
 };
 
 /// One receiver's counts (a fleet's summary has one line per receiver).
@@ -53,6 +61,7 @@ class Channel final : public transport::ClientInput {
   /// The receiver model starts at `first_epoch`, with the NMEA encoder of settings.format, or the
   /// UBX encoder of settings.ubx.
   Channel(const ChannelSettings& settings, UtcNs first_epoch);
+  ~Channel();
   Channel(const Channel&) = delete;
   Channel& operator=(const Channel&) = delete;
 
@@ -96,6 +105,8 @@ class Channel final : public transport::ClientInput {
   /// The receiver's faults (--scenario, and live ones from the control socket).
   [[nodiscard]] const faults::FaultTimeline& faults() const { return *faults_; }
   [[nodiscard]] faults::FaultTimeline& faults() { return *faults_; }
+  /// The RTK state and its correction inputs (rtk_receiver.hpp).
+  [[nodiscard]] const RtkReceiver& rtk() const { return *rtk_; }
   [[nodiscard]] ReceiverStats& stats() { return stats_; }
   [[nodiscard]] const ReceiverStats& stats() const { return stats_; }
 
@@ -107,6 +118,7 @@ class Channel final : public transport::ClientInput {
   std::vector<std::unique_ptr<Encoder>> encoders_;
   UbxEncoder* ubx_ = nullptr;  ///< owned by encoders_
   std::optional<faults::FaultTimeline> faults_;
+  std::unique_ptr<RtkReceiver> rtk_;
   std::string bytes_;
   bool ended_ = false;
   bool silent_ = false;  ///< the last epoch was silenced: answers are withheld too

@@ -103,7 +103,9 @@ ReceiverSetup receiver_setup(const ReceiverSettings& receiver, const TimelineSet
                .format = receiver.format,
                .ubx = ubx_settings(receiver, options, timeline),
                .receiver_state = receiver.receiver_state,
-               .faults = {}};
+               .faults = {},
+               .rtk = receiver.rtk,
+               .rtcm = receiver.rtcm};
   r.outputs = {.outputs = output_specs(receiver),
                .tee = receiver.tee,
                .realtime = !timeline.fast(),

@@ -8,6 +8,7 @@
 
 #include "emulator/pipeline/channel_set.hpp"
 #include "emulator/pipeline/epoch_loop.hpp"
+#include "emulator/pipeline/rtk_receiver.hpp"
 #include "emulator/pipeline/ubx_effects.hpp"
 #include "nmea/sentences.hpp"
 
@@ -196,6 +197,9 @@ void Runner::log_summary() const {
     if (const std::string config = ubx_config_summary(channels_->channel(i)); !config.empty()) {
       spdlog::info("{}{}", sink_.who(i), config);
     }
+    const Channel& ch = channels_->channel(i);
+    const std::uint64_t port_bad_crc = ch.ubx_encoder() ? ch.ubx_encoder()->session().reader_stats().rtcm_bad_crc : 0;
+    if (const std::string rtk = ch.rtk().summary(port_bad_crc); !rtk.empty()) spdlog::info("{}{}", sink_.who(i), rtk);
   }
   if (pps_) pps_->log_summary();
   if (const std::uint64_t suppressed = transport::log_lines_suppressed(); suppressed != 0) {

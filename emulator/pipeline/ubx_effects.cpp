@@ -141,11 +141,11 @@ std::string client_input_summary(const Channel& channel) {
   const ubx::MachineStats& answered = ubx->session().machine().stats();
   const ubx::SessionStats& folded = ubx->session().stats();
   return fmt::format("u-blox client input: {} UBX frames, {} bad ({} bad checksum, {} too long), {} NMEA sentences "
-                     "({} bad), {} garbage bytes; {} ACK, {} NAK, {} ignored; {} NAV polls folded into one answer, "
-                     "{} effects superseded by a newer one",
+                     "({} bad), {} RTCM3 frames ({} bad CRC), {} garbage bytes; {} ACK, {} NAK, {} ignored; {} NAV "
+                     "polls folded into one answer, {} effects superseded by a newer one",
                      in.frames_ok, in.bad_checksum + in.too_long, in.bad_checksum, in.too_long, in.sentences_ok,
-                     in.bad_sentences, in.garbage_bytes, answered.acks, answered.naks, answered.ignored,
-                     folded.polls_merged, folded.effects_superseded);
+                     in.bad_sentences, in.rtcm_ok, in.rtcm_bad_crc, in.garbage_bytes, answered.acks, answered.naks,
+                     answered.ignored, folded.polls_merged, folded.effects_superseded);
 }
 
 std::string ubx_config_summary(const Channel& channel) {

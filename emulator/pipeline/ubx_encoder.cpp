@@ -25,11 +25,11 @@ void UbxEncoder::client_wrote(std::string_view bytes, transport::ClientId client
   save_state();
   report_dropped_answers();
   const ubx::FrameStats& stats = session_.reader_stats();
-  const std::uint64_t bad = stats.bad_checksum + stats.too_long;
+  const std::uint64_t bad = stats.bad_checksum + stats.too_long + stats.rtcm_bad_crc;
   if (bad == bad_frames_reported_ || !bad_frame_log_.admit(transport::LogLimit::Clock::now())) return;
   (void)bad_frame_log_.take_suppressed();  // the line counts the frames themselves
-  spdlog::warn("u-blox: {} bad UBX frame(s) from the client ({} bad checksum, {} too long in all)",
-               bad - bad_frames_reported_, stats.bad_checksum, stats.too_long);
+  spdlog::warn("u-blox: {} bad frame(s) from the client ({} UBX bad checksum, {} UBX too long, {} RTCM3 bad CRC in all)",
+               bad - bad_frames_reported_, stats.bad_checksum, stats.too_long, stats.rtcm_bad_crc);
   bad_frames_reported_ = bad;
 }
 

@@ -34,6 +34,8 @@ class UbxEncoder final : public Encoder {
   /// Measurement period, baud and cold-start changes the client asked for, not yet taken.
   [[nodiscard]] std::vector<ubx::Effect> take_effects() { return session_.take_effects(); }
   [[nodiscard]] const ubx::Session& session() const { return session_; }
+  /// RTCM3 corrections the clients wrote, not yet taken (the channel's RTK state takes them).
+  [[nodiscard]] std::vector<rtk::Rtcm3Message> take_rtcm() { return session_.take_rtcm(); }
   /// The RF front end MON-HW and MON-RF report (a jam fault changes it).
   [[nodiscard]] ubx::RfState& rf() { return session_.rf(); }
 

@@ -69,6 +69,9 @@ void FrameReader::consume(std::uint8_t byte, std::vector<ClientMessage>& out) {
       } else if (byte == '$') {
         sentence_.assign(1, '$');
         state_ = State::sentence;
+      } else if (byte == rtk::rtcm3_preamble) {
+        (void)rtcm_.push(byte);
+        state_ = State::rtcm3;
       } else {
         ++stats_.garbage_bytes;
       }
@@ -111,6 +114,25 @@ void FrameReader::consume(std::uint8_t byte, std::vector<ClientMessage>& out) {
         frame_.clear();
         state_ = State::between;
       }
+      return;
+    case State::rtcm3:
+      switch (rtcm_.push(byte)) {
+        case rtk::Rtcm3Framer::Step::more:
+          return;
+        case rtk::Rtcm3Framer::Step::frame:
+          ++stats_.rtcm_ok;
+          out.emplace_back(rtcm_.take());
+          break;
+        case rtk::Rtcm3Framer::Step::bad_crc:
+          ++stats_.rtcm_bad_crc;
+          break;
+        case rtk::Rtcm3Framer::Step::not_rtcm:
+          ++stats_.garbage_bytes;  // the lone 0xD3
+          state_ = State::between;
+          consume(byte, out);
+          return;
+      }
+      state_ = State::between;
       return;
     case State::sentence:
       if (byte == '\r' || byte == '\n') {

@@ -1,6 +1,7 @@
 // UBX framing: sync 0xB5 0x62, class, id, little-endian payload length, payload, 8-bit Fletcher
 // checksum over class..payload. Writes frames and reads them back from a client's byte stream
-// that may interleave NMEA text (PUBX commands) and garbage. Pure: bytes in, values out.
+// that may interleave NMEA text (PUBX commands), RTCM3 corrections (0xD3 frames: an autopilot
+// injecting them through the GPS port) and garbage. Pure: bytes in, values out.
 #pragma once
 
 #include <cstddef>
@@ -10,6 +11,7 @@
 #include <variant>
 #include <vector>
 
+#include "emulator/rtk/rtcm3_reader.hpp"
 #include "nmea/parse.hpp"
 
 namespace gpsemu::ubx {
@@ -51,6 +53,7 @@ inline constexpr MessageId nav_svin{0x01, 0x3B};
 inline constexpr MessageId nav_relposned{0x01, 0x3C};
 inline constexpr MessageId nav_sig{0x01, 0x43};
 inline constexpr MessageId nav_eoe{0x01, 0x61};
+inline constexpr MessageId rxm_rtcm{0x02, 0x32};
 inline constexpr MessageId ack_nak{0x05, 0x00};
 inline constexpr MessageId ack_ack{0x05, 0x01};
 inline constexpr MessageId cfg_prt{0x06, 0x00};
@@ -93,16 +96,21 @@ struct FrameStats {
   std::uint64_t sentences_ok = 0;     ///< NMEA sentences returned (PUBX or any other)
   std::uint64_t bad_sentences = 0;    ///< '$' lines that are no valid sentence
   std::uint64_t garbage_bytes = 0;    ///< bytes outside any frame or line
+  std::uint64_t rtcm_ok = 0;          ///< RTCM3 frames returned
+  std::uint64_t rtcm_bad_crc = 0;     ///< complete RTCM3 frames whose CRC-24Q does not match (dropped)
 };
 
-/// One thing a client wrote: a UBX frame or an NMEA sentence ($PUBX,40 / $PUBX,41 ...).
-using ClientMessage = std::variant<Frame, nmea::Sentence>;
+/// One thing a client wrote: a UBX frame, an NMEA sentence ($PUBX,40 / $PUBX,41 ...) or an RTCM3
+/// frame (corrections).
+using ClientMessage = std::variant<Frame, nmea::Sentence, rtk::Rtcm3Frame>;
 
 /// Splits a client's bytes into checked UBX frames and NMEA sentences, incrementally: chunks may
 /// end anywhere. A frame with a bad checksum is dropped; a header announcing a too long payload
 /// is dropped and the search for a sync resumes at the byte after its first sync byte. A '$'
 /// line ends at CR or LF and is abandoned at a byte outside printable ASCII or past
-/// nmea::max_parse_chars. Memory is bounded whatever the input.
+/// nmea::max_parse_chars. An RTCM3 frame starts at 0xD3 (rtk::Rtcm3Framer): one with a bad CRC is
+/// dropped and counted; a 0xD3 whose length byte has reserved bits set is garbage and the search
+/// resumes at that byte. Memory is bounded whatever the input.
 class FrameReader {
  public:
   /// Consumes `bytes` and returns the messages they complete, in stream order.
@@ -110,7 +118,7 @@ class FrameReader {
   [[nodiscard]] const FrameStats& stats() const { return stats_; }
 
  private:
-  enum class State { between, sync, header, payload, checksum, sentence };
+  enum class State { between, sync, header, payload, checksum, sentence, rtcm3 };
   void consume(std::uint8_t byte, std::vector<ClientMessage>& out);
   void end_sentence(std::vector<ClientMessage>& out);
   void rescan_after_first_sync(std::vector<ClientMessage>& out);
@@ -119,6 +127,7 @@ class FrameReader {
   std::string frame_;     // from the first sync byte
   std::size_t payload_bytes_ = 0;
   std::string sentence_;  // from '$', at most nmea::max_parse_chars
+  rtk::Rtcm3Framer rtcm_;
   FrameStats stats_;
 };
 

@@ -71,9 +71,9 @@ Answer ConfigMachine::handle(const ClientMessage& message) {
   Answer answer;
   if (const auto* frame = std::get_if<Frame>(&message)) {
     handle_frame(*frame, answer);
-  } else {
-    handle_sentence(std::get<nmea::Sentence>(message), answer);
-  }
+  } else if (const auto* sentence = std::get_if<nmea::Sentence>(&message)) {
+    handle_sentence(*sentence, answer);
+  }  // RTCM3 corrections change no configuration (the session takes them)
   return answer;
 }
 

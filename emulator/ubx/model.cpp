@@ -39,6 +39,7 @@ bool model_has_message(ReceiverModel model, MessageId id) {
   const bool generation9 = model_info(model).key_value_config;
   if (id == msg::nav_svinfo || id == msg::nav_sbas) return !generation9;
   if (id == msg::nav_sig || id == msg::mon_rf) return generation9;
+  if (id == msg::rxm_rtcm) return model == ReceiverModel::ublox_f9p;  // reports RTCM3 input (docs/rtk.md)
   if (id == msg::nav_hpposllh || id == msg::nav_relposned || id == msg::nav_svin) {
     return model == ReceiverModel::ublox_f9p;
   }

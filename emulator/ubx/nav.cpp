@@ -7,6 +7,7 @@
 
 #include <GeographicLib/Geocentric.hpp>
 
+#include "emulator/rtk/correction_age.hpp"
 #include "emulator/ubx/bytes.hpp"
 
 namespace gpsemu::ubx {
@@ -195,7 +196,7 @@ std::string nav_pvt(const nmea::Fix& fix, const NavExtras& extras) {
   put_u4(p, s_acc_mm_s(fix, extras));
   put_u4(p, round_u32(head_acc_deg(fix, extras) * 1e5));
   put_u2(p, fix.has_fix() ? round_u16(fix.pdop * 100.0) : 9999);
-  put_u2(p, fix.has_fix() ? 0u : 1u);  // flags3: invalidLlh
+  put_u2(p, (fix.has_fix() ? 0u : 1u) | (rtk::last_correction_age_code(fix.diff_age_s) << 1));  // flags3: invalidLlh, lastCorrectionAge
   put_zeros(p, 4);                      // reserved
   put_i4(p, 0);                         // headVeh (headVehValid is not set)
   put_i2(p, 0);                         // magDec

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <utility>
 
+#include "emulator/ubx/bytes.hpp"
 #include "emulator/ubx/output.hpp"
 #include "emulator/ubx/solution_grid.hpp"
 #include "nmea/sentences.hpp"
@@ -49,7 +50,38 @@ void Session::client_wrote(std::string_view bytes, ClientId id) {
   reader_stats_.sentences_ok += after.sentences_ok - before.sentences_ok;
   reader_stats_.bad_sentences += after.bad_sentences - before.bad_sentences;
   reader_stats_.garbage_bytes += after.garbage_bytes - before.garbage_bytes;
-  for (const ClientMessage& message : messages) handle(machine_.handle(message), c);
+  reader_stats_.rtcm_ok += after.rtcm_ok - before.rtcm_ok;
+  reader_stats_.rtcm_bad_crc += after.rtcm_bad_crc - before.rtcm_bad_crc;
+  for (const ClientMessage& message : messages) {
+    if (const auto* rtcm = std::get_if<rtk::Rtcm3Frame>(&message)) {
+      handle_rtcm(*rtcm, c);
+    } else {
+      handle(machine_.handle(message), c);
+    }
+  }
+}
+
+void Session::handle_rtcm(const rtk::Rtcm3Frame& frame, Client& c) {
+  rtk::Rtcm3Message message = rtk::decode_rtcm3(frame.payload);
+  const Settings& s = machine_.settings();
+  const bool ubx_out = (s.ports[static_cast<std::size_t>(machine_.port())].out_proto_mask & proto_ubx) != 0;
+  if (ubx_out && s.rate(msg::rxm_rtcm, machine_.port()) != 0 && model_has_message(machine_.model(), msg::rxm_rtcm)) {
+    // RXM-RTCM version 2: flags (crcFailed 0; msgUsed 2 used, 1 not used), subType, refStation, msgType.
+    std::string p;
+    put_u1(p, 0x02);
+    put_u1(p, (message.valid ? 2u : 1u) << 1);
+    put_u2(p, message.subtype.value_or(0));
+    put_u2(p, message.station_id.value_or(0));
+    put_u2(p, message.type);
+    Answer answer;
+    append_frame(answer.bytes, msg::rxm_rtcm, p);
+    handle(std::move(answer), c);
+  }
+  if (rtcm_.size() >= max_pending_rtcm) {
+    rtcm_.erase(rtcm_.begin());
+    ++stats_.rtcm_not_taken;
+  }
+  rtcm_.push_back(std::move(message));
 }
 
 void Session::handle(Answer answer, Client& c) {

@@ -25,8 +25,10 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
+#include "emulator/rtk/rtcm3_messages.hpp"
 #include "emulator/ubx/machine.hpp"
 #include "emulator/ubx/nav.hpp"
 #include "emulator/ubx/receiver_state.hpp"
@@ -52,6 +54,7 @@ struct SessionStats {
   std::uint64_t effects_superseded = 0;  ///< period, baud or cold-start effects a newer one replaced
   std::uint64_t answers_dropped = 0;     ///< answers (whole, with their ACK) past a client's reply limit
   std::uint64_t answer_bytes_dropped = 0;
+  std::uint64_t rtcm_not_taken = 0;      ///< RTCM3 messages past max_pending_rtcm, dropped before anyone took them
 };
 
 class Session {
@@ -75,6 +78,11 @@ class Session {
   /// MeasurementPeriodChanged, BaudChanged and ColdStart effects not yet taken (empties them).
   /// At power-up: the period and baud the stored layers give, when they differ from the start's.
   [[nodiscard]] std::vector<Effect> take_effects();
+  /// RTCM3 messages the clients wrote (corrections), decoded, in order (empties them). RXM-RTCM
+  /// reports each one to its client at once when the port's rate for it is on.
+  [[nodiscard]] std::vector<rtk::Rtcm3Message> take_rtcm() { return std::exchange(rtcm_, {}); }
+  /// RTCM3 messages kept for take_rtcm() at most; older ones are dropped (counted).
+  static constexpr std::size_t max_pending_rtcm = 256;
   /// Whether a new solution period waits in take_effects() (the loop reschedules at once).
   [[nodiscard]] bool period_change_pending() const;
 
@@ -104,6 +112,8 @@ class Session {
   Client& client(ClientId id);
   /// Keeps `answer` for client `c` (or drops it whole past max_reply_bytes), collects its effects.
   void handle(Answer answer, Client& c);
+  /// Keeps an RTCM3 frame for take_rtcm() and answers RXM-RTCM when it is on.
+  void handle_rtcm(const rtk::Rtcm3Frame& frame, Client& c);
 
   SessionSettings settings_;
   ConfigMachine machine_;
@@ -112,6 +122,7 @@ class Session {
   SessionStats stats_;
   std::vector<Effect> effects_;
   std::vector<MessageId> polled_;  ///< one a kind
+  std::vector<rtk::Rtcm3Message> rtcm_;  ///< at most max_pending_rtcm
   std::uint64_t solutions_ = 0;
   ReceiverState state_;
 };

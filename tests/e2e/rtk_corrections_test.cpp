@@ -1,0 +1,224 @@
+// RTCM3 corrections into a running gpsemu and the RTK state timeline as the vehicle computer sees
+// it: a base station stream (1006 + GPS MSM7, the project's encoder, frames RTKLIB's convbin
+// reads: tests/integration/rtk) sent to --rtcm udp:PORT while gpsd reads the pty. The GGA written
+// goes 1 -> 2 (DGPS) -> 5 (float) -> 4 (fixed), then, when the corrections stop, 4 -> 5 -> 2 -> 1 on
+// the --rtk-timeouts timeline, with the correction age and station id in GGA fields 13 and 14;
+// gpsd 3.22 reports the states as TPV "status" 2 (DGPS), 4 (RTK float) and 3 (RTK fixed). A frame
+// with a bad CRC is dropped and counted in the summary. The same corrections written to an F9P's
+// u-blox port (as PX4/ArduPilot inject them) are reported by RXM-RTCM once the client turns it on,
+// and NAV-PVT's carrSoln reaches fixed with a correction age. Short timeline options keep it to
+// seconds.
+#include <gtest/gtest.h>
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include <GeographicLib/Geocentric.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "emulator/rtk/rtcm3_messages.hpp"
+#include "emulator/rtk/rtcm3_reader.hpp"
+#include "nmea/parse.hpp"
+#include "tests/support/gpsd.hpp"
+#include "emulator/ubx/bytes.hpp"
+#include "emulator/ubx/frame.hpp"
+#include "tests/support/process.hpp"
+#include "tests/support/pty_client.hpp"
+#include "tests/support/read_deadline.hpp"
+#include "tests/support/ubx_frames.hpp"
+
+namespace gpsemu {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::chrono;
+
+constexpr double kLatDeg = 43.0725, kLonDeg = -89.4125;  // gpsemu's default origin
+
+// A base 300 m north of the origin: its 1006, as a base station sends it.
+std::string base_1006() {
+  rtk::BasePosition b;
+  b.station_id = 42;
+  GeographicLib::Geocentric::WGS84().Forward(kLatDeg + 300.0 / 111000.0, kLonDeg, 230.0, b.ecef_x_m, b.ecef_y_m, b.ecef_z_m);
+  b.antenna_height_m = 1.5;
+  return rtk::rtcm3_frame_bytes(rtk::encode_base_position(b, true));
+}
+
+int udp_sender() { return ::socket(AF_INET, SOCK_DGRAM, 0); }
+
+void send_to(int fd, int port, const std::string& bytes) {
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(static_cast<std::uint16_t>(port));
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  (void)::sendto(fd, bytes.data(), bytes.size(), 0, reinterpret_cast<sockaddr*>(&a), sizeof a);
+}
+
+struct Epoch {
+  std::int64_t ms = 0;
+  int quality = 0;
+  std::string age, station;  // GGA fields 13 and 14
+};
+
+std::vector<Epoch> gga_epochs(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::vector<Epoch> out;
+  nmea::StreamReader reader;
+  for (const auto& s : reader.feed(text.str())) {
+    if (s.type != "GGA") continue;
+    const auto gga = nmea::parse_gga(s);
+    if (!gga.ok() || !gga->time_of_day) continue;
+    Epoch e{gga->time_of_day->count(), static_cast<int>(gga->quality), "", ""};
+    if (s.fields.size() >= 14) {
+      e.age = s.fields[12];
+      e.station = s.fields[13];
+    }
+    out.push_back(e);
+  }
+  return out;
+}
+
+TEST(RtkCorrections, UdpStreamDrivesTheTimelineThatGpsdReports) {
+  ASSERT_EQ(::access(test::kGpsd, X_OK), 0) << "gpsd is missing: tools/setup --with-test-deps installs it";
+  const fs::path dir = fs::temp_directory_path() / fmt::format("gpsemu_rtk_{}", ::getpid());
+  fs::create_directories(dir);
+  const fs::path link = dir / "gps", file = dir / "out.nmea";
+  const int rtcm_port = test::free_tcp_port();  // free for UDP too, almost always
+  test::Process gpsemu({GPSEMU_BINARY, "--output", "pty:" + link.string(), "--output", "file:" + file.string(),
+                        "--rate", "5", "--duration", "7", "--rtcm", fmt::format("udp:{}", rtcm_port),
+                        "--rtk-convergence", "0.5,1.5,0", "--rtk-timeouts", "0.5,1.1,1.7", "--log-level", "info"});
+  ASSERT_TRUE(gpsemu.wait_for_stderr("on /dev/pts", seconds(20))) << gpsemu.stderr_text();
+  const int gpsd_port = test::free_tcp_port();
+  test::Process gpsd({test::kGpsd, "-N", "-n", "-b", "-S", std::to_string(gpsd_port), fs::read_symlink(link).string()});
+  const int sock = test::connect_gpsd(gpsd_port, seconds(10));
+  ASSERT_GE(sock, 0) << gpsd.stderr_text();
+  EXPECT_TRUE(test::watch_json(sock));
+
+  // Corrections at 10 Hz for 3 s from 1 s into the run, then silence; one frame with a bad CRC.
+  std::set<int> statuses;
+  std::thread base([rtcm_port] {
+    const int fd = udp_sender();
+    std::this_thread::sleep_for(milliseconds(1000));
+    std::string bad = base_1006();
+    bad[6] = static_cast<char>(bad[6] ^ 0x40);
+    send_to(fd, rtcm_port, bad);
+    for (int k = 0; k < 30; ++k) {
+      send_to(fd, rtcm_port, base_1006() + rtk::rtcm3_frame_bytes(rtk::encode_msm(1077, 42, 345600000u + 100u * k, 10, 2)));
+      std::this_thread::sleep_for(milliseconds(100));
+    }
+    ::close(fd);
+  });
+  test::ReportLines lines;
+  test::read_with_deadline(sock, {milliseconds(7500)}, [&](std::string_view chunk) {
+    lines.feed(chunk, [&](const nlohmann::json& j) {
+      if (j["class"] == "TPV" && j.value("mode", 0) >= 2) statuses.insert(j.value("status", 1));
+    });
+    return false;
+  });
+  base.join();
+  ::close(sock);
+  EXPECT_EQ(gpsemu.wait(seconds(20)), 0) << gpsemu.stderr_text();
+  gpsd.signal(SIGTERM);
+  gpsd.wait(seconds(10));
+
+  const std::vector<Epoch> epochs = gga_epochs(file);
+  ASSERT_GT(epochs.size(), 25u);
+  // The distinct states in order, and where each began.
+  std::vector<int> states;
+  std::vector<std::size_t> began;
+  for (std::size_t i = 0; i < epochs.size(); ++i) {
+    if (states.empty() || states.back() != epochs[i].quality) {
+      states.push_back(epochs[i].quality);
+      began.push_back(i);
+    }
+  }
+  ASSERT_EQ(states, (std::vector<int>{1, 2, 5, 4, 5, 2, 1})) << gpsemu.stderr_text();
+  // Convergence counts from the first MSM: float 0.5 s (3 epochs at 5 Hz), fixed 1.5 s (8) after it.
+  EXPECT_EQ(began[2] - began[1], 3u);
+  EXPECT_EQ(began[3] - began[1], 8u);
+  // Decay after the last MSM (epoch began[4] - 3 at the latest): float, DGPS, none at ages > 0.5,
+  // 1.1, 1.7 s: 3 epochs of float, 3 of DGPS.
+  EXPECT_EQ(began[5] - began[4], 3u);
+  EXPECT_EQ(began[6] - began[5], 3u);
+  for (const Epoch& e : epochs) {
+    if (e.quality == 1) {
+      EXPECT_EQ(e.age, "");
+      EXPECT_EQ(e.station, "");
+    } else {
+      EXPECT_EQ(e.station, "0042");
+      EXPECT_FALSE(e.age.empty());
+    }
+  }
+  // gpsd 3.22: status 2 DGPS, 3 RTK fixed, 4 RTK float.
+  EXPECT_TRUE(statuses.contains(2)) << "gpsd saw no DGPS";
+  EXPECT_TRUE(statuses.contains(3)) << "gpsd saw no RTK fixed";
+  EXPECT_TRUE(statuses.contains(4)) << "gpsd saw no RTK float";
+  EXPECT_NE(gpsemu.stderr_text().find("1 bad CRC dropped"), std::string::npos) << gpsemu.stderr_text();
+  EXPECT_NE(gpsemu.stderr_text().find("1077 x30"), std::string::npos) << gpsemu.stderr_text();
+  fs::remove_all(dir);
+}
+
+TEST(RtkCorrections, InjectedThroughTheUbloxPortAnF9pReportsRxmRtcmAndReachesFixed) {
+  const fs::path dir = fs::temp_directory_path() / fmt::format("gpsemu_rtk_port_{}", ::getpid());
+  fs::create_directories(dir);
+  const fs::path link = dir / "gps";
+  test::Process gpsemu({GPSEMU_BINARY, "--receiver", "ublox-f9p", "--protocol", "ubx", "--output", "pty:" + link.string(),
+                        "--rate", "5", "--duration", "4", "--rtk-convergence", "0.4,1.0,0", "--log-level", "info"});
+  ASSERT_TRUE(gpsemu.wait_for_stderr("on /dev/pts", seconds(20))) << gpsemu.stderr_text();
+  const int fd = test::open_raw_pty_client(link);
+  ASSERT_GE(fd, 0);
+  const std::string rxm_on = ubx::frame_bytes(ubx::msg::cfg_msg, std::string("\x02\x32\x01", 3));
+  ASSERT_EQ(::write(fd, rxm_on.data(), rxm_on.size()), static_cast<ssize_t>(rxm_on.size()));
+  std::string got;
+  const auto drain = [&] {
+    char buf[4096];
+    ssize_t n;
+    while ((n = ::read(fd, buf, sizeof buf)) > 0) got.append(buf, static_cast<std::size_t>(n));
+  };
+  for (int k = 0; k < 25; ++k) {
+    const std::string corrections =
+        base_1006() + rtk::rtcm3_frame_bytes(rtk::encode_msm(1077, 42, 345600000u + 100u * k, 10, 2));
+    EXPECT_EQ(::write(fd, corrections.data(), corrections.size()), static_cast<ssize_t>(corrections.size()));
+    std::this_thread::sleep_for(milliseconds(100));
+    drain();
+  }
+  EXPECT_EQ(gpsemu.wait(seconds(20)), 0) << gpsemu.stderr_text();
+  drain();
+  ::close(fd);
+  int rxm_1006 = 0, rxm_1077 = 0, fixed_with_age = 0;
+  bool float_seen = false;
+  for (const ubx::Frame& f : ubx::test::frames_in(got)) {
+    if (f.id == ubx::msg::rxm_rtcm && f.payload.size() == 8) {
+      EXPECT_EQ(ubx::get_u2(f.payload, 4), 42u);
+      rxm_1006 += ubx::get_u2(f.payload, 6) == 1006;
+      rxm_1077 += ubx::get_u2(f.payload, 6) == 1077;
+    }
+    if (f.id == ubx::msg::nav_pvt && f.payload.size() == 92) {
+      const unsigned carr = ubx::get_u1(f.payload, 21) >> 6;
+      float_seen = float_seen || carr == 1;
+      if (carr == 2 && ((ubx::get_u2(f.payload, 78) >> 1) & 0x0F) >= 1) ++fixed_with_age;
+    }
+  }
+  EXPECT_GE(rxm_1006, 20) << gpsemu.stderr_text();
+  EXPECT_EQ(rxm_1006, rxm_1077);
+  EXPECT_TRUE(float_seen);
+  EXPECT_GE(fixed_with_age, 3) << gpsemu.stderr_text();
+  EXPECT_NE(gpsemu.stderr_text().find("RTCM3 frames (0 bad CRC)"), std::string::npos) << gpsemu.stderr_text();
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace gpsemu

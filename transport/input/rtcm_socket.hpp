@@ -1,0 +1,48 @@
+// RTCM3 input sockets (--rtcm tcp:[HOST:]PORT | udp:[HOST:]PORT): a base station's correction
+// stream (str2str, an NTRIP client, a second emulator) as raw bytes. TCP: a server with a few
+// client slots (posix::TcpServer), each connection its own byte stream; UDP: datagrams, one
+// stream. Non-blocking, a bounded amount of work per call; what the bytes mean is the caller's
+// business (rtk::Rtcm3Reader).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "transport/posix/sockets.hpp"
+
+namespace gpsemu::transport {
+
+struct RtcmInputSpec {
+  bool tcp = true;
+  posix::Endpoint endpoint;
+};
+
+/// Parses "tcp:[HOST:]PORT" or "udp:[HOST:]PORT". Throws std::invalid_argument naming the text.
+[[nodiscard]] RtcmInputSpec parse_rtcm_input_spec(std::string_view text);
+
+/// Bytes that arrived: `source` names the stream (0 for UDP, the TCP connection's number).
+struct RtcmBytes {
+  std::string_view bytes;  ///< valid until the next receive()
+  std::uint64_t source = 0;
+  bool closed = false;     ///< TCP: the connection `source` ended (no bytes)
+};
+
+class RtcmSocket {
+ public:
+  virtual ~RtcmSocket() = default;
+  RtcmSocket() = default;
+  RtcmSocket(const RtcmSocket&) = delete;
+  RtcmSocket& operator=(const RtcmSocket&) = delete;
+  /// The next bytes or event, or nothing when nothing is ready. Never blocks.
+  [[nodiscard]] virtual std::optional<RtcmBytes> receive() = 0;
+  /// "tcp:127.0.0.1:2101", with the port actually bound.
+  [[nodiscard]] virtual std::string describe() const = 0;
+};
+
+/// Listens (TCP) or binds (UDP). Throws std::runtime_error naming host:port when it cannot.
+[[nodiscard]] std::unique_ptr<RtcmSocket> open_rtcm_socket(const RtcmInputSpec& spec);
+
+}  // namespace gpsemu::transport
