@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "emulator/faults/fault.hpp"
+#include "emulator/heading/moving_base.hpp"
 #include "emulator/model/geo.hpp"
 #include "emulator/model/noise/noise_model.hpp"
 #include "emulator/model/receiver.hpp"
@@ -74,6 +75,7 @@ struct ReceiverSettings {
   ubx::ReceiverModel ublox_model = ubx::ReceiverModel::generic;  ///< --receiver (MON-VER, configuration interface)
   std::vector<transport::OutputSpec> outputs;  ///< where NMEA goes (parsed --output specs)
   std::optional<std::string> tee;              ///< file copying everything sent, with send times (default none)
+  heading::MovingBaseOptions moving_base;      ///< role, antenna offset (a moving-base pair: docs/heading.md)
 };
 
 /// `gpsemu replay LOG`: speed, loop, from/to, retime (replay_options.hpp).

@@ -12,6 +12,8 @@
 #include <vector>
 
 #include "emulator/faults/fault_timeline.hpp"
+#include "emulator/heading/moving_base.hpp"
+#include "emulator/heading/rtcm3.hpp"
 #include "emulator/model/geo.hpp"
 #include "emulator/model/noise/noise_model.hpp"
 #include "emulator/model/receiver.hpp"
@@ -38,6 +40,9 @@ struct ChannelSettings {
   std::optional<std::string> receiver_state;
   /// The faults of this receiver (--scenario), applied to each fix before the encoders.
   faults::FaultPlan faults;
+  /// Its part in a moving-base pair: antenna offset (moves the position with the truth's yaw);
+  /// a moving base appends its RTCM3 to each epoch, a rover reads it from its clients.
+  heading::MovingBaseOptions moving_base;
 };
 
 /// One receiver's counts (a fleet's summary has one line per receiver).
@@ -92,6 +97,8 @@ class Channel final : public transport::ClientInput {
   [[nodiscard]] const faults::FaultTimeline& faults() const { return *faults_; }
   [[nodiscard]] faults::FaultTimeline& faults() { return *faults_; }
   [[nodiscard]] ReceiverStats& stats() { return stats_; }
+  /// A rover's RTCM3 input (frames and bad CRCs seen in what its clients wrote).
+  [[nodiscard]] const heading::Rtcm3ScanStats& rtcm3_in() const { return rtcm3_in_.stats(); }
   [[nodiscard]] const ReceiverStats& stats() const { return stats_; }
 
  private:
@@ -106,6 +113,10 @@ class Channel final : public transport::ClientInput {
   bool ended_ = false;
   bool silent_ = false;  ///< the last epoch was silenced: answers are withheld too
   ReceiverStats stats_;
+  std::optional<heading::RoverRelPos> rover_;  ///< a rover's NAV-RELPOSNED
+  heading::Rtcm3Scanner rtcm3_in_;             ///< a rover's: the base's RTCM3 in its clients' bytes
+  std::optional<UtcNs> last_step_;             ///< the latest epoch stepped
+  std::optional<UtcNs> last_corrections_;      ///< the epoch before which the base's RTCM3 last arrived
 };
 
 }  // namespace gpsemu

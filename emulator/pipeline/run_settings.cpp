@@ -103,7 +103,8 @@ ReceiverSetup receiver_setup(const ReceiverSettings& receiver, const TimelineSet
                .format = receiver.format,
                .ubx = ubx_settings(receiver, options, timeline),
                .receiver_state = receiver.receiver_state,
-               .faults = {}};
+               .faults = {},
+               .moving_base = receiver.moving_base};
   r.outputs = {.outputs = output_specs(receiver),
                .tee = receiver.tee,
                .realtime = !timeline.fast(),
