@@ -27,7 +27,9 @@ nmea::Fix Channel::step(UtcNs t) {
 nmea::Fix Channel::step(UtcNs t, const std::optional<sources::Truth>& vehicle) {
   // The antenna's place on the vehicle (docs/heading.md): where this receiver's truth is.
   std::optional<sources::Truth> truth = vehicle;
-  if (truth && truth->yaw_deg) truth->position_m = truth->position_m + heading::offset_enu(settings_.moving_base.antenna, *truth->yaw_deg);
+  if (truth && truth->yaw_deg) {
+    truth->position_m = truth->position_m + heading::offset_enu(settings_.moving_base.antenna, *truth->yaw_deg);
+  }
   last_step_ = t;
   nmea::Fix fix = receiver_->fix_at(t, truth);  // one fix a step, never copied
   if (rover_ && ubx_) ubx_->relative_position() = rover_->at(t, truth, last_corrections_);
