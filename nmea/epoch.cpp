@@ -4,6 +4,7 @@
 #include <string>
 
 #include "nmea/epoch_fields.hpp"
+#include "nmea/heading.hpp"
 #include "nmea/sentences.hpp"
 
 namespace gpsemu::nmea {
@@ -13,7 +14,7 @@ using Formatter = std::string (*)(const Fix&, const FormatOptions&);
 
 // Indexed by SentenceType (output order).
 constexpr std::array<Formatter, all_sentence_types.size()> formatters = {
-    format_rmc, format_vtg, format_gga, format_gsa, format_gsv, format_gll, format_gst, format_zda};
+    format_rmc, format_vtg, format_gga, format_gsa, format_gsv, format_gll, format_gst, format_zda, format_hdt, format_ths};
 
 }  // namespace
 

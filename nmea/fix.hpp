@@ -60,6 +60,9 @@ struct Fix {
   double geoid_sep_m = 0.0;  ///< geoid separation: ellipsoid height minus MSL altitude (metres)
   double speed_mps = 0.0;    ///< speed over ground (metres per second)
   std::optional<double> course_deg_true;  ///< course over ground, degrees true [0, 360); empty when unknown
+  /// Heading of the vehicle (a dual-antenna receiver's measurement, noise included), degrees true
+  /// [0, 360); empty when unknown (HDT empty, THS mode V).
+  std::optional<double> heading_deg_true;
   int satellites_used = 0;   ///< satellites used in the solution (GGA field 7)
   double hdop = 0.0;         ///< horizontal dilution of precision
   double vdop = 0.0;         ///< vertical dilution of precision

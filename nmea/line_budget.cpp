@@ -37,6 +37,7 @@ Fix widest_fix(int satellites_in_view, int satellites_used) {
   fix.geoid_sep_m = -106.9;
   fix.speed_mps = 500.0;
   fix.course_deg_true = 359.99;
+  fix.heading_deg_true = 359.99;
   fix.hdop = fix.vdop = fix.pdop = 99.99;
   fix.sigma_lat_m = fix.sigma_lon_m = fix.sigma_alt_m = fix.range_rms_m = 999.999;
   fix.satellites_in_view = std::clamp(satellites_in_view, 0, static_cast<int>(max_satellites));

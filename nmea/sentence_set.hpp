@@ -12,16 +12,18 @@
 namespace gpsemu::nmea {
 
 /// One sentence type. The enumerators are in receiver (u-blox) output order.
-enum class SentenceType : std::uint8_t { rmc, vtg, gga, gsa, gsv, gll, gst, zda };
+enum class SentenceType : std::uint8_t { rmc, vtg, gga, gsa, gsv, gll, gst, zda, hdt, ths };
 
 /// Every type, in output order.
-inline constexpr std::array<SentenceType, 8> all_sentence_types = {
-    SentenceType::rmc, SentenceType::vtg, SentenceType::gga, SentenceType::gsa,
-    SentenceType::gsv, SentenceType::gll, SentenceType::gst, SentenceType::zda};
+/// HDT and THS (true heading; a dual-antenna receiver's) come last; they are not u-blox F9P messages.
+inline constexpr std::array<SentenceType, 10> all_sentence_types = {
+    SentenceType::rmc, SentenceType::vtg, SentenceType::gga, SentenceType::gsa, SentenceType::gsv,
+    SentenceType::gll, SentenceType::gst, SentenceType::zda, SentenceType::hdt, SentenceType::ths};
 
 /// "RMC", "VTG", ...
 [[nodiscard]] constexpr std::string_view sentence_name(SentenceType type) {
-  constexpr std::array<std::string_view, 8> names = {"RMC", "VTG", "GGA", "GSA", "GSV", "GLL", "GST", "ZDA"};
+  constexpr std::array<std::string_view, 10> names = {"RMC", "VTG", "GGA", "GSA", "GSV",
+                                                      "GLL", "GST", "ZDA", "HDT", "THS"};
   return names[static_cast<std::size_t>(type)];
 }
 
@@ -59,10 +61,10 @@ class SentenceSet {
   friend constexpr bool operator==(SentenceSet, SentenceSet) = default;
 
  private:
-  static constexpr std::uint8_t bit(SentenceType type) {
-    return static_cast<std::uint8_t>(1u << static_cast<unsigned>(type));
+  static constexpr std::uint16_t bit(SentenceType type) {
+    return static_cast<std::uint16_t>(1u << static_cast<unsigned>(type));
   }
-  std::uint8_t bits_ = 0;
+  std::uint16_t bits_ = 0;
 };
 
 }  // namespace gpsemu::nmea

@@ -75,7 +75,7 @@ nmea::SentenceSet parse_sentence_set(const std::vector<std::string>& values) {
       const auto type = nmea::sentence_type_from_name(token);
       if (!type) {
         throw std::invalid_argument(fmt::format("sentences: unknown sentence '{}' in '{}' (accepted: RMC, VTG, GGA, "
-                                                "GSA, GSV, GLL, GST, ZDA)", token, value));
+                                                "GSA, GSV, GLL, GST, ZDA, HDT, THS)", token, value));
       }
       set.insert(*type);
       start = comma + 1;
@@ -305,6 +305,17 @@ std::vector<OptionDef> make_option_table() {
   add("hdop", "X", "HDOP reported with a fix, 0.5..50; VDOP and PDOP scale alike (default: from the geometry of "
       "the satellites used)",
       [](ConfigDraft& d, V v) { d.receiver.settings.model.hdop = parse_number("hdop", v.back(), 0.5, 50.0); });
+  add("heading-noise", "DEG", "1-sigma noise of the true heading (HDT, THS) from a pose's yaw_deg, 0..180 degrees "
+      "(default 0.2, a dual-antenna receiver with a 1 m baseline)",
+      [](ConfigDraft& d, V v) { d.receiver.settings.model.heading_sigma_deg = parse_number("heading-noise", v.back(), 0.0, 180.0); });
+  add("role", "ROLE", "standalone | moving-base | rover: a moving-base pair on one vehicle in a fleet (docs/heading.md): "
+      "the moving base also writes RTCM3 (4072.0, MSM4, 1230), the rover (--protocol ubx or nmea+ubx) reports "
+      "NAV-RELPOSNED while it receives that RTCM3 (default standalone)",
+      [](ConfigDraft& d, V v) { d.receiver.settings.moving_base.role = heading::parse_role(v.back()); });
+  add("antenna-offset", "F,R,D", "the antenna's place on the vehicle, metres forward, right, down of the pose's point "
+      "(body frame, each within +-100; with a pose's yaw_deg it moves the reported position and sets a moving-base "
+      "pair's baseline) (default 0,0,0)",
+      [](ConfigDraft& d, V v) { d.receiver.settings.moving_base.antenna = heading::parse_antenna_offset(v.back()); });
   add("ephemeris", "FILE", "RINEX 2/3 navigation file: the true sky of its date (default: the embedded sky, real "
       "orbits of 2020-12-01 at the same sidereal time; docs/sky.md)",
       [](ConfigDraft& d, V v) { d.receiver.settings.ephemeris = v.back(); });
@@ -340,7 +351,7 @@ std::vector<OptionDef> make_option_table() {
         for (const auto& text : v) d.receiver.settings.model.outages.push_back(parse_outage(text));
       }, true);
   add("sentences", "LIST", "NMEA sentences of each epoch, comma-separated, from RMC VTG GGA GSA GSV GLL GST "
-      "ZDA; written in that (u-blox) order whatever the order given, e.g. GGA,RMC (default RMC,VTG,GGA,GSA,GSV,GLL)",
+      "ZDA HDT THS (true heading: needs a pose with yaw_deg; not u-blox messages); written in that order whatever the order given, e.g. GGA,RMC (default RMC,VTG,GGA,GSA,GSV,GLL)",
       [](ConfigDraft& d, V v) {
         d.receiver.settings.format.sentences = parse_sentence_set(v);
         d.receiver.settings.sentences_given = true;

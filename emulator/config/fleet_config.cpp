@@ -250,6 +250,7 @@ std::vector<ReceiverSettings> resolve_receivers(const ConfigDraft& draft) {
   // A spec that does not parse, as opening it would have said (sources are opened first).
   if (errors.source) throw ConfigError(*errors.source);
   if (errors.output) throw ConfigError(*errors.output);
+  link_moving_base_pairs(fleet);
   return fleet;
 }
 

@@ -34,4 +34,9 @@ namespace gpsemu {
 /// spec.
 [[nodiscard]] std::vector<ReceiverSettings> resolve_receivers(const ConfigDraft& draft);
 
+/// Pairs a fleet's rover with its moving base (moving_base_config.cpp): each rover gets the base's
+/// antenna offset. Throws ConfigError when there are rovers but not exactly one moving base, a
+/// rover without UBX output (NAV-RELPOSNED), or a pair on one antenna (no baseline).
+void link_moving_base_pairs(std::vector<ReceiverSettings>& fleet);
+
 }  // namespace gpsemu

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "emulator/faults/fault.hpp"
+#include "emulator/heading/moving_base.hpp"
 #include "emulator/model/geo.hpp"
 #include "emulator/model/noise/noise_model.hpp"
 #include "emulator/model/receiver.hpp"
@@ -78,6 +79,7 @@ struct ReceiverSettings {
   std::optional<std::string> tee;              ///< file copying everything sent, with send times (default none)
   std::optional<transport::RtcmInputSpec> rtcm;  ///< --rtcm: a base station's RTCM3 stream (docs/rtk.md)
   rtk::RtkTimeline rtk;                        ///< --rtk-*: the RTK state timeline (docs/rtk.md)
+  heading::MovingBaseOptions moving_base;      ///< role, antenna offset (a moving-base pair: docs/heading.md)
 };
 
 /// `gpsemu replay LOG`: speed, loop, from/to, retime (replay_options.hpp).

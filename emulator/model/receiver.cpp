@@ -10,6 +10,8 @@ namespace {
 
 constexpr double kSigmaSampleRateHz = 1.0;
 constexpr int kSigmaSamples = 3 * 3600;
+/// The heading noise's random stream ("HDNG"): apart from the noise models' streams.
+constexpr std::uint64_t kHeadingNoiseStream = 0x48444E47;
 
 SkyOptions sky_options(const ReceiverOptions& o) {
   SkyOptions s;
@@ -85,7 +87,8 @@ Receiver::Receiver(const LocalFrame& frame, const ReceiverOptions& options,
       sky_(sky_options(options), ellipsoidal(frame.origin(), geoid_at(frame, options))),
       geoid_sep_m_(geoid_at(frame, options)),
       uere_m_(options.uere_m.value_or(options.profile.uere_m)),
-      configured_cold_start_s_(options.cold_start_s) {
+      configured_cold_start_s_(options.cold_start_s),
+      heading_rng_(options.sky_seed, kHeadingNoiseStream) {
   nmea::Fix scratch;
   const SkyState s = sky_.fill(first_epoch, {}, scratch);
   geometry_.satellites_in_view = s.listed;
@@ -156,6 +159,10 @@ nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) 
     last_course_deg_ = course;
   }
   fix.course_deg_true = last_course_deg_;
+  if (truth->yaw_deg) {
+    const double heading = *truth->yaw_deg + options_.heading_sigma_deg * heading_rng_.normal();
+    fix.heading_deg_true = heading - 360.0 * std::floor(heading / 360.0);
+  }
   fix.satellites_used = sky.used;
   fix.hdop = hdop;
   fix.vdop = vdop;

@@ -25,6 +25,7 @@
 #include "emulator/model/enu.hpp"
 #include "emulator/model/geo.hpp"
 #include "emulator/model/noise/noise_model.hpp"
+#include "emulator/model/noise/rng.hpp"
 #include "emulator/model/sky.hpp"
 #include "emulator/model/sky/profile.hpp"
 #include "emulator/sources/pose_source.hpp"
@@ -68,6 +69,9 @@ struct ReceiverOptions {
   std::vector<Outage> outages;   ///< no satellites, no fix, during each
   std::uint64_t sky_seed = 1;    ///< seed of the satellite sky (the run's --seed)
   double course_min_speed_mps = 0.05;  ///< below this speed the last course is held
+  /// 1-sigma white noise on the reported heading (degrees, --heading-noise), 0..180: a dual-antenna
+  /// receiver's heading (HDT, THS) from the truth's yaw_deg.
+  double heading_sigma_deg = 0.2;
   /// Kept for the pipeline's settings; the sky is always computed (its counts and DOPs are needed).
   bool satellite_details = true;
   /// The receiver model's sky: systems, channels, mask, C/N0 threshold, UERE (sky::profile_of).
@@ -136,6 +140,7 @@ class Receiver {
   double uere_m_;
   std::optional<double> last_course_deg_;
   double configured_cold_start_s_ = 0.0;  ///< the options' (--cold-start)
+  noise::Rng heading_rng_;  ///< the heading's noise, its own stream of the run's seed
 };
 
 }  // namespace gpsemu

@@ -6,6 +6,7 @@
 #include "emulator/pipeline/rtk_receiver.hpp"
 #include "emulator/ubx/bytes.hpp"
 #include "emulator/ubx/frame.hpp"
+#include "emulator/heading/rtcm3_base.hpp"
 
 namespace gpsemu {
 
@@ -21,6 +22,7 @@ Channel::Channel(const ChannelSettings& settings, UtcNs first_epoch) : settings_
   }
   faults_.emplace(settings_.faults, first_epoch);  // without faults: a few compares an epoch
   rtk_ = std::make_unique<RtkReceiver>(settings_.rtk, settings_.rtcm);
+  if (settings_.moving_base.role == heading::Role::rover) rover_.emplace(settings_.moving_base, settings_.seed);
   bytes_.reserve(1024);
 }
 
@@ -31,8 +33,15 @@ nmea::Fix Channel::step(UtcNs t) {
   return step(t, source_->truth_at(t));
 }
 
-nmea::Fix Channel::step(UtcNs t, const std::optional<sources::Truth>& truth) {
+nmea::Fix Channel::step(UtcNs t, const std::optional<sources::Truth>& vehicle) {
+  // The antenna's place on the vehicle (docs/heading.md): where this receiver's truth is.
+  std::optional<sources::Truth> truth = vehicle;
+  if (truth && truth->yaw_deg) {
+    truth->position_m = truth->position_m + heading::offset_enu(settings_.moving_base.antenna, *truth->yaw_deg);
+  }
+  last_step_ = t;
   nmea::Fix fix = receiver_->fix_at(t, truth);  // one fix a step, never copied
+  if (rover_ && ubx_) ubx_->relative_position() = rover_->at(t, truth, last_corrections_);
   bytes_.clear();
   const std::optional<Enu> truth_m = truth ? std::optional<Enu>(truth->position_m) : std::nullopt;
   rtk_->service();
@@ -46,6 +55,7 @@ nmea::Fix Channel::step(UtcNs t, const std::optional<sources::Truth>& truth) {
   }
   if (!fix.has_fix()) ++stats_.epochs_without_fix;
   for (const auto& encoder : encoders_) encoder->encode(fix, bytes_);
+  if (settings_.moving_base.role == heading::Role::moving_base) bytes_ += heading::base_rtcm3_epoch(fix, 0);
   return fix;
 }
 
@@ -73,6 +83,11 @@ void Channel::reboot(UtcNs t, double cold_start_s) {
 }
 
 void Channel::client_wrote(std::string_view bytes, transport::ClientId client) {
+  if (rover_) {
+    // The base's RTCM3, forwarded by the autopilot: any whole frame with a good CRC counts as
+    // corrections that arrived at the latest epoch (h26a's decoder reads the messages themselves).
+    if (!rtcm3_in_.feed(bytes).empty() && last_step_) last_corrections_ = last_step_;
+  }
   for (const auto& encoder : encoders_) encoder->client_wrote(bytes, client);
   if (ubx_ != nullptr) {
     for (const rtk::Rtcm3Message& m : ubx_->take_rtcm()) rtk_->received(m);

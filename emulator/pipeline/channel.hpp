@@ -12,6 +12,8 @@
 #include <vector>
 
 #include "emulator/faults/fault_timeline.hpp"
+#include "emulator/heading/moving_base.hpp"
+#include "emulator/heading/rtcm3.hpp"
 #include "emulator/model/geo.hpp"
 #include "emulator/model/noise/noise_model.hpp"
 #include "emulator/model/receiver.hpp"
@@ -46,6 +48,9 @@ struct ChannelSettings {
   rtk::RtkTimeline rtk;
   /// --rtcm: a base station's RTCM3 stream read each epoch.
   std::optional<transport::RtcmInputSpec> rtcm;
+  /// Its part in a moving-base pair: antenna offset (moves the position with the truth's yaw);
+  /// a moving base appends its RTCM3 to each epoch, a rover reads it from its clients.
+  heading::MovingBaseOptions moving_base;
 };
 
 /// One receiver's counts (a fleet's summary has one line per receiver).
@@ -108,6 +113,8 @@ class Channel final : public transport::ClientInput {
   /// The RTK state and its correction inputs (rtk_receiver.hpp).
   [[nodiscard]] const RtkReceiver& rtk() const { return *rtk_; }
   [[nodiscard]] ReceiverStats& stats() { return stats_; }
+  /// A rover's RTCM3 input (frames and bad CRCs seen in what its clients wrote).
+  [[nodiscard]] const heading::Rtcm3ScanStats& rtcm3_in() const { return rtcm3_in_.stats(); }
   [[nodiscard]] const ReceiverStats& stats() const { return stats_; }
 
  private:
@@ -124,6 +131,10 @@ class Channel final : public transport::ClientInput {
   bool silent_ = false;  ///< the last epoch was silenced: answers are withheld too
   bool rebooted_ = false;  ///< reboot() fed a CFG-RST whose cold-start effect is still to come
   ReceiverStats stats_;
+  std::optional<heading::RoverRelPos> rover_;  ///< a rover's NAV-RELPOSNED
+  heading::Rtcm3Scanner rtcm3_in_;             ///< a rover's: the base's RTCM3 in its clients' bytes
+  std::optional<UtcNs> last_step_;             ///< the latest epoch stepped
+  std::optional<UtcNs> last_corrections_;      ///< the epoch before which the base's RTCM3 last arrived
 };
 
 }  // namespace gpsemu

@@ -105,7 +105,8 @@ ReceiverSetup receiver_setup(const ReceiverSettings& receiver, const TimelineSet
                .receiver_state = receiver.receiver_state,
                .faults = {},
                .rtk = receiver.rtk,
-               .rtcm = receiver.rtcm};
+               .rtcm = receiver.rtcm,
+               .moving_base = receiver.moving_base};
   r.outputs = {.outputs = output_specs(receiver),
                .tee = receiver.tee,
                .realtime = !timeline.fast(),

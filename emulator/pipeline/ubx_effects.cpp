@@ -74,7 +74,8 @@ std::size_t widest_ubx_epoch_bytes(const nmea::FormatOptions& format, const ubx:
   nmea::FormatOptions nmea_part = format;
   nmea_part.sentences = {};
   for (const nmea::SentenceType type : nmea::all_sentence_types) {
-    if (settings.rate(ubx::nmea_message(type), port) > 0) nmea_part.sentences.insert(type);
+    const auto id = ubx::nmea_message(type);
+    if (id && settings.rate(*id, port) > 0) nmea_part.sentences.insert(type);
   }
   const std::size_t nmea_bytes = nmea_part.sentences.empty() ? 0 : worst_case_epoch_bytes(nmea_part);
   return nmea_bytes + ubx::widest_solution_ubx_bytes(settings, port, model);
@@ -140,12 +141,17 @@ std::string client_input_summary(const Channel& channel) {
   const ubx::FrameStats& in = ubx->session().reader_stats();
   const ubx::MachineStats& answered = ubx->session().machine().stats();
   const ubx::SessionStats& folded = ubx->session().stats();
+  std::string rtcm3;
+  if (channel.settings().moving_base.role == heading::Role::rover) {
+    rtcm3 = fmt::format("; RTCM3 from the moving base: {} frames, {} with a bad CRC (dropped)",
+                        channel.rtcm3_in().frames, channel.rtcm3_in().bad_crc);
+  }
   return fmt::format("u-blox client input: {} UBX frames, {} bad ({} bad checksum, {} too long), {} NMEA sentences "
                      "({} bad), {} RTCM3 frames ({} bad CRC), {} garbage bytes; {} ACK, {} NAK, {} ignored; {} NAV "
-                     "polls folded into one answer, {} effects superseded by a newer one",
+                     "polls folded into one answer, {} effects superseded by a newer one{}",
                      in.frames_ok, in.bad_checksum + in.too_long, in.bad_checksum, in.too_long, in.sentences_ok,
                      in.bad_sentences, in.rtcm_ok, in.rtcm_bad_crc, in.garbage_bytes, answered.acks, answered.naks,
-                     answered.ignored, folded.polls_merged, folded.effects_superseded);
+                     answered.ignored, folded.polls_merged, folded.effects_superseded, rtcm3);
 }
 
 std::string ubx_config_summary(const Channel& channel) {

@@ -38,6 +38,8 @@ class UbxEncoder final : public Encoder {
   [[nodiscard]] std::vector<rtk::Rtcm3Message> take_rtcm() { return session_.take_rtcm(); }
   /// The RF front end MON-HW and MON-RF report (a jam fault changes it).
   [[nodiscard]] ubx::RfState& rf() { return session_.rf(); }
+  /// NAV-RELPOSNED's values (a rover of a moving-base pair), set before each epoch.
+  [[nodiscard]] ubx::RelPosNed& relative_position() { return session_.relative_position(); }
 
  private:
   /// Logs answers the session dropped (past its reply limit), at most once a second.

@@ -29,6 +29,7 @@ struct TimedPose {
   std::optional<double> sender_time_s;  ///< the sender's `t` (seconds), when given
   Enu position_m;                       ///< East/North/Up position (metres)
   std::optional<Enu> velocity_mps;      ///< East/North/Up velocity (metres per second), when given
+  std::optional<double> yaw_deg;        ///< true heading (degrees, [0, 360)), when given
 };
 
 struct PoseHistoryOptions {
@@ -62,7 +63,9 @@ class PoseHistory {
   /// extrapolated with its velocity for at most the horizon and then held (speed 0); nothing
   /// before the first pose or when the newest pose at or before `t` is older than the timeout.
   /// Velocity: the senders' velocities (interpolated) when both poses carry one, otherwise the
-  /// track's (from sender times when both poses have `t`, else arrival times).
+  /// track's (from sender times when both poses have `t`, else arrival times). Yaw: interpolated
+  /// along the shorter way round when both poses carry one, else the earlier pose's; held after
+  /// the newest pose.
   [[nodiscard]] std::optional<Truth> sample(UtcNs t) const;
 
   /// True when sample(t) would return a truth.

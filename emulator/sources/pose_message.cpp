@@ -9,8 +9,10 @@
 namespace gpsemu::sources {
 namespace {
 
-enum Key : int { k_t, k_lat, k_lon, k_alt, k_x, k_y, k_z, k_ve, k_vn, k_vu, k_count };
-constexpr std::array<std::string_view, k_count> kKeyNames{"t", "lat", "lon", "alt", "x", "y", "z", "ve", "vn", "vu"};
+enum Key : int { k_t, k_lat, k_lon, k_alt, k_x, k_y, k_z, k_ve, k_vn, k_vu, k_yaw, k_count };
+constexpr std::array<std::string_view, k_count> kKeyNames{"t", "lat", "lon", "alt", "x", "y", "z", "ve", "vn", "vu", "yaw_deg"};
+/// Largest |yaw_deg| accepted (degrees): one turn either way.
+constexpr double kMaxYawDeg = 360.0;
 
 constexpr unsigned bit(Key k) { return 1u << k; }
 
@@ -135,10 +137,27 @@ PoseDecodeResult decode(std::string_view bytes) {
     }
     m.velocity_mps = vel;
   }
+  if (has(k_yaw)) {
+    if (std::abs(v[k_yaw]) > kMaxYawDeg) return PoseReject::out_of_range;
+    m.yaw_deg = wrap_360_deg(v[k_yaw]);
+  }
   return m;
 }
 
 }  // namespace
+
+double wrap_360_deg(double deg) {
+  const double wrapped = deg - 360.0 * std::floor(deg / 360.0);
+  return wrapped >= 360.0 ? 0.0 : wrapped;  // -1e-17 + 360 rounds to 360
+}
+
+std::optional<double> interpolate_yaw_deg(const std::optional<double>& a, const std::optional<double>& b,
+                                          double f) {
+  if (!a || !b) return a;
+  double d = *b - *a;
+  d -= 360.0 * std::round(d / 360.0);
+  return wrap_360_deg(*a + f * d);
+}
 
 const char* to_string(PoseReject reason) {
   switch (reason) {

@@ -15,6 +15,8 @@
 //   z            optional  metres Up from the origin; absent: 0
 //   ve, vn       optional  velocity East and North (metres per second), both or neither
 //   vu           optional  velocity Up (metres per second), only with ve/vn; absent: 0
+//   yaw_deg      optional  true heading of the vehicle body: degrees clockwise from north,
+//                          -360..360 (kept as [0, 360)); absent: no heading (HDT empty, THS V)
 // Exactly one of the two position forms. Messages longer than kMaxPoseMessageBytes are refused.
 #pragma once
 
@@ -57,7 +59,7 @@ enum class PoseReject : std::uint8_t {
   mixed_position,    ///< both lat/lon/alt and x/y/z keys
   not_a_number,      ///< a value that is not a JSON number (string, bool, null, array, object)
   not_finite,        ///< NaN or infinity (Python's json.dumps writes NaN/Infinity) or out of double range
-  out_of_range,      ///< latitude outside ±90, longitude outside ±180, altitude, coordinate, speed or |t| too large
+  out_of_range,      ///< latitude outside ±90, longitude outside ±180, altitude, coordinate, speed, |yaw_deg| or |t| too large
   out_of_order,      ///< sender time `t` not after the previous pose's (a reordered or repeated datagram)
   too_fast,          ///< farther from the previous pose than kMaxSpeedMps allows (see kMaxJumpSlackM)
   flood,             ///< more than one pose per kMinPoseSpacing: the excess is dropped
@@ -81,7 +83,15 @@ struct PoseMessage {
   std::optional<double> sender_time_s;            ///< `t` (seconds), when sent
   std::variant<GeodeticPose, Enu> position;       ///< lat/lon/alt, or x/y/z (metres ENU about the origin)
   std::optional<Enu> velocity_mps;                ///< ve/vn/vu (metres per second ENU), when sent
+  std::optional<double> yaw_deg;                  ///< yaw_deg (degrees true, [0, 360)), when sent
 };
+
+/// `deg` wrapped into [0, 360).
+[[nodiscard]] double wrap_360_deg(double deg);
+/// The heading a fraction `f` (0..1) of the way from `a` to `b` (degrees true), the shorter way
+/// round, in [0, 360); `a` when either is unknown.
+[[nodiscard]] std::optional<double> interpolate_yaw_deg(const std::optional<double>& a,
+                                                        const std::optional<double>& b, double f);
 
 /// Either the pose or why it was refused.
 using PoseDecodeResult = std::variant<PoseMessage, PoseReject>;

@@ -15,6 +15,9 @@ namespace gpsemu::sources {
 struct Truth {
   Enu position_m;    ///< East/North/Up position (metres); Up is altitude above the origin's MSL altitude
   Enu velocity_mps;  ///< East/North/Up velocity (metres per second)
+  /// True heading of the vehicle body (degrees from north, clockwise, [0, 360)), when the source
+  /// knows it (a pose's `yaw_deg`, the simulator's direction of travel): HDT/THS, moving-base heading.
+  std::optional<double> yaw_deg;
 };
 
 class PoseSource {

@@ -13,14 +13,25 @@ namespace {
 
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 
+/// Degrees true in [0, 360) of an East/North direction.
+double heading_of(double east, double north) {
+  const double deg = std::atan2(east, north) / kDegToRad;
+  return deg < 0.0 ? deg + 360.0 : deg;
+}
+
 double seconds_since(UtcNs start, UtcNs t) {
   return std::chrono::duration<double>(t - start).count();
 }
 
+/// At the origin, facing --sim-heading.
 class Stationary final : public PoseSource {
  public:
-  std::optional<Truth> truth_at(UtcNs) override { return Truth{}; }
+  explicit Stationary(double heading_deg) : heading_deg_(heading_deg) {}
+  std::optional<Truth> truth_at(UtcNs) override { return Truth{{}, {}, heading_deg_}; }
   std::string describe() const override { return "sim:stationary (at the origin)"; }
+
+ private:
+  double heading_deg_;
 };
 
 /// Drives from the origin along a heading at constant speed, then stops and stays.
@@ -28,11 +39,12 @@ class Line final : public PoseSource {
  public:
   Line(const SimOptions& o, UtcNs start) : options_(o), start_(start) {
     dir_ = {std::sin(o.heading_deg * kDegToRad), std::cos(o.heading_deg * kDegToRad), 0.0};
+    yaw_deg_ = heading_of(dir_.east_m, dir_.north_m);
   }
   std::optional<Truth> truth_at(UtcNs t) override {
     const double s = std::clamp(seconds_since(start_, t), 0.0, options_.drive_time_s);
     const bool moving = s < options_.drive_time_s && seconds_since(start_, t) >= 0.0;
-    return Truth{(options_.speed_mps * s) * dir_, moving ? options_.speed_mps * dir_ : Enu{}};
+    return Truth{(options_.speed_mps * s) * dir_, moving ? options_.speed_mps * dir_ : Enu{}, yaw_deg_};
   }
   std::string describe() const override {
     return fmt::format("sim:line ({} m/s heading {} deg for {} s, then stopped)", options_.speed_mps,
@@ -43,6 +55,7 @@ class Line final : public PoseSource {
   SimOptions options_;
   UtcNs start_;
   Enu dir_;
+  double yaw_deg_ = 0.0;  ///< the car faces its direction of travel, also once stopped
 };
 
 /// Counter-clockwise loop centred on the origin, starting at its southern point heading east.
@@ -53,8 +66,10 @@ class Circle final : public PoseSource {
     const double r = options_.radius_m;
     const double w = options_.speed_mps / r;  // rad/s
     const double a = w * std::max(0.0, seconds_since(start_, t));
+    // Counter-clockwise: the car faces east at the start and turns left at w rad/s.
     return Truth{{r * std::sin(a), -r * std::cos(a), 0.0},
-                 {options_.speed_mps * std::cos(a), options_.speed_mps * std::sin(a), 0.0}};
+                 {options_.speed_mps * std::cos(a), options_.speed_mps * std::sin(a), 0.0},
+                 heading_of(std::cos(a), std::sin(a))};
   }
   std::string describe() const override {
     return fmt::format("sim:circle (radius {} m at {} m/s)", options_.radius_m, options_.speed_mps);
@@ -72,22 +87,28 @@ class Waypoints final : public PoseSource {
       : points_(std::move(points)), loop_(loop), start_(start), file_(std::move(file)) {
     if (loop_) points_.push_back(points_.front());
     leg_start_s_.push_back(0.0);
+    std::optional<double> yaw;  // a leg of length 0 keeps the heading before it
     for (std::size_t i = 0; i + 1 < points_.size(); ++i) {
       leg_start_s_.push_back(leg_start_s_.back() + length(i) / points_[i].speed_mps);
+      const Enu d = points_[i + 1].position_m - points_[i].position_m;
+      if (d.east_m != 0.0 || d.north_m != 0.0) yaw = heading_of(d.east_m, d.north_m);
+      leg_yaw_deg_.push_back(yaw);
     }
   }
   std::optional<Truth> truth_at(UtcNs t) override {
     double s = std::max(0.0, seconds_since(start_, t));
     const double total = leg_start_s_.back();
     if (loop_ && total > 0.0) s = std::fmod(s, total);
-    if (s >= total || points_.size() == 1) return Truth{points_.back().position_m, {}};
+    if (s >= total || points_.size() == 1) {
+      return Truth{points_.back().position_m, {}, leg_yaw_deg_.empty() ? std::nullopt : leg_yaw_deg_.back()};
+    }
     std::size_t i = 0;
     while (i + 2 < leg_start_s_.size() && leg_start_s_[i + 1] <= s) ++i;
     const Enu d = points_[i + 1].position_m - points_[i].position_m;
     const double len = length(i);
     const Enu dir = len > 0.0 ? (1.0 / len) * d : Enu{};
     const double travelled = (s - leg_start_s_[i]) * points_[i].speed_mps;
-    return Truth{points_[i].position_m + travelled * dir, points_[i].speed_mps * dir};
+    return Truth{points_[i].position_m + travelled * dir, points_[i].speed_mps * dir, leg_yaw_deg_[i]};
   }
   std::string describe() const override {
     return fmt::format("sim:waypoints:{} ({} waypoints, {:.1f} s{})", file_, points_.size(),
@@ -104,6 +125,7 @@ class Waypoints final : public PoseSource {
   UtcNs start_;
   std::string file_;
   std::vector<double> leg_start_s_;
+  std::vector<std::optional<double>> leg_yaw_deg_;  ///< heading of each leg (degrees true)
 };
 
 void check_options(const SimOptions& o) {
@@ -123,7 +145,7 @@ void check_options(const SimOptions& o) {
 std::unique_ptr<PoseSource> make_sim_source(const std::string& name, const SimOptions& options,
                                             const LocalFrame& frame, UtcNs start) {
   check_options(options);
-  if (name == "stationary") return std::make_unique<Stationary>();
+  if (name == "stationary") return std::make_unique<Stationary>(options.heading_deg);
   if (name == "line") return std::make_unique<Line>(options, start);
   if (name == "circle") return std::make_unique<Circle>(options, start);
   if (name.rfind("waypoints:", 0) == 0) {

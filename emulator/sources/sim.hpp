@@ -1,6 +1,8 @@
 // The built-in simulator: analytic trajectories about the origin, as functions of the time since
 // the first epoch. stationary (the report's single-point test), line (the report's straight-line
 // drive), circle (a loop around a parking lot), waypoints (a CSV route driven at set speeds).
+// Each gives the car's heading (yaw_deg): its direction of travel (held once it stops); the
+// stationary car faces --sim-heading.
 #pragma once
 
 #include <filesystem>
@@ -16,7 +18,7 @@ namespace gpsemu::sources {
 
 struct SimOptions {
   double speed_mps = 2.0;       ///< line/circle/waypoint speed (m/s), > 0
-  double heading_deg = 90.0;    ///< line heading, degrees true (90 = east)
+  double heading_deg = 90.0;    ///< line heading (and where the stationary car faces), degrees true (90 = east)
   double drive_time_s = 20.0;   ///< line: seconds of driving before the car stops
   double radius_m = 20.0;       ///< circle radius (metres), centred on the origin
   bool loop = false;            ///< waypoints: start over after the last waypoint

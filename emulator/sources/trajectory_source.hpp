@@ -14,6 +14,8 @@
 //     east_m,north_m[,up_m]         metres about --origin (x_m,y_m,z_m accepted for the same)
 //   velocity  optional: ve_mps,vn_mps[,vu_mps] East/North/Up, metres per second. Without them
 //             the velocity is the track's: constant along each segment between two rows.
+//   yaw_deg   optional: true heading of the vehicle body, degrees clockwise from north, within
+//             +-360 (interpolated the shorter way round); without it no heading (HDT/THS empty).
 // Values are limited as for socket poses (pose_message.hpp): local coordinates within 1e7 m,
 // altitude -1e4..1e6 m, velocity components within 1e4 m/s.
 // At least two rows. Between rows the position (and velocity) is interpolated linearly; before
@@ -37,6 +39,7 @@ struct TrajectoryPoint {
   UtcNs time{};
   Enu position_m;                   ///< East/North/Up about the origin (metres)
   std::optional<Enu> velocity_mps;  ///< when the file has velocity columns
+  std::optional<double> yaw_deg;    ///< true heading (degrees, [0, 360)), when the file has yaw_deg
 };
 
 /// A trajectory in time order, with the file's description for the banner.

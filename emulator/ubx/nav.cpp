@@ -415,7 +415,7 @@ bool nav_encodes(MessageId id) {
   for (const MessageId m : {msg::nav_pvt, msg::nav_posllh, msg::nav_velned, msg::nav_status, msg::nav_sol,
                             msg::nav_posecef, msg::nav_velecef, msg::nav_dop, msg::nav_timeutc, msg::nav_timegps,
                             msg::nav_sat, msg::nav_cov, msg::nav_eoe, msg::nav_clock, msg::nav_hpposllh,
-                            msg::nav_svinfo, msg::nav_sig, msg::nav_timels}) {
+                            msg::nav_svinfo, msg::nav_sig, msg::nav_timels, msg::nav_relposned}) {
     if (m == id) return true;
   }
   return false;
@@ -439,6 +439,7 @@ std::optional<std::string> nav_payload(MessageId id, const nmea::Fix& fix, const
   if (id == msg::nav_timels) return nav_timels(fix, extras);
   if (id == msg::nav_hpposllh) return nav_hpposllh(fix);
   if (id == msg::nav_cov) return nav_cov(fix, extras);
+  if (id == msg::nav_relposned) return nav_relposned(fix, extras.relpos);
   if (id == msg::nav_eoe) return nav_eoe(fix);
   return std::nullopt;
 }

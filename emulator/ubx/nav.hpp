@@ -19,6 +19,7 @@
 #include "emulator/ubx/model.hpp"
 #include "emulator/ubx/nav_sat.hpp"
 #include "emulator/ubx/receiver_state.hpp"
+#include "emulator/ubx/relposned.hpp"
 #include "nmea/fix.hpp"
 
 namespace gpsemu::ubx {
@@ -42,6 +43,7 @@ struct NavExtras {
   TimeValidity time{};                           ///< how much of the time the receiver knows
   ClockState clock{};                            ///< NAV-CLOCK
   RfState rf{};                                  ///< MON-HW, MON-RF
+  RelPosNed relpos{};                            ///< NAV-RELPOSNED (a rover's; zeros elsewhere)
 };
 
 /// The smallest accuracies a receiver reports with a fix of `quality` (1 sigma): horizontal and

@@ -42,7 +42,8 @@ nmea::SentenceSet due_sentences(const Settings& s, Port port, std::uint64_t solu
   nmea::SentenceSet set;
   if (!outputs(s, port, proto_nmea)) return set;
   for (const nmea::SentenceType type : nmea::all_sentence_types) {
-    if (due(s.rate(nmea_message(type), port), solution_index)) set.insert(type);
+    const auto id = nmea_message(type);
+    if (id && due(s.rate(*id, port), solution_index)) set.insert(type);
   }
   return set;
 }

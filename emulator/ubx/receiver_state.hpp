@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <optional>
 
+#include "emulator/ubx/relposned.hpp"
 #include "nmea/fix.hpp"
 
 namespace gpsemu::ubx {
@@ -92,6 +93,8 @@ class ReceiverState {
 
   RfState& rf() { return rf_; }
   [[nodiscard]] const RfState& rf() const { return rf_; }
+  /// A rover's position relative to its moving base (NAV-RELPOSNED), set each epoch by the channel.
+  RelPosNed& relative_position() { return relpos_; }
 
  private:
   std::optional<nmea::UtcTime> power_on_;
@@ -101,6 +104,7 @@ class ReceiverState {
   std::optional<nmea::UtcTime> resolved_at_;  // the first fix since the time became valid
   ReceiverClock clock_;
   RfState rf_;
+  RelPosNed relpos_;
 };
 
 }  // namespace gpsemu::ubx

@@ -138,6 +138,7 @@ void Session::append_solution(const nmea::Fix& fix, std::string& out) {
   extras.time = now.time;
   extras.clock = now.clock;
   extras.rf = state_.rf();
+  extras.relpos = state_.relative_position();
 
   const Settings& s = machine_.settings();
   const Port port = machine_.port();

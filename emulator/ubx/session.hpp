@@ -103,6 +103,7 @@ class Session {
   [[nodiscard]] std::size_t effects_waiting() const { return effects_.size(); }
   /// The RF front end MON-HW and MON-RF report (a fault may change it).
   [[nodiscard]] RfState& rf() { return state_.rf(); }
+  [[nodiscard]] RelPosNed& relative_position() { return state_.relative_position(); }
 
  private:
   struct Client {

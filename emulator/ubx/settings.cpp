@@ -125,7 +125,9 @@ Settings start_settings(const StartSettings& start) {
   if (start.port == Port::usb) s.ports[static_cast<std::size_t>(Port::usb)].baud = 0;
   // NMEA sentences on at start on every port (as a factory-default u-blox), UBX on the client's.
   start.sentences.for_each([&](nmea::SentenceType type) {
-    for (const Port p : {Port::i2c, Port::uart1, Port::uart2, Port::usb, Port::spi}) s.set_rate(nmea_message(type), p, 1);
+    const auto id = nmea_message(type);
+    if (!id) return;  // HDT, THS: not a u-blox message
+    for (const Port p : {Port::i2c, Port::uart1, Port::uart2, Port::usb, Port::spi}) s.set_rate(*id, p, 1);
   });
   for (const MessageId id : start.ubx_messages) s.set_rate(id, start.port, 1);
   s.nav5 = default_nav5();
@@ -137,8 +139,8 @@ Settings start_settings(const StartSettings& start) {
   return s;
 }
 
-MessageId nmea_message(nmea::SentenceType type) {
-  return *nmea_message_from_name(nmea::sentence_name(type));
+std::optional<MessageId> nmea_message(nmea::SentenceType type) {
+  return nmea_message_from_name(nmea::sentence_name(type));
 }
 
 std::optional<nmea::SentenceType> sentence_of(MessageId id) {

@@ -69,8 +69,8 @@ struct Settings {
 [[nodiscard]] Settings start_settings(const StartSettings& start);
 
 /// Class 0xF0 id of an NMEA sentence type (GGA 0x00, GLL 0x01, GSA 0x02, GSV 0x03, RMC 0x04,
-/// VTG 0x05, GST 0x07, ZDA 0x08).
-[[nodiscard]] MessageId nmea_message(nmea::SentenceType type);
+/// VTG 0x05, GST 0x07, ZDA 0x08); nullopt for HDT and THS, which a u-blox F9P does not write.
+[[nodiscard]] std::optional<MessageId> nmea_message(nmea::SentenceType type);
 /// The sentence type of an NMEA message id, nullopt for another message.
 [[nodiscard]] std::optional<nmea::SentenceType> sentence_of(MessageId id);
 /// The NMEA message named `name` ("GGA", also GRS GBS DTM GNS VLW which gpsemu never writes).

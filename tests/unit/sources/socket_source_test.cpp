@@ -112,6 +112,18 @@ TEST_F(SocketSourceTest, LocalAndGeodeticPosesReachTheTruth) {
   EXPECT_EQ(source_->stats().accepted, 2u);
 }
 
+TEST_F(SocketSourceTest, YawReachesTheTruthInterpolatedAcrossNorth) {
+  send(0.00, R"({"x": 0, "y": 0, "yaw_deg": 350})");
+  send(0.10, R"({"x": 0, "y": 1, "yaw_deg": -10})");   // 350 again: wrapped
+  send(0.20, R"({"x": 0, "y": 2, "yaw_deg": 30})");
+  send(0.30, R"({"x": 0, "y": 3, "yaw_deg": 400})");   // refused: the yaw stays 30
+  source_->service();
+  EXPECT_NEAR(*source_->truth_at(at_s(0.05))->yaw_deg, 350.0, 1e-9);
+  EXPECT_NEAR(*source_->truth_at(at_s(0.15))->yaw_deg, 10.0, 1e-9);  // 350 -> 30 through north
+  EXPECT_NEAR(*source_->truth_at(at_s(0.35))->yaw_deg, 30.0, 1e-9);
+  EXPECT_EQ(dropped(PoseReject::out_of_range), 1u);
+}
+
 TEST_F(SocketSourceTest, BadInputIsCountedPerReasonAndTheLastGoodPoseStays) {
   send(0.00, R"({"x": 1, "y": 2})");
   send(0.01, "not json");
