@@ -8,7 +8,9 @@
 #include <numbers>
 #include <vector>
 
-#include "emulator/heading/rtcm3.hpp"
+#include "emulator/model/sky/orbits.hpp"
+#include "emulator/rtk/rtcm3_messages.hpp"
+#include "emulator/rtk/rtcm3_reader.hpp"
 #include "emulator/ubx/nav.hpp"
 
 namespace gpsemu::heading {
@@ -55,22 +57,22 @@ std::uint32_t epoch_time_field(nmea::GnssSystem system, const nmea::UtcTime& utc
 
 std::string msm4(const SystemInfo& info, const std::vector<const nmea::SatelliteInView*>& sats, bool more,
                  std::uint16_t station, const nmea::UtcTime& utc) {
-  BitWriter w;
-  w.put_unsigned(static_cast<std::uint64_t>(info.message), 12);
-  w.put_unsigned(station, 12);
-  w.put_unsigned(epoch_time_field(info.system, utc), 30);
-  w.put_unsigned(more ? 1 : 0, 1);  // DF393 multiple message bit
-  w.put_unsigned(0, 3);             // DF409 IODS
-  w.put_unsigned(0, 7);             // DF001 reserved
-  w.put_unsigned(0, 2);             // DF411 clock steering
-  w.put_unsigned(0, 2);             // DF412 external clock
-  w.put_unsigned(0, 1);             // DF417 smoothing
-  w.put_unsigned(0, 3);             // DF418 smoothing interval
+  rtk::BitWriter w;
+  w.u(static_cast<std::uint64_t>(info.message), 12);
+  w.u(station, 12);
+  w.u(epoch_time_field(info.system, utc), 30);
+  w.u(more ? 1 : 0, 1);  // DF393 multiple message bit
+  w.u(0, 3);             // DF409 IODS
+  w.u(0, 7);             // DF001 reserved
+  w.u(0, 2);             // DF411 clock steering
+  w.u(0, 2);             // DF412 external clock
+  w.u(0, 1);             // DF417 smoothing
+  w.u(0, 3);             // DF418 smoothing interval
   std::uint64_t sat_mask = 0;
   for (const auto* s : sats) sat_mask |= 1ull << (64 - s->sv_id);
-  w.put_unsigned(sat_mask, 64);
-  w.put_unsigned(1ull << (32 - kSignalId), 32);
-  for (std::size_t i = 0; i < sats.size(); ++i) w.put_unsigned(1, 1);  // one signal a satellite: every cell
+  w.u(sat_mask, 64);
+  w.u(1ull << (32 - kSignalId), 32);
+  for (std::size_t i = 0; i < sats.size(); ++i) w.u(1, 1);  // one signal a satellite: every cell
   // Satellites in mask order (ascending ID).
   std::vector<const nmea::SatelliteInView*> ordered = sats;
   std::sort(ordered.begin(), ordered.end(), [](const auto* a, const auto* b) { return a->sv_id < b->sv_id; });
@@ -80,52 +82,32 @@ std::string msm4(const SystemInfo& info, const std::vector<const nmea::Satellite
   for (const double r : range_ms) {
     const double rough = std::floor(r * 1024.0) / 1024.0;
     rough_ms.push_back(rough);
-    w.put_unsigned(static_cast<std::uint64_t>(std::floor(rough)), 8);  // DF397
+    w.u(static_cast<std::uint64_t>(std::floor(rough)), 8);  // DF397
   }
   for (const double rough : rough_ms) {
-    w.put_unsigned(static_cast<std::uint64_t>(std::lround((rough - std::floor(rough)) * 1024.0)) & 0x3FF, 10);  // DF398
+    w.u(static_cast<std::uint64_t>(std::lround((rough - std::floor(rough)) * 1024.0)) & 0x3FF, 10);  // DF398
   }
   for (std::size_t i = 0; i < ordered.size(); ++i) {
-    w.put_signed(std::llround((range_ms[i] - rough_ms[i]) * 0x1p24), 15);  // DF400 fine pseudorange, 2^-24 ms
+    w.s(std::llround((range_ms[i] - rough_ms[i]) * 0x1p24), 15);  // DF400 fine pseudorange, 2^-24 ms
   }
   for (std::size_t i = 0; i < ordered.size(); ++i) {
-    w.put_signed(std::llround((range_ms[i] - rough_ms[i]) * 0x1p29), 22);  // DF401 fine phaserange, 2^-29 ms
+    w.s(std::llround((range_ms[i] - rough_ms[i]) * 0x1p29), 22);  // DF401 fine phaserange, 2^-29 ms
   }
-  for (std::size_t i = 0; i < ordered.size(); ++i) w.put_unsigned(15, 4);  // DF402 lock time indicator 15: locked >= 524 s
-  for (std::size_t i = 0; i < ordered.size(); ++i) w.put_unsigned(0, 1);   // DF420 half-cycle resolved
-  for (const auto* s : ordered) w.put_unsigned(static_cast<std::uint64_t>(std::clamp(*s->snr_dbhz, 0, 63)), 6);  // DF403
-  return rtcm3_frame(w.bytes());
-}
-
-/// Geodetic (degrees, ellipsoid height in metres) to ECEF metres, WGS84.
-std::array<double, 3> ecef_m(double lat_deg, double lon_deg, double h_m) {
-  constexpr double a = 6378137.0, f = 1.0 / 298.257223563, e2 = f * (2.0 - f);
-  const double lat = lat_deg * std::numbers::pi / 180.0, lon = lon_deg * std::numbers::pi / 180.0;
-  const double n = a / std::sqrt(1.0 - e2 * std::sin(lat) * std::sin(lat));
-  return {(n + h_m) * std::cos(lat) * std::cos(lon), (n + h_m) * std::cos(lat) * std::sin(lon),
-          (n * (1.0 - e2) + h_m) * std::sin(lat)};
+  for (std::size_t i = 0; i < ordered.size(); ++i) w.u(15, 4);  // DF402 lock time indicator 15: locked >= 524 s
+  for (std::size_t i = 0; i < ordered.size(); ++i) w.u(0, 1);   // DF420 half-cycle resolved
+  for (const auto* s : ordered) w.u(static_cast<std::uint64_t>(std::clamp(*s->snr_dbhz, 0, 63)), 6);  // DF403
+  return rtk::rtcm3_frame_bytes(w.bytes());
 }
 
 std::string type4072_0(const nmea::Fix& fix, std::uint16_t station) {
-  BitWriter w;
-  w.put_unsigned(4072, 12);
-  w.put_unsigned(0, 12);  // sub-type 0: reference station PVT
-  w.put_unsigned(station, 12);
-  w.put_unsigned(ubx::gps_time(fix.time_utc).tow_ms, 30);
-  for (const double c : ecef_m(fix.lat_deg, fix.lon_deg, fix.alt_msl_m + fix.geoid_sep_m)) {
-    w.put_signed(std::llround(c * 1e4), 38);
-  }
-  return rtcm3_frame(w.bytes());
-}
-
-std::string type1230(std::uint16_t station) {
-  BitWriter w;
-  w.put_unsigned(1230, 12);
-  w.put_unsigned(station, 12);
-  w.put_unsigned(0, 1);  // DF421: biases not aligned
-  w.put_unsigned(0, 3);  // DF001 reserved
-  w.put_unsigned(0, 4);  // DF422: no FDMA signal biases follow
-  return rtcm3_frame(w.bytes());
+  rtk::BitWriter w;
+  w.u(4072, 12);
+  w.u(0, 12);  // sub-type 0: reference station PVT
+  w.u(station, 12);
+  w.u(ubx::gps_time(fix.time_utc).tow_ms, 30);
+  const sky::Ecef e = sky::to_ecef(fix.lat_deg, fix.lon_deg, fix.alt_msl_m + fix.geoid_sep_m);
+  for (const double c : {e.x_m, e.y_m, e.z_m}) w.s(std::llround(c * 1e4), 38);
+  return rtk::rtcm3_frame_bytes(w.bytes());
 }
 
 }  // namespace
@@ -153,7 +135,7 @@ std::string base_rtcm3_epoch(const nmea::Fix& fix, std::uint16_t station_id) {
   for (std::size_t g = 0; g < groups.size(); ++g) {
     out += msm4(*groups[g].first, groups[g].second, g + 1 < groups.size(), station_id, fix.time_utc);
   }
-  out += type1230(station_id);
+  out += rtk::rtcm3_frame_bytes(rtk::encode_1230(station_id));
   return out;
 }
 

@@ -83,14 +83,17 @@ void Channel::reboot(UtcNs t, double cold_start_s) {
 }
 
 void Channel::client_wrote(std::string_view bytes, transport::ClientId client) {
-  if (rover_) {
-    // The base's RTCM3, forwarded by the autopilot: any whole frame with a good CRC counts as
-    // corrections that arrived at the latest epoch (h26a's decoder reads the messages themselves).
-    if (!rtcm3_in_.feed(bytes).empty() && last_step_) last_corrections_ = last_step_;
-  }
   for (const auto& encoder : encoders_) encoder->client_wrote(bytes, client);
-  if (ubx_ != nullptr) {
-    for (const rtk::Rtcm3Message& m : ubx_->take_rtcm()) rtk_->received(m);
+  if (ubx_ == nullptr) return;
+  // RTCM3 the client interleaves with UBX (the u-blox input's reader splits and checks it): a
+  // base station's corrections drive the RTK state; a rover's moving base, forwarded by the
+  // autopilot, is recognised by its 4072.0 (reference station PVT) and makes the baseline valid.
+  for (const rtk::Rtcm3Message& m : ubx_->take_rtcm()) {
+    rtk_->received(m);
+    if (rover_ && m.valid && m.type == 4072 && m.subtype == 0) {
+      ++moving_base_frames_;
+      if (last_step_) last_corrections_ = last_step_;
+    }
   }
 }
 

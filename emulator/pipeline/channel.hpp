@@ -13,7 +13,6 @@
 
 #include "emulator/faults/fault_timeline.hpp"
 #include "emulator/heading/moving_base.hpp"
-#include "emulator/heading/rtcm3.hpp"
 #include "emulator/model/geo.hpp"
 #include "emulator/model/noise/noise_model.hpp"
 #include "emulator/model/receiver.hpp"
@@ -114,7 +113,9 @@ class Channel final : public transport::ClientInput {
   [[nodiscard]] const RtkReceiver& rtk() const { return *rtk_; }
   [[nodiscard]] ReceiverStats& stats() { return stats_; }
   /// A rover's RTCM3 input (frames and bad CRCs seen in what its clients wrote).
-  [[nodiscard]] const heading::Rtcm3ScanStats& rtcm3_in() const { return rtcm3_in_.stats(); }
+  /// A rover's: the moving base's 4072.0 messages its clients forwarded (frames with a bad CRC are
+  /// counted by the u-blox input, with every other RTCM3 frame).
+  [[nodiscard]] std::uint64_t moving_base_frames() const { return moving_base_frames_; }
   [[nodiscard]] const ReceiverStats& stats() const { return stats_; }
 
  private:
@@ -132,7 +133,7 @@ class Channel final : public transport::ClientInput {
   bool rebooted_ = false;  ///< reboot() fed a CFG-RST whose cold-start effect is still to come
   ReceiverStats stats_;
   std::optional<heading::RoverRelPos> rover_;  ///< a rover's NAV-RELPOSNED
-  heading::Rtcm3Scanner rtcm3_in_;             ///< a rover's: the base's RTCM3 in its clients' bytes
+  std::uint64_t moving_base_frames_ = 0;      ///< a rover's: 4072.0 frames forwarded by its clients
   std::optional<UtcNs> last_step_;             ///< the latest epoch stepped
   std::optional<UtcNs> last_corrections_;      ///< the epoch before which the base's RTCM3 last arrived
 };

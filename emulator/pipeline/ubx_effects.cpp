@@ -143,8 +143,7 @@ std::string client_input_summary(const Channel& channel) {
   const ubx::SessionStats& folded = ubx->session().stats();
   std::string rtcm3;
   if (channel.settings().moving_base.role == heading::Role::rover) {
-    rtcm3 = fmt::format("; RTCM3 from the moving base: {} frames, {} with a bad CRC (dropped)",
-                        channel.rtcm3_in().frames, channel.rtcm3_in().bad_crc);
+    rtcm3 = fmt::format("; {} of the RTCM3 frames the moving base's (4072.0)", channel.moving_base_frames());
   }
   return fmt::format("u-blox client input: {} UBX frames, {} bad ({} bad checksum, {} too long), {} NMEA sentences "
                      "({} bad), {} RTCM3 frames ({} bad CRC), {} garbage bytes; {} ACK, {} NAK, {} ignored; {} NAV "

@@ -9,7 +9,7 @@
 #include <sstream>
 #include <string>
 
-#include "emulator/heading/rtcm3.hpp"
+#include "emulator/rtk/rtcm3_reader.hpp"
 #include "nmea/heading.hpp"
 #include "nmea/parse.hpp"
 #include "tests/support/process.hpp"
@@ -75,9 +75,9 @@ TEST(HeadingE2e, MovingBaseFleetWritesRtcm3) {
   }
   EXPECT_EQ(bias, 3);
   EXPECT_GE(rtcm, 3 * 3);  // 4072.0, at least one MSM4 and 1230 an epoch
-  heading::Rtcm3Scanner rover_frames;
+  rtk::Rtcm3Reader rover_frames;
   (void)rover_frames.feed(test::read_file(rover));
-  EXPECT_EQ(rover_frames.stats().frames, 0u);  // the rover writes no RTCM3
+  EXPECT_EQ(rover_frames.stats().frames_ok, 0u);  // the rover writes no RTCM3
   EXPECT_FALSE(test::read_file(rover).empty());
 }
 

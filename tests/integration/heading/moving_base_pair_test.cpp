@@ -11,6 +11,7 @@
 
 #include "emulator/heading/moving_base.hpp"
 #include "emulator/pipeline/channel.hpp"
+#include "emulator/pipeline/ubx_encoder.hpp"
 #include "emulator/sources/sim.hpp"
 #include "emulator/ubx/bytes.hpp"
 #include "emulator/ubx/cfg_keys.hpp"
@@ -115,8 +116,11 @@ TEST(MovingBasePair, RoverHeadingFollowsTheTurningCarWithinItsAccuracy) {
   // over 329 epochs), and at most 1 % of the epochs are beyond 3 accHeading (0.27 % expected).
   EXPECT_NEAR(std::sqrt(sum_squared_error / checked) / max_sigma_deg, 1.0, 0.2);
   EXPECT_LE(outside_3_sigma, 3);
-  EXPECT_GE(rover.rtcm3_in().frames, 3u * 329u);  // 4072.0, MSM4 (one a system), 1230 each epoch
-  EXPECT_EQ(rover.rtcm3_in().bad_crc, 0u);
+  EXPECT_GE(rover.moving_base_frames(), 329u);  // a 4072.0 each epoch
+  ASSERT_NE(rover.ubx_encoder(), nullptr);
+  const ubx::FrameStats& in = rover.ubx_encoder()->session().reader_stats();
+  EXPECT_GE(in.rtcm_ok, 3u * 329u);  // 4072.0, MSM4 (one a system), 1230 each epoch
+  EXPECT_EQ(in.rtcm_bad_crc, 0u);
 
   // The autopilot stops forwarding: valid for 1.5 s, then the base is lost.
   int last_valid = -1;

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "emulator/heading/rtcm3.hpp"
+#include "emulator/rtk/rtcm3_reader.hpp"
 #include "emulator/model/sky/profile.hpp"
 #include "emulator/pipeline/channel.hpp"
 #include "emulator/sources/sim.hpp"
@@ -40,11 +40,11 @@ BaseRun run_base() {
   sources::SimOptions sim;
   base.set_source(sources::make_sim_source("circle", sim, base.frame(), t0));
   BaseRun run;
-  heading::Rtcm3Scanner scanner;
+  rtk::Rtcm3Reader reader;
   for (int k = 0; k < kEpochs; ++k) {
     const nmea::Fix fix = base.step(t0 + k * 1s);
     run.bytes += base.bytes();
-    for (const int m : scanner.feed(base.bytes())) run.types.push_back(m);
+    for (const rtk::Rtcm3Frame& f : reader.feed(base.bytes())) run.types.push_back(f.message_type());
     int sats = 0;
     for (int i = 0; i < fix.satellites_in_view; ++i) {
       const auto& sat = fix.satellites[static_cast<std::size_t>(i)];

@@ -1,14 +1,13 @@
-// RTCM 3 framing for the moving-base pair: CRC-24Q's check value, frames found whole in a stream
-// that mixes UBX, NMEA and broken frames (in pieces too), and the base's epoch: 4072.0, one MSM4
-// per system with the multiple-message bit on all but the last, then 1230, read back bit by bit.
+// The moving base's RTCM 3 epoch: 4072.0, one MSM4 per system with the multiple-message bit on all
+// but the last, then 1230, read back bit by bit (the framing itself: tests/unit/rtk).
 #include <gtest/gtest.h>
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
-#include "emulator/heading/rtcm3.hpp"
 #include "emulator/heading/rtcm3_base.hpp"
+#include "emulator/rtk/rtcm3_reader.hpp"
 #include "nmea/fix.hpp"
 
 namespace gpsemu::heading {
@@ -46,41 +45,11 @@ std::vector<std::string> payloads(const std::string& bytes) {
   return out;
 }
 
-TEST(Rtcm3, Crc24qCheckValue) { EXPECT_EQ(crc24q("123456789"), 0xCDE703u); }
-
-TEST(Rtcm3, BitWriterPacksMostSignificantFirst) {
-  BitWriter w;
-  w.put_unsigned(1005, 12);
-  w.put_signed(-2, 4);
-  w.put_unsigned(1, 1);
-  EXPECT_EQ(w.bit_count(), 17u);
-  ASSERT_EQ(w.bytes().size(), 3u);
-  BitReader r(w.bytes());
-  EXPECT_EQ(r.get(12), 1005u);
-  EXPECT_EQ(r.get(4), 0xEu);
-  EXPECT_EQ(r.get(1), 1u);
-}
-
-TEST(Rtcm3, ScannerFindsWholeFramesAmongOtherBytes) {
-  BitWriter a, b;
-  a.put_unsigned(1230, 12);
-  a.put_unsigned(0, 20);
-  b.put_unsigned(4072, 12);
-  b.put_unsigned(0, 12);
-  std::string broken = rtcm3_frame(b.bytes());
-  broken[4] = static_cast<char>(broken[4] ^ 0x10);  // a bit flipped: dropped, counted
-  const std::string stream = std::string("$GNGGA,,,,*00\r\n\xb5\x62\x01\x3c") + std::string("\xd3\x00", 2) + rtcm3_frame(a.bytes()) +
-                             broken + std::string("\xd3\xff\xff") + rtcm3_frame(b.bytes());
-  // The false start (D3 00 D3: a 211-byte "frame") is refused once its 217 bytes are in: more traffic.
-  const std::string traffic = stream + std::string(300, 'x');
-  Rtcm3Scanner scanner;
-  std::vector<int> seen;
-  for (std::size_t i = 0; i < traffic.size(); i += 7) {  // in pieces
-    for (const int m : scanner.feed(traffic.substr(i, 7))) seen.push_back(m);
-  }
-  EXPECT_EQ(seen, (std::vector<int>{1230, 4072}));
-  EXPECT_EQ(scanner.stats().frames, 2u);
-  EXPECT_EQ(scanner.stats().bad_crc, 2u);  // the false start and the flipped bit
+/// The message numbers of the checked frames in `bytes`, read by the u-blox input's RTCM3 reader.
+std::vector<int> message_types(const std::string& bytes, rtk::Rtcm3Reader& reader) {
+  std::vector<int> out;
+  for (const rtk::Rtcm3Frame& f : reader.feed(bytes)) out.push_back(f.message_type());
+  return out;
 }
 
 nmea::Fix base_fix() {
@@ -114,9 +83,10 @@ nmea::Fix base_fix() {
 
 TEST(Rtcm3Base, OneEpochIs4072ThenMsm4PerSystemThen1230) {
   const std::string bytes = base_rtcm3_epoch(base_fix(), 0);
-  Rtcm3Scanner scanner;
-  EXPECT_EQ(scanner.feed(bytes), (std::vector<int>{4072, 1074, 1084, 1094, 1230}));
-  EXPECT_EQ(scanner.stats().bad_crc, 0u);
+  rtk::Rtcm3Reader reader;
+  EXPECT_EQ(message_types(bytes, reader), (std::vector<int>{4072, 1074, 1084, 1094, 1230}));
+  EXPECT_EQ(reader.stats().bad_crc, 0u);
+  EXPECT_EQ(reader.stats().garbage_bytes, 0u);
   const auto p = payloads(bytes);
   ASSERT_EQ(p.size(), 5u);
   BitReader t4072(p[0]);
