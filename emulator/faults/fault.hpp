@@ -14,7 +14,9 @@
 #include <variant>
 #include <vector>
 
+#include "emulator/faults/area.hpp"
 #include "emulator/model/enu.hpp"
+#include "emulator/model/time.hpp"
 #include "nmea/fix.hpp"
 
 namespace gpsemu::faults {
@@ -29,12 +31,15 @@ enum class FaultKind {
   degrade,      ///< fewer satellites used, DOP x k, error x k
   silence,      ///< the receiver writes nothing
   jam,          ///< C/N0 down by db over ramp_s: weak satellites drop, accuracy follows, fix lost below 4
+  garble,       ///< bytes corrupted: sentences and frames with a flipped bit (bad checksum) or cut short
+  latency,      ///< the epoch's bytes written late (delay_ms, jitter_ms), its time fields unchanged
 };
 
 /// Every kind, in catalogue order.
-inline constexpr std::array<FaultKind, 8> kAllKinds{FaultKind::outage, FaultKind::freeze, FaultKind::jump,
-                                                    FaultKind::wrong, FaultKind::fix_quality, FaultKind::degrade,
-                                                    FaultKind::silence, FaultKind::jam};
+inline constexpr std::array<FaultKind, 10> kAllKinds{FaultKind::outage, FaultKind::freeze, FaultKind::jump,
+                                                     FaultKind::wrong, FaultKind::fix_quality, FaultKind::degrade,
+                                                     FaultKind::silence, FaultKind::jam,
+                                                     FaultKind::garble, FaultKind::latency};
 
 /// "outage", "fix-quality", ... (the scenario's `kind`).
 [[nodiscard]] std::string_view kind_name(FaultKind kind);
@@ -61,6 +66,14 @@ struct Fault {
   std::optional<double> dop_k;        ///< degrade: DOP factor (default: from the satellites dropped)
   std::optional<double> noise_k;      ///< degrade: factor on the position error and sigmas (default: dop_k)
   double db = 0.0;                    ///< jam: C/N0 reduction at full strength (dB)
+  // Triggers and the ramp out (docs/faults.md#triggers).
+  std::optional<UtcNs> at_utc;        ///< starts at this UTC time (`at_utc`) in place of `at`
+  std::optional<Area> where;          ///< active while the truth is inside (`where`), armed from `at`
+  double ramp_out_s = 0.0;            ///< jam, wrong, degrade: fades to nothing over this long after its end (s)
+  // Byte-level faults.
+  double rate = 0.0;                  ///< garble: fraction of sentences and frames hit (0..1)
+  double delay_ms = 0.0;              ///< latency: the bytes leave this much after the epoch's deadline (ms)
+  double jitter_ms = 0.0;             ///< latency: plus a uniform draw in [0, jitter_ms) each epoch (ms)
 
   /// Whether epoch time `since_s` (seconds after the first epoch) is inside the fault.
   /// Compared in whole nanoseconds, so 0.1 + 0.2 s ends at the epoch of 0.3 s.

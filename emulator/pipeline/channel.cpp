@@ -1,5 +1,9 @@
 #include "emulator/pipeline/channel.hpp"
 
+#include <algorithm>
+
+#include "emulator/faults/garble.hpp"
+
 namespace gpsemu {
 
 Channel::Channel(const ChannelSettings& settings, UtcNs first_epoch) : settings_(settings), frame_(settings.origin) {
@@ -25,14 +29,46 @@ nmea::Fix Channel::step(UtcNs t, const std::optional<sources::Truth>& truth) {
   nmea::Fix fix = receiver_->fix_at(t, truth);  // one fix a step, never copied
   bytes_.clear();
   const std::optional<Enu> truth_m = truth ? std::optional<Enu>(truth->position_m) : std::nullopt;
-  silent_ = faults_->apply(t, fix, truth_m, frame_, ubx_ ? &ubx_->rf() : nullptr).silent;
+  const faults::EpochEffect effect = faults_->apply(t, fix, truth_m, frame_, ubx_ ? &ubx_->rf() : nullptr);
+  silent_ = effect.silent;
   if (silent_) {
     ++stats_.epochs_silent;
-    return fix;
+  } else {
+    if (!fix.has_fix()) ++stats_.epochs_without_fix;
+    for (const auto& encoder : encoders_) encoder->encode(fix, bytes_);
   }
-  if (!fix.has_fix()) ++stats_.epochs_without_fix;
-  for (const auto& encoder : encoders_) encoder->encode(fix, bytes_);
+  apply_byte_faults(t, effect);
   return fix;
+}
+
+void Channel::apply_byte_faults(UtcNs t, const faults::EpochEffect& effect) {
+  const auto t_ns = static_cast<std::uint64_t>(t.time_since_epoch().count());
+  if (effect.garble_rate > 0.0 && !bytes_.empty()) {
+    const faults::GarbleCounts c = faults::garble(bytes_, effect.garble_rate, faults::mix_seed(settings_.seed, t_ns));
+    stats_.epochs_garbled += (c.flipped + c.truncated) > 0;
+    stats_.units_flipped += c.flipped;
+    stats_.units_truncated += c.truncated;
+  }
+  if (effect.delay_ms <= 0.0 && effect.jitter_ms <= 0.0 && delayed_.empty()) return;
+  // The jitter's draw from the seed and the epoch: the same run gives the same delays.
+  const double draw = static_cast<double>(faults::mix_seed(settings_.seed ^ 0x6c6174656e6379ULL, t_ns) >> 11) * 0x1.0p-53;
+  const double delay_ms = effect.delay_ms + effect.jitter_ms * draw;
+  if (delay_ms > 0.0) ++stats_.epochs_delayed;
+  // Never before an epoch held back earlier: a slow receiver's bytes still leave in order.
+  UtcNs release = t + std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double, std::milli>(delay_ms));
+  if (!delayed_.empty()) release = std::max(release, delayed_.back().release);
+  if (!bytes_.empty()) delayed_.push_back({release, std::move(bytes_)});
+  bytes_.clear();
+  bytes_ = take_delayed(t);
+}
+
+std::string_view Channel::take_delayed(UtcNs t) {
+  released_.clear();
+  while (!delayed_.empty() && delayed_.front().release <= t) {
+    released_ += delayed_.front().bytes;
+    delayed_.pop_front();
+  }
+  return released_;
 }
 
 void Channel::cold_start(UtcNs t) { receiver_->restart(t); }

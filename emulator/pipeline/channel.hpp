@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <optional>
 #include <string>
@@ -46,6 +47,10 @@ struct ReceiverStats {
   std::uint64_t epochs_without_fix = 0;
   std::uint64_t epochs_silent = 0;  ///< epochs a `silence` fault left unwritten
   std::uint64_t replies_withheld_bytes = 0;  ///< answers to the client a `silence` kept back (bytes)
+  std::uint64_t epochs_garbled = 0;          ///< epochs a `garble` fault corrupted
+  std::uint64_t units_flipped = 0;           ///< sentences and frames with a bit flipped (bad checksum)
+  std::uint64_t units_truncated = 0;         ///< sentences and frames cut short
+  std::uint64_t epochs_delayed = 0;          ///< epochs a `latency` fault held back
 };
 
 class Channel final : public transport::ClientInput {
@@ -66,7 +71,8 @@ class Channel final : public transport::ClientInput {
   nmea::Fix step(UtcNs t);
   /// Epoch `t` from `truth` (none: no fix).
   nmea::Fix step(UtcNs t, const std::optional<sources::Truth>& truth);
-  /// The last epoch's bytes (every encoder's, in order).
+  /// The last epoch's bytes (every encoder's, in order; with a `latency` fault: those whose time
+  /// to leave has come by the epoch).
   [[nodiscard]] const std::string& bytes() const { return bytes_; }
   /// The same, to cut to what a serial line carries (ubx_effects.hpp).
   [[nodiscard]] std::string& bytes() { return bytes_; }
@@ -91,6 +97,12 @@ class Channel final : public transport::ClientInput {
   /// The receiver's faults (--scenario, and live ones from the control socket).
   [[nodiscard]] const faults::FaultTimeline& faults() const { return *faults_; }
   [[nodiscard]] faults::FaultTimeline& faults() { return *faults_; }
+  /// A `latency` fault holds epochs back: the epoch time the first of them is due at, if any.
+  [[nodiscard]] std::optional<UtcNs> delayed_until() const {
+    return delayed_.empty() ? std::nullopt : std::optional<UtcNs>(delayed_.front().release);
+  }
+  /// The held-back bytes due by `t`, in order; valid until the next call.
+  [[nodiscard]] std::string_view take_delayed(UtcNs t);
   [[nodiscard]] ReceiverStats& stats() { return stats_; }
   [[nodiscard]] const ReceiverStats& stats() const { return stats_; }
 
@@ -102,7 +114,16 @@ class Channel final : public transport::ClientInput {
   std::vector<std::unique_ptr<Encoder>> encoders_;
   UbxEncoder* ubx_ = nullptr;  ///< owned by encoders_
   std::optional<faults::FaultTimeline> faults_;
+  /// Applies the byte-level faults (garble, latency) to the epoch `t`'s bytes.
+  void apply_byte_faults(UtcNs t, const faults::EpochEffect& effect);
+
+  struct Delayed {
+    UtcNs release;  ///< the epoch time it is due at (its epoch + the latency)
+    std::string bytes;
+  };
   std::string bytes_;
+  std::deque<Delayed> delayed_;  ///< `latency`: epochs held back, in order
+  std::string released_;         ///< take_delayed()'s bytes
   bool ended_ = false;
   bool silent_ = false;  ///< the last epoch was silenced: answers are withheld too
   ReceiverStats stats_;
