@@ -69,6 +69,7 @@ struct Fault {
   // Triggers and the ramp out (docs/faults.md#triggers).
   std::optional<UtcNs> at_utc;        ///< starts at this UTC time (`at_utc`) in place of `at`
   std::optional<Area> where;          ///< active while the truth is inside (`where`), armed from `at`
+  std::optional<double> disarm_s;     ///< where: no longer armed from this time (s; a replayed live clear)
   double ramp_out_s = 0.0;            ///< jam, wrong, degrade: fades to nothing over this long after its end (s)
   // Byte-level faults.
   double rate = 0.0;                  ///< garble: fraction of sentences and frames hit (0..1)

@@ -130,6 +130,10 @@ bool FaultTimeline::active_now(Entry& e, double since_s, const std::optional<Enu
   const Fault& f = e.fault;
   if (e.cleared) return false;
   if (!f.where) return f.active_at(since_s);
+  if (f.disarm_s && ns_of(since_s) >= ns_of(*f.disarm_s)) {
+    e.cleared = true;  // a replayed clear: over for good, as the live one was
+    return false;
+  }
   const bool inside = truth_m && ns_of(since_s) >= ns_of(f.at_s) && f.where->contains(frame.to_geodetic(*truth_m));
   if (!inside) {
     e.entered_s.reset();

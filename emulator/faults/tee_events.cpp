@@ -37,6 +37,12 @@ void clear_faults(std::vector<Fault>& faults, std::optional<FaultKind> kind, std
   const auto ns = [](double s) { return std::llround(s * 1e9); };
   for (auto it = faults.begin(); it != faults.end();) {
     const bool matches = (!kind || it->kind == *kind) && (!receiver || !it->receiver || *it->receiver == *receiver);
+    if (matches && it->where) {
+      // An area's fault: disarmed from the clear on (its visits before stay as they were).
+      if (!it->disarm_s || ns(*it->disarm_s) > ns(since_s)) it->disarm_s = since_s;
+      ++it;
+      continue;
+    }
     const bool on = !it->duration_s || ns(it->at_s + *it->duration_s) > ns(since_s);
     if (matches && on) {
       if (ns(since_s) <= ns(it->at_s)) {

@@ -43,6 +43,29 @@ TEST(TeeEvents, FaultsStartAtTheirEpochAndClearsEndThem) {
   EXPECT_EQ(faults[1].duration_s, 1.5);  // over before the clear: untouched
 }
 
+TEST(TeeEvents, AClearDisarmsAnAreasFaultFromItsEpoch) {
+  const std::vector<Fault> faults = faults_from_tee(
+      "# fault +1.000000000 2024-05-01T00:00:01.000Z {\"fault\":\"outage\",\"receiver\":0,\"where\":\"circle:47,8,100\"}\n"
+      "# fault +4.000000000 2024-05-01T00:00:04.000Z {\"clear\":\"all\",\"receiver\":0}\n");
+  ASSERT_EQ(faults.size(), 1u);
+  EXPECT_EQ(faults[0].at_s, 1.0);
+  EXPECT_FALSE(faults[0].duration_s);  // each visit as long as it lasts
+  EXPECT_EQ(faults[0].disarm_s, 4.0);
+  // In a timeline: on inside from 1 s, never again from 4 s.
+  const LocalFrame frame({47.0, 8.0, 0.0});
+  FaultTimeline timeline({faults, ""}, kStart);
+  std::vector<bool> fixes;
+  for (int s = 0; s < 6; ++s) {
+    nmea::Fix fix;
+    fix.quality = nmea::FixQuality::gps;
+    fix.satellites_in_view = fix.satellites_used = 8;
+    (void)timeline.apply(kStart + std::chrono::seconds(s), fix, Enu{}, frame, nullptr);
+    fixes.push_back(fix.has_fix());
+  }
+  EXPECT_EQ(fixes, (std::vector<bool>{true, false, false, false, true, true}));
+  EXPECT_TRUE(timeline.entries()[0].ended);
+}
+
 TEST(TeeEvents, ABadLineIsNamed) {
   try {
     (void)faults_from_tee("# sent x\n# fault +1.0 2024-05-01T00:00:01.000Z {\"fault\":\"jam\"}\n");
