@@ -22,8 +22,23 @@ std::string TeeOutput::sent_line(std::chrono::system_clock::time_point time) {
                      hms.minutes().count(), hms.seconds().count(), hms.subseconds().count());
 }
 
+void TeeOutput::note(std::string_view line) {
+  notes_.append(line);
+  notes_ += '\n';
+}
+
+void TeeOutput::flush() {
+  if (!notes_.empty()) {
+    (void)file_.write_epoch(notes_);
+    notes_.clear();
+  }
+  file_.flush();
+}
+
 WriteStatus TeeOutput::write_bytes(std::string_view bytes, std::string& error_text) {
-  buffer_ = sent_line(now_());
+  buffer_ = notes_;
+  notes_.clear();
+  buffer_ += sent_line(now_());
   buffer_.append(bytes);
   // The comment starts a line: an epoch whose bytes do not end a line would swallow it.
   if (!bytes.empty() && bytes.back() != '\n' && bytes.back() != '\r') buffer_ += "\r\n";

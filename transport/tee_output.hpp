@@ -6,6 +6,10 @@
 //   $GPRMC,120000.00,A,...*hh
 //   $GPGGA,120000.00,...*hh
 //
+// A live fault applied at an epoch (the control socket) is recorded before that epoch's "# sent"
+// line as "# fault +SECONDS EPOCH_TIME {JSON}" (faults/tee_events.hpp): `--scenario` takes the file
+// back and applies the same events at the same epochs.
+//
 // The send time is CLOCK_REALTIME (UTC, microseconds) when write_epoch() is called; the runner
 // and the replay add this output last, so it is stamped after the other outputs were written.
 // Writes like a file output (file_output.hpp): each epoch at once in real time, buffered in
@@ -34,11 +38,15 @@ class TeeOutput final : public Output {
   TeeOutput(const std::filesystem::path& path, bool flush_each_epoch, WallClock now = {});
 
   [[nodiscard]] std::string describe() const override { return "tee " + path_; }
-  void flush() override { file_.flush(); }
+  void flush() override;
   [[nodiscard]] const OutputStats& stats() const override { return file_.stats(); }
   [[nodiscard]] bool gone() const override { return file_.gone(); }
   /// Truncates the file (FileOutput::commit()): until then an existing file is left as it was.
   void commit() override { file_.commit(); }
+
+  /// A comment line of the emulator's (a live fault applied: "# fault ..."), written before the
+  /// next epoch's "# sent" line, or at flush() when no epoch follows. `line` without its '\n'.
+  void note(std::string_view line);
 
   /// "# sent 2024-05-01T12:00:00.050123Z\n" for `time` (microseconds, truncated).
   [[nodiscard]] static std::string sent_line(std::chrono::system_clock::time_point time);
@@ -51,6 +59,7 @@ class TeeOutput final : public Output {
   FileOutput file_;
   WallClock now_;
   std::string buffer_;
+  std::string notes_;  ///< note() lines not yet written
 };
 
 }  // namespace gpsemu::transport

@@ -1,4 +1,5 @@
-// gpsemu ctl PATH ...: the control socket's command-line client (docs/faults.md).
+// gpsemu ctl PATH ...: the control socket's command-line client (docs/faults.md). PATH is a Unix
+// socket's path (or unix:PATH), or tcp:HOST:PORT for --control tcp:...
 //   gpsemu ctl PATH jam --db 25 --ramp 5 [--receiver 0] [--duration 10]   a fault from the next epoch
 //   gpsemu ctl PATH clear jam [--receiver 0]                                end it
 //   gpsemu ctl PATH status                                                  the receivers and their faults
@@ -12,7 +13,7 @@
 
 #include "emulator/app/subcommands.hpp"
 #include "emulator/config/config_values.hpp"
-#include "transport/posix/unix_line_server.hpp"
+#include "emulator/pipeline/control_socket.hpp"
 
 namespace gpsemu {
 namespace {
@@ -72,7 +73,7 @@ std::string request_of(const std::vector<std::string>& args) {
 
 Subcommand add_ctl_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
-      "ctl", "control a running gpsemu (--control unix:PATH): `ctl PATH KIND` with the fault's parameters as flags "
+      "ctl", "control a running gpsemu (--control unix:PATH or tcp:HOST:PORT; PATH may be tcp:HOST:PORT): `ctl PATH KIND` with the fault's parameters as flags "
              "(a jam of 25 dB ramped over 5 s: db 25, ramp 5), `ctl PATH clear KIND`, `ctl PATH status`, "
              "`ctl PATH send JSON`; prints the JSON answer (docs/faults.md)");
   sub->prefix_command();
@@ -80,7 +81,7 @@ Subcommand add_ctl_command(CLI::App& app) {
             const std::vector<std::string> args = sub->remaining();
             if (args.empty()) throw std::invalid_argument("ctl: expected PATH and a command (status, clear KIND, KIND --PARAM VALUE ...)");
             const std::string request = request_of(std::vector<std::string>(args.begin() + 1, args.end()));
-            const std::string answer = posix::unix_request(args[0], request, std::chrono::seconds(5));
+            const std::string answer = control_request(args[0], request, std::chrono::seconds(5));
             std::fputs((answer + "\n").c_str(), stdout);
             return nlohmann::json::parse(answer, nullptr, false).value("class", "") == "ERROR" ? 1 : 0;
           }};

@@ -418,8 +418,9 @@ std::vector<OptionDef> make_option_table() {
       [](ConfigDraft& d, V v) { d.timeline.pps_active_low = parse_choice("pps-polarity", v.back(), {"high", "low"}) == "low"; });
   // Scheduling (real-time pacing)
   scope = OptionScope::process;
-  add("control", "unix:PATH", "live faults: a Unix socket taking JSON lines, e.g. {\"fault\":\"jam\",\"db\":25}, "
-      "{\"clear\":\"jam\"}, {\"status\":true}; `gpsemu ctl PATH ...` is its client (docs/faults.md) (default none)",
+  add("control", "SPEC", "live faults: unix:PATH (a Unix socket) or tcp:[HOST:]PORT (HOST default 127.0.0.1; port 0: "
+      "any, logged) taking JSON lines, e.g. {\"fault\":\"jam\",\"db\":25}, {\"clear\":\"jam\"}, {\"status\":true}; "
+      "`gpsemu ctl PATH ...` is its client (docs/faults.md) (default none)",
       [](ConfigDraft& d, V v) { d.process.control_path = parse_control_spec(v.back()); });
   add("realtime-priority", "N", "run with SCHED_FIFO priority N, 1..99, where permitted (else a warning and normal "
       "scheduling) (default: normal scheduling)",

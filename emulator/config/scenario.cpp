@@ -1,5 +1,8 @@
-// Scenario files: [[fault]] tables (--scenario FILE, or inside --config) into faults::Fault values.
+// Scenario files: [[fault]] tables (--scenario FILE, or inside --config) into faults::Fault values;
+// or a --tee file, whose "# fault" lines are the live events of a session (faults/tee_events.hpp).
 #include <fmt/format.h>
+
+#include "emulator/faults/tee_events.hpp"
 
 #include "emulator/config/config_options.hpp"
 #include "emulator/config/config_values.hpp"
@@ -43,6 +46,13 @@ std::vector<faults::Fault> parse_fault_tables(const std::string& file, const tom
 
 std::vector<faults::Fault> load_scenario(const std::string& path) {
   const std::string text = read_config_file(path, "scenario file");
+  if (faults::looks_like_tee(text)) {
+    try {
+      return faults::faults_from_tee(text);
+    } catch (const std::exception& e) {
+      throw ConfigError(config_values::shorten_quoted(fmt::format("scenario file {} (a --tee file): {}", path, e.what())));
+    }
+  }
   toml::table file;
   try {
     file = toml::parse(text, path);

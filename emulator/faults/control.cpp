@@ -32,11 +32,30 @@ json receivers_json(const std::vector<std::size_t>& receivers) {
   return a;
 }
 
+/// The request as the --tee file records it: for receiver `i`, without the fields it ignored.
+std::string recorded(const json& message, std::size_t i) {
+  json out = json::object();
+  for (const auto& [key, value] : message.items()) {
+    if (key == "receiver") continue;
+    if (key != "fault" && key != "clear" && !value.is_number() && !value.is_string()) continue;
+    out[key] = value;
+  }
+  out["receiver"] = i;
+  return out.dump();
+}
+
+/// The epoch a request came after: it applies at the next one (the first receiver's, for a fleet).
+void add_last_epoch(json& answer, const FaultTimeline& t) {
+  const FaultTimeline::LastEpoch& last = t.last_epoch();
+  answer["after_epoch_s"] = last.epochs ? json(last.since_s) : json(nullptr);
+}
+
 std::string fault_message(const json& message, const std::vector<FaultTimeline*>& timelines) {
   FaultKeys keys;
   for (const auto& [key, value] : message.items()) {
     if (key == "receiver") continue;
-    if (key == "at") throw std::invalid_argument("at: a live fault starts at the next epoch (give duration to end it)");
+    if (key == "at" || key == "at_utc" || key == "end")
+      throw std::invalid_argument(fmt::format("{}: a live fault starts at the next epoch (give duration to end it)", key));
     const std::string name = key == "fault" ? "kind" : key;
     if (value.is_number()) {
       keys.emplace_back(name, value.get<double>());
@@ -50,13 +69,15 @@ std::string fault_message(const json& message, const std::vector<FaultTimeline*>
   }
   const Fault fault = make_fault(keys);
   const std::vector<std::size_t> receivers = receivers_of(message, timelines.size());
-  for (const std::size_t i : receivers) timelines[i]->add_live(fault);
-  const std::string what = fault.parameters() + (fault.duration_s ? fmt::format(" for {:.6g} s", *fault.duration_s)
-                                                                                   : std::string(" until cleared"));
+  for (const std::size_t i : receivers) timelines[i]->add_live(fault, recorded(message, i));
+  std::string what = fault.parameters() + (fault.duration_s ? fmt::format(" for {:.6g} s", *fault.duration_s)
+                                                                             : std::string(" until cleared"));
+  if (fault.where) what += " where " + fault.where->text();
   spdlog::info("control: fault {} for receivers {}: from the next epoch", what, receivers_json(receivers).dump());
-  return json{{"class", "FAULT"}, {"fault", std::string(kind_name(fault.kind))}, {"describe", what},
-              {"receivers", receivers_json(receivers)}, {"starts", "next epoch"}}
-      .dump();
+  json answer{{"class", "FAULT"}, {"fault", std::string(kind_name(fault.kind))}, {"describe", what},
+              {"receivers", receivers_json(receivers)}, {"starts", "next epoch"}};
+  add_last_epoch(answer, *timelines[receivers.front()]);
+  return answer.dump();
 }
 
 std::string clear_message(const json& message, const std::vector<FaultTimeline*>& timelines) {
@@ -74,10 +95,13 @@ std::string clear_message(const json& message, const std::vector<FaultTimeline*>
   const std::vector<std::size_t> receivers = receivers_of(message, timelines.size());
   int cleared = 0;
   for (const std::size_t i : receivers) {
-    for (const FaultKind k : kinds) cleared += timelines[i]->clear(k);
+    // The request is recorded once a receiver (with its first kind), for the --tee file.
+    for (std::size_t k = 0; k < kinds.size(); ++k) cleared += timelines[i]->clear(kinds[k], k == 0 ? recorded(message, i) : "");
   }
   spdlog::info("control: clear {} for receivers {}: {} faults end at the next epoch", name, receivers_json(receivers).dump(), cleared);
-  return json{{"class", "CLEAR"}, {"clear", name}, {"receivers", receivers_json(receivers)}, {"cleared", cleared}}.dump();
+  json answer{{"class", "CLEAR"}, {"clear", name}, {"receivers", receivers_json(receivers)}, {"cleared", cleared}};
+  add_last_epoch(answer, *timelines[receivers.front()]);
+  return answer.dump();
 }
 
 std::string status_message(const std::vector<FaultTimeline*>& timelines) {

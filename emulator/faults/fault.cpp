@@ -11,7 +11,7 @@
 namespace gpsemu::faults {
 namespace {
 
-constexpr std::array<std::pair<FaultKind, std::string_view>, 12> kKinds{{
+constexpr std::array<std::pair<FaultKind, std::string_view>, 14> kKinds{{
     {FaultKind::outage, "outage"},
     {FaultKind::freeze, "freeze"},
     {FaultKind::jump, "jump"},
@@ -24,21 +24,25 @@ constexpr std::array<std::pair<FaultKind, std::string_view>, 12> kKinds{{
     {FaultKind::spoof, "spoof"},
     {FaultKind::time, "time"},
     {FaultKind::reset, "reset"},
+    {FaultKind::garble, "garble"},
+    {FaultKind::latency, "latency"},
 }};
 
 /// The parameters each kind takes beside kind, at, duration, end and receiver.
 std::set<std::string_view> parameters_of(FaultKind kind) {
   switch (kind) {
     case FaultKind::jump: return {"east_m", "north_m", "up_m", "decay_s"};
-    case FaultKind::wrong: return {"east_m", "north_m", "up_m", "ramp_s"};
+    case FaultKind::wrong: return {"east_m", "north_m", "up_m", "ramp_s", "ramp_out_s"};
     case FaultKind::fix_quality: return {"quality"};
-    case FaultKind::degrade: return {"satellites", "dop_k", "noise_k", "ramp_s"};
-    case FaultKind::jam: return {"db", "ramp_s"};
+    case FaultKind::degrade: return {"satellites", "dop_k", "noise_k", "ramp_s", "ramp_out_s"};
+    case FaultKind::jam: return {"db", "ramp_s", "ramp_out_s"};
     case FaultKind::sky_mask: return {"mask"};
     case FaultKind::spoof:
       return {"speed_mps", "bearing_deg", "east_m", "north_m", "up_m", "ramp_s", "time_drift_ms_per_s", "detected"};
     case FaultKind::time: return {"mode", "jump_s"};
     case FaultKind::reset: return {"silent_s", "ttff_s"};
+    case FaultKind::garble: return {"rate"};
+    case FaultKind::latency: return {"delay_ms", "jitter_ms"};
     default: return {};
   }
 }
@@ -143,8 +147,13 @@ double Fault::strength_at(double since_s) const {
 
 std::string Fault::describe() const {
   std::string s = parameters();
-  s += fmt::format(" at {:.6g} s", at_s);
-  s += duration_s ? fmt::format(" for {:.6g} s", *duration_s) : std::string(" to the end");
+  if (where) s += fmt::format(" where {}", where->text());
+  if (at_utc) {
+    s += fmt::format(" at_utc {}", format_iso8601_utc(*at_utc));
+  } else if (!where || at_s > 0.0) {
+    s += fmt::format(" at {:.6g} s", at_s);
+  }
+  s += duration_s ? fmt::format(" for {:.6g} s", *duration_s) : std::string(where ? "" : " to the end");
   if (receiver) s += fmt::format(", receiver {}", *receiver);
   return s;
 }
@@ -190,9 +199,15 @@ std::string Fault::parameters() const {
       add("silent_s", silent_s);
       add("ttff_s", ttff_s);
       break;
+    case FaultKind::garble: add("rate", rate); break;
+    case FaultKind::latency:
+      add("delay_ms", delay_ms);
+      if (jitter_ms > 0.0) add("jitter_ms", jitter_ms);
+      break;
     default: break;
   }
   if (ramp_s > 0.0) add("ramp_s", ramp_s);
+  if (ramp_out_s > 0.0) add("ramp_out_s", ramp_out_s);
   return s;
 }
 
@@ -221,6 +236,14 @@ Fault make_fault(const FaultKeys& keys) {
       if (!(*f.duration_s > 0.0)) throw std::invalid_argument("duration: must be > 0 seconds (absent: to the end)");
     } else if (key == "end") {
       end_s = number(key, value, 0.0, kMaxSeconds);
+    } else if (key == "at_utc") {
+      try {
+        f.at_utc = parse_iso8601_utc(text(key, value), UtcSuffix::required);
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(fmt::format("at_utc: {}", e.what()));
+      }
+    } else if (key == "where") {
+      f.where = parse_area(text(key, value));
     } else if (key == "receiver") {
       if (const auto* s = std::get_if<std::string>(&value)) {
         if (*s != "all") throw std::invalid_argument(fmt::format("receiver: expected an index from 0 or \"all\", got '{}'", *s));
@@ -229,7 +252,7 @@ Fault make_fault(const FaultKeys& keys) {
       }
     } else if (!own.count(key)) {
       throw std::invalid_argument(fmt::format("{}: not a parameter of {} (its parameters: {}; every fault: kind, at, "
-                                              "duration or end, receiver)", key, kind, list(own)));
+                                              "at_utc, where, duration or end, receiver)", key, kind, list(own)));
     } else if (key == "east_m") {
       f.offset_m.east_m = number(key, value, -kMaxOffsetM, kMaxOffsetM);
     } else if (key == "north_m") {
@@ -278,8 +301,22 @@ Fault make_fault(const FaultKeys& keys) {
       f.silent_s = number(key, value, 0.0, 3600.0);
     } else if (key == "ttff_s") {
       f.ttff_s = number(key, value, 0.0, 3600.0);
+    } else if (key == "ramp_out_s") {
+      f.ramp_out_s = number(key, value, 0.0, kMaxSeconds);
+    } else if (key == "rate") {
+      f.rate = number(key, value, 0.0, 1.0);
+    } else if (key == "delay_ms") {
+      f.delay_ms = number(key, value, 0.0, 60000.0);
+    } else if (key == "jitter_ms") {
+      f.jitter_ms = number(key, value, 0.0, 60000.0);
     }
   }
+  if (f.at_utc && (seen.count("at") || seen.count("end")))
+    throw std::invalid_argument("at_utc: give at (and end) or at_utc, not both (with at_utc: duration)");
+  if (f.kind == FaultKind::garble && !seen.count("rate"))
+    throw std::invalid_argument("rate: missing (garble hits this fraction of sentences and frames, 0..1)");
+  if (f.kind == FaultKind::latency && !seen.count("delay_ms") && !seen.count("jitter_ms"))
+    throw std::invalid_argument("delay_ms: missing (latency writes each epoch delay_ms late, plus up to jitter_ms)");
   if (end_s) {
     if (f.duration_s) throw std::invalid_argument("end: give duration or end, not both");
     if (!(*end_s > f.at_s)) throw std::invalid_argument(fmt::format("end: {} s is not after at ({} s)", *end_s, f.at_s));

@@ -14,8 +14,10 @@
 #include <variant>
 #include <vector>
 
+#include "emulator/faults/area.hpp"
 #include "emulator/model/enu.hpp"
 #include "emulator/model/sky.hpp"
+#include "emulator/model/time.hpp"
 #include "nmea/fix.hpp"
 
 namespace gpsemu::faults {
@@ -34,13 +36,15 @@ enum class FaultKind {
   spoof,        ///< position (and time) dragged away at speed_mps, velocity consistent (sky_faults.hpp)
   time,         ///< a time jump or a GPS week-number rollover (sky_faults.hpp)
   reset,        ///< the receiver reboots: silent, then a cold start with its RAM configuration lost
+  garble,       ///< bytes corrupted: sentences and frames with a flipped bit (bad checksum) or cut short
+  latency,      ///< the epoch's bytes written late (delay_ms, jitter_ms), its time fields unchanged
 };
 
 /// Every kind, in catalogue order.
-inline constexpr std::array<FaultKind, 12> kAllKinds{FaultKind::outage,  FaultKind::freeze,   FaultKind::jump,
-                                                     FaultKind::wrong,   FaultKind::fix_quality, FaultKind::degrade,
-                                                     FaultKind::silence, FaultKind::jam,    FaultKind::sky_mask,
-                                                     FaultKind::spoof,   FaultKind::time,   FaultKind::reset};
+inline constexpr std::array<FaultKind, 14> kAllKinds{
+    FaultKind::outage,  FaultKind::freeze,   FaultKind::jump,  FaultKind::wrong, FaultKind::fix_quality,
+    FaultKind::degrade, FaultKind::silence,  FaultKind::jam,   FaultKind::sky_mask, FaultKind::spoof,
+    FaultKind::time,    FaultKind::reset,    FaultKind::garble, FaultKind::latency};
 
 /// What a `time` fault does to the reported time.
 enum class TimeFaultMode {
@@ -85,6 +89,15 @@ struct Fault {
   double jump_s = 0.0;                ///< time: the step of a jump (seconds, whole milliseconds)
   double silent_s = 2.0;              ///< reset: the receiver boots this long, writing nothing (seconds)
   double ttff_s = 26.0;               ///< reset: then a cold start, no fix for this long (seconds)
+  // Triggers and the ramp out (docs/faults.md#triggers).
+  std::optional<UtcNs> at_utc;        ///< starts at this UTC time (`at_utc`) in place of `at`
+  std::optional<Area> where;          ///< active while the truth is inside (`where`), armed from `at`
+  std::optional<double> disarm_s;     ///< where: no longer armed from this time (s; a replayed live clear)
+  double ramp_out_s = 0.0;            ///< jam, wrong, degrade: fades to nothing over this long after its end (s)
+  // Byte-level faults.
+  double rate = 0.0;                  ///< garble: fraction of sentences and frames hit (0..1)
+  double delay_ms = 0.0;              ///< latency: the bytes leave this much after the epoch's deadline (ms)
+  double jitter_ms = 0.0;             ///< latency: plus a uniform draw in [0, jitter_ms) each epoch (ms)
 
   /// Whether epoch time `since_s` (seconds after the first epoch) is inside the fault.
   /// Compared in whole nanoseconds, so 0.1 + 0.2 s ends at the epoch of 0.3 s.

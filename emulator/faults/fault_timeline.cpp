@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include "emulator/faults/sky_faults.hpp"
@@ -84,29 +85,70 @@ void drop_fix(nmea::Fix& fix) {
 FaultTimeline::FaultTimeline(FaultPlan plan, UtcNs first_epoch) : who_(std::move(plan.who)), first_epoch_(first_epoch) {
   for (Fault& f : plan.faults) {
     keeps_last_ = keeps_last_ || f.kind == FaultKind::freeze;
+    // at_utc: its time after the first epoch (before it: negative, active from the start if it lasts).
+    if (f.at_utc) f.at_s = std::chrono::duration<double>(*f.at_utc - first_epoch).count();
     entries_.push_back({std::move(f)});
   }
+}
+
+namespace {
+
+std::int64_t ns_of(double s) { return std::llround(s * 1e9); }
+
+/// Faults whose effect has a strength fade out over ramp_out_s after they end.
+bool fades(const Fault& f) {
+  return f.ramp_out_s > 0.0 && (f.kind == FaultKind::jam || f.kind == FaultKind::wrong || f.kind == FaultKind::degrade);
+}
+
+}  // namespace
+
+void FaultTimeline::take_pending(UtcNs t, double since_s, const nmea::Fix& fix) {
+  applied_.clear();
+  for (std::size_t i = 0; i < pending_.size(); ++i) {
+    Fault& f = pending_[i];
+    f.at_s = since_s;
+    keeps_last_ = keeps_last_ || f.kind == FaultKind::freeze;
+    if (keeps_last_ && !last_) last_ = fix;  // a live freeze before any was kept: this epoch's
+    entries_.push_back({std::move(f)});
+    if (!pending_requests_[i].empty()) applied_.push_back({t, since_s, std::move(pending_requests_[i])});
+  }
+  pending_.clear();
+  pending_requests_.clear();
+  for (auto& [kind, request] : pending_clears_) {
+    for (Entry& e : entries_) {
+      if (e.fault.kind != kind || e.ended || e.cleared) continue;
+      e.cleared = true;
+      if (!e.active && !e.fading_from_s) e.ended = true;  // had not started: it never will
+    }
+    if (!request.empty()) applied_.push_back({t, since_s, std::move(request)});
+  }
+  pending_clears_.clear();
+  for (const AppliedEvent& a : applied_)
+    spdlog::info("{}control: applied {} at epoch {} (+{:.3f} s)", who_, a.request, format_iso8601_utc(t), since_s);
+}
+
+bool FaultTimeline::active_now(Entry& e, double since_s, const std::optional<Enu>& truth_m, const LocalFrame& frame) const {
+  const Fault& f = e.fault;
+  if (e.cleared) return false;
+  if (!f.where) return f.active_at(since_s);
+  if (f.disarm_s && ns_of(since_s) >= ns_of(*f.disarm_s)) {
+    e.cleared = true;  // a replayed clear: over for good, as the live one was
+    return false;
+  }
+  const bool inside = truth_m && ns_of(since_s) >= ns_of(f.at_s) && f.where->contains(frame.to_geodetic(*truth_m));
+  if (!inside) {
+    e.entered_s.reset();
+    return false;
+  }
+  if (!e.entered_s) e.entered_s = since_s;
+  return !f.duration_s || ns_of(since_s) < ns_of(*e.entered_s + *f.duration_s);
 }
 
 EpochEffect FaultTimeline::apply(UtcNs t, nmea::Fix& fix, const std::optional<Enu>& truth_m, const LocalFrame& frame,
                                  ubx::RfState* rf) {
   EpochEffect effect;
   const double since_s = std::chrono::duration<double>(t - first_epoch_).count();
-  for (Fault& f : pending_) {
-    f.at_s = since_s;
-    keeps_last_ = keeps_last_ || f.kind == FaultKind::freeze;
-    if (keeps_last_ && !last_) last_ = fix;  // a live freeze before any was kept: this epoch's
-    entries_.push_back({std::move(f)});
-  }
-  pending_.clear();
-  for (const FaultKind kind : pending_clears_) {
-    for (Entry& e : entries_) {
-      if (e.fault.kind != kind || e.ended) continue;
-      e.fault.duration_s = std::max(0.0, since_s - e.fault.at_s);
-      if (!e.active) e.ended = true;  // had not started: it never will
-    }
-  }
-  pending_clears_.clear();
+  if (!pending_.empty() || !pending_clears_.empty() || !applied_.empty()) take_pending(t, since_s, fix);
   last_epoch_.epochs++;
   last_epoch_.since_s = since_s;
   if (entries_.empty()) {
@@ -116,27 +158,45 @@ EpochEffect FaultTimeline::apply(UtcNs t, nmea::Fix& fix, const std::optional<En
   }
   bool freeze_ahead = false;
   for (Entry& e : entries_) {
-    const bool active = e.fault.active_at(since_s);
+    if (e.ended) continue;
+    const bool was_acting = e.active || e.fading_from_s.has_value();
+    const bool active = active_now(e, since_s, truth_m, frame);
     if (active && !e.active) {
       spdlog::info("{}fault {} starts at epoch {} (+{:.3f} s)", who_, e.fault.describe(), format_iso8601_utc(t), since_s);
       if (e.fault.kind == FaultKind::freeze) frozen_ = last_;
       if (e.fault.kind == FaultKind::jam && rf && !clean_rf_) clean_rf_ = *rf;
       if (e.fault.kind == FaultKind::reset) effect.reboot_cold_start_s = e.fault.silent_s + e.fault.ttff_s;
+      e.fading_from_s.reset();
     } else if (!active && e.active) {
-      spdlog::info("{}fault {} ends at epoch {} (+{:.3f} s) after {} epochs", who_, kind_name(e.fault.kind),
-                   format_iso8601_utc(t), since_s, e.epochs);
-      e.ended = true;
-      if (e.fault.kind == FaultKind::jam && rf && clean_rf_) {
+      spdlog::info("{}fault {} ends at epoch {} (+{:.3f} s) after {} epochs{}", who_, kind_name(e.fault.kind),
+                   format_iso8601_utc(t), since_s, e.epochs,
+                   fades(e.fault) ? fmt::format(", fading out over {:.6g} s", e.fault.ramp_out_s) : std::string());
+      if (fades(e.fault)) e.fading_from_s = since_s;
+      if (e.fault.kind == FaultKind::spoof && rf) rf->spoof_detection_state = 0;
+    }
+    e.active = active;
+    // Ramp in from the start of this visit (`at`, or entering the area); fade out after the end.
+    const double start_s = e.entered_s.value_or(e.fault.at_s);
+    double strength = 0.0;
+    if (active) {
+      strength = e.fault.ramp_s > 0.0 ? std::clamp((since_s - start_s) / e.fault.ramp_s, 0.0, 1.0) : 1.0;
+      e.strength = strength;
+    } else if (e.fading_from_s) {
+      strength = e.strength * std::clamp(1.0 - (since_s - *e.fading_from_s) / e.fault.ramp_out_s, 0.0, 1.0);
+      if (strength <= 0.0) e.fading_from_s.reset();
+    }
+    if (active || e.fading_from_s) {
+      ++e.epochs;
+      apply_one(e.fault, since_s, start_s, strength, fix, truth_m, frame, rf, effect);
+    } else {
+      if (e.fault.kind == FaultKind::jam && rf && clean_rf_ && was_acting) {
         const std::uint8_t spoofing = rf->spoof_detection_state;  // a spoof's, still active or not
         *rf = *clean_rf_;
         rf->spoof_detection_state = spoofing;
       }
-      if (e.fault.kind == FaultKind::spoof && rf) rf->spoof_detection_state = 0;
-    }
-    e.active = active;
-    if (active) {
-      ++e.epochs;
-      apply_one(e.fault, since_s, fix, truth_m, frame, rf, effect);
+      // Over for good: its time passed, or cleared (an area's fault can start again on the next visit).
+      const bool past = e.fault.duration_s && !e.fault.where && ns_of(since_s) >= ns_of(e.fault.at_s + *e.fault.duration_s);
+      e.ended = e.cleared || past;
     }
     freeze_ahead = freeze_ahead || (e.fault.kind == FaultKind::freeze && !e.ended);
   }
@@ -152,9 +212,9 @@ EpochEffect FaultTimeline::apply(UtcNs t, nmea::Fix& fix, const std::optional<En
   return effect;
 }
 
-void FaultTimeline::apply_one(const Fault& f, double since_s, nmea::Fix& fix, const std::optional<Enu>& truth_m,
-                              const LocalFrame& frame, ubx::RfState* rf, EpochEffect& effect) {
-  const double strength = f.strength_at(since_s);
+void FaultTimeline::apply_one(const Fault& f, double since_s, double start_s, double strength, nmea::Fix& fix,
+                              const std::optional<Enu>& truth_m, const LocalFrame& frame, ubx::RfState* rf,
+                              EpochEffect& effect) {
   switch (f.kind) {
     case FaultKind::outage: {
       nmea::Fix none;
@@ -173,7 +233,7 @@ void FaultTimeline::apply_one(const Fault& f, double since_s, nmea::Fix& fix, co
     case FaultKind::wrong: {
       if (!fix.has_fix()) break;
       double k = strength;
-      if (f.decay_s) k *= std::exp(-(since_s - f.at_s) / *f.decay_s);
+      if (f.decay_s) k *= std::exp(-(since_s - start_s) / *f.decay_s);
       offset_position(fix, k * f.offset_m, frame);
       break;
     }
@@ -203,6 +263,11 @@ void FaultTimeline::apply_one(const Fault& f, double since_s, nmea::Fix& fix, co
       break;
     }
     case FaultKind::silence: effect.silent = true; break;
+    case FaultKind::garble: effect.garble_rate = std::max(effect.garble_rate, f.rate); break;
+    case FaultKind::latency:
+      effect.delay_ms += f.delay_ms;
+      effect.jitter_ms += f.jitter_ms;
+      break;
     case FaultKind::jam: {
       const double drop_db = strength * f.db;
       if (rf) {
@@ -243,12 +308,19 @@ void FaultTimeline::apply_one(const Fault& f, double since_s, nmea::Fix& fix, co
   }
 }
 
-int FaultTimeline::clear(FaultKind kind) {
+int FaultTimeline::clear(FaultKind kind, std::string request) {
   int n = 0;
-  for (const Entry& e : entries_) n += e.fault.kind == kind && !e.ended;
-  const auto waiting = std::erase_if(pending_, [kind](const Fault& f) { return f.kind == kind; });
-  pending_clears_.push_back(kind);
-  return n + static_cast<int>(waiting);
+  for (const Entry& e : entries_) n += e.fault.kind == kind && !e.ended && !e.cleared;
+  int waiting = 0;
+  for (std::size_t i = pending_.size(); i-- > 0;) {
+    if (pending_[i].kind != kind) continue;
+    // Never applied: neither is it written to the --tee file.
+    pending_.erase(pending_.begin() + static_cast<std::ptrdiff_t>(i));
+    pending_requests_.erase(pending_requests_.begin() + static_cast<std::ptrdiff_t>(i));
+    ++waiting;
+  }
+  pending_clears_.emplace_back(kind, std::move(request));
+  return n + waiting;
 }
 
 void FaultTimeline::log_summary() const {

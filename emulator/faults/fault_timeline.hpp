@@ -32,6 +32,18 @@ struct EpochEffect {
   /// A reset starts: the receiver reboots at this epoch (a u-blox reloads its configuration from
   /// its layers) and starts cold, no fix for this long from now (seconds).
   std::optional<double> reboot_cold_start_s;
+  double garble_rate = 0.0;  ///< garble: fraction of the epoch's sentences and frames to corrupt
+  double delay_ms = 0.0;     ///< latency: write the epoch's bytes this much late ...
+  double jitter_ms = 0.0;    ///< ... plus a draw in [0, jitter_ms)
+};
+
+/// A live event (the control socket) as it was applied: the epoch it took effect at and the
+/// request, normalised, so a session can be written to the --tee file and replayed
+/// (`--scenario` takes a --tee file's "# fault" lines: tee_events.hpp).
+struct AppliedEvent {
+  UtcNs epoch;           ///< the epoch it took effect at
+  double since_s = 0.0;  ///< the same, seconds after the first epoch
+  std::string request;   ///< one JSON object: {"fault":...} or {"clear":...}, with "receiver"
 };
 
 class FaultTimeline {
@@ -46,19 +58,29 @@ class FaultTimeline {
 
   struct Entry {
     Fault fault;
-    std::uint64_t epochs = 0;  ///< epochs it was active
+    std::uint64_t epochs = 0;  ///< epochs it was active (its fade out included)
     bool active = false;
     bool ended = false;
+    bool cleared = false;                ///< a clear ended it: it does not start again
+    std::optional<double> entered_s{};   ///< where: when the truth entered the area (the start of this visit)
+    std::optional<double> fading_from_s{};  ///< ramp_out_s: when it ended and began to fade
+    double strength = 0.0;               ///< its strength at the last epoch it was active
   };
   [[nodiscard]] const std::vector<Entry>& entries() const { return entries_; }
   [[nodiscard]] bool empty() const { return entries_.empty(); }
 
   /// A live fault (the control socket): it starts at the next epoch, its `at_s` ignored, and lasts
   /// its duration from there (none: until cleared).
-  void add_live(Fault fault) { pending_.push_back(std::move(fault)); }
+  /// `request`: the request as the --tee file records it once applied (applied_events()).
+  void add_live(Fault fault, std::string request = {}) {
+    pending_.push_back(std::move(fault));
+    pending_requests_.push_back(std::move(request));
+  }
   /// Ends at the next epoch every fault of `kind` that is active or waiting (live or from the
-  /// scenario); returns how many.
-  int clear(FaultKind kind);
+  /// scenario); returns how many. `request` as for add_live (recorded once, with the first kind).
+  int clear(FaultKind kind, std::string request = {});
+  /// The live events applied at the last epoch (empty most epochs).
+  [[nodiscard]] const std::vector<AppliedEvent>& applied_events() const { return applied_; }
 
   /// The last epoch, as the control socket's status reports it.
   struct LastEpoch {
@@ -73,12 +95,19 @@ class FaultTimeline {
   void log_summary() const;
 
  private:
-  void apply_one(const Fault& f, double since_s, nmea::Fix& fix, const std::optional<Enu>& truth_m,
-                 const LocalFrame& frame, ubx::RfState* rf, EpochEffect& effect);
+  /// Takes the live faults and clears asked for since the last epoch (time `t`, `since_s`).
+  void take_pending(UtcNs t, double since_s, const nmea::Fix& fix);
+  /// Whether entry `e` is active at `since_s` (its trigger: time, UTC, or the truth in an area).
+  bool active_now(Entry& e, double since_s, const std::optional<Enu>& truth_m, const LocalFrame& frame) const;
+  /// Applies `f` at `strength` (0..1: ramp in and out), its visit begun at `start_s`.
+  void apply_one(const Fault& f, double since_s, double start_s, double strength, nmea::Fix& fix,
+                 const std::optional<Enu>& truth_m, const LocalFrame& frame, ubx::RfState* rf, EpochEffect& effect);
 
   std::vector<Entry> entries_;
   std::vector<Fault> pending_;             ///< live faults to start at the next epoch
-  std::vector<FaultKind> pending_clears_;  ///< kinds to end at the next epoch
+  std::vector<std::string> pending_requests_;  ///< their requests, for applied_
+  std::vector<std::pair<FaultKind, std::string>> pending_clears_;  ///< kinds to end at the next epoch
+  std::vector<AppliedEvent> applied_;
   LastEpoch last_epoch_;
   std::string who_;
   UtcNs first_epoch_;

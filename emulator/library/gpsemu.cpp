@@ -11,7 +11,9 @@
 #include "emulator/model/geo.hpp"
 #include "emulator/model/time.hpp"
 #include "emulator/pipeline/channel.hpp"
+#include "emulator/faults/control.hpp"
 #include "emulator/pipeline/clock.hpp"
+#include "emulator/pipeline/control_socket.hpp"
 #include "emulator/pipeline/run_settings.hpp"
 #include "emulator/pipeline/timeline.hpp"
 
@@ -156,6 +158,21 @@ Epoch Receiver::step_geodetic(const LatLonAlt& position, const Enu& velocity_mps
 }
 
 Epoch Receiver::step_no_fix() { return impl_->report(std::nullopt); }
+
+std::string Receiver::control(const std::string& request) {
+  faults::FaultControl control({&impl_->channel.faults()});
+  return control.handle(request);
+}
+
+std::string control_request(const std::string& socket, const std::string& request, double timeout_s) {
+  if (!(timeout_s > 0.0) || timeout_s > 3600.0) throw Error("control_request: timeout_s must be in (0, 3600]");
+  try {
+    return gpsemu::control_request(socket, request,
+                                   std::chrono::milliseconds(static_cast<std::int64_t>(std::ceil(timeout_s * 1000.0))));
+  } catch (const std::exception& e) {
+    throw Error(e.what());
+  }
+}
 
 std::int64_t Receiver::next_epoch_ns() const { return impl_->next_time().time_since_epoch().count(); }
 double Receiver::rate_hz() const { return impl_->rate_hz; }

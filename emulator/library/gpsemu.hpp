@@ -88,6 +88,12 @@ class Receiver {
   /// The next epoch without truth (the simulator has no pose): no fix.
   [[nodiscard]] Epoch step_no_fix();
 
+  /// The control socket's requests (docs/faults.md) on this receiver's faults, in-process: one JSON
+  /// object in ({"fault":"jam","db":25,"ramp_s":5}, {"clear":"jam"}, {"status":true}), the JSON
+  /// answer out ({"class":"FAULT",...}, or {"class":"ERROR","message":...}). A fault applies from
+  /// the next step. Never throws for a bad request (the answer says what was wrong).
+  [[nodiscard]] std::string control(const std::string& request);
+
   [[nodiscard]] std::int64_t next_epoch_ns() const;  ///< time of the epoch the next step reports
   [[nodiscard]] double rate_hz() const;              ///< epochs per second
   [[nodiscard]] LatLonAlt origin() const;            ///< the local frame's origin
@@ -108,6 +114,11 @@ struct OptionInfo {
 };
 /// Every key the constructors accept.
 [[nodiscard]] std::vector<OptionInfo> option_info();
+
+/// One request to a running gpsemu's control socket (--control): `socket` is unix:PATH, a PATH, or
+/// tcp:HOST:PORT; returns the answer line (JSON). Throws Error when it cannot connect or no answer
+/// comes within `timeout_s`.
+[[nodiscard]] std::string control_request(const std::string& socket, const std::string& request, double timeout_s = 5.0);
 
 /// The library's version, "0.1.0".
 [[nodiscard]] std::string version();

@@ -1,12 +1,14 @@
 #include "emulator/pipeline/channel.hpp"
 
+#include <algorithm>
 #include <limits>
 #include <utility>
 
+#include "emulator/faults/garble.hpp"
+#include "emulator/heading/rtcm3_base.hpp"
 #include "emulator/pipeline/rtk_receiver.hpp"
 #include "emulator/ubx/bytes.hpp"
 #include "emulator/ubx/frame.hpp"
-#include "emulator/heading/rtcm3_base.hpp"
 
 namespace gpsemu {
 
@@ -51,11 +53,12 @@ nmea::Fix Channel::step(UtcNs t, const std::optional<sources::Truth>& vehicle) {
   if (effect.reboot_cold_start_s) reboot(t, *effect.reboot_cold_start_s);
   if (silent_) {
     ++stats_.epochs_silent;
-    return fix;
+  } else {
+    if (!fix.has_fix()) ++stats_.epochs_without_fix;
+    for (const auto& encoder : encoders_) encoder->encode(fix, bytes_);
+    if (settings_.moving_base.role == heading::Role::moving_base) bytes_ += heading::base_rtcm3_epoch(fix, 0);
   }
-  if (!fix.has_fix()) ++stats_.epochs_without_fix;
-  for (const auto& encoder : encoders_) encoder->encode(fix, bytes_);
-  if (settings_.moving_base.role == heading::Role::moving_base) bytes_ += heading::base_rtcm3_epoch(fix, 0);
+  apply_byte_faults(t, effect);
   return fix;
 }
 
@@ -80,6 +83,36 @@ void Channel::reboot(UtcNs t, double cold_start_s) {
   ubx_->client_wrote(ubx::frame_bytes(ubx::msg::cfg_rst, payload), kRebootClient);
   ubx_->client_left(kRebootClient);
   rebooted_ = true;
+}
+
+void Channel::apply_byte_faults(UtcNs t, const faults::EpochEffect& effect) {
+  const auto t_ns = static_cast<std::uint64_t>(t.time_since_epoch().count());
+  if (effect.garble_rate > 0.0 && !bytes_.empty()) {
+    const faults::GarbleCounts c = faults::garble(bytes_, effect.garble_rate, faults::mix_seed(settings_.seed, t_ns));
+    stats_.epochs_garbled += (c.flipped + c.truncated) > 0;
+    stats_.units_flipped += c.flipped;
+    stats_.units_truncated += c.truncated;
+  }
+  if (effect.delay_ms <= 0.0 && effect.jitter_ms <= 0.0 && delayed_.empty()) return;
+  // The jitter's draw from the seed and the epoch: the same run gives the same delays.
+  const double draw = static_cast<double>(faults::mix_seed(settings_.seed ^ 0x6c6174656e6379ULL, t_ns) >> 11) * 0x1.0p-53;
+  const double delay_ms = effect.delay_ms + effect.jitter_ms * draw;
+  if (delay_ms > 0.0) ++stats_.epochs_delayed;
+  // Never before an epoch held back earlier: a slow receiver's bytes still leave in order.
+  UtcNs release = t + std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double, std::milli>(delay_ms));
+  if (!delayed_.empty()) release = std::max(release, delayed_.back().release);
+  if (!bytes_.empty()) delayed_.push_back({release, std::move(bytes_)});
+  bytes_.clear();
+  bytes_ = take_delayed(t);
+}
+
+std::string_view Channel::take_delayed(UtcNs t) {
+  released_.clear();
+  while (!delayed_.empty() && delayed_.front().release <= t) {
+    released_ += delayed_.front().bytes;
+    delayed_.pop_front();
+  }
+  return released_;
 }
 
 void Channel::client_wrote(std::string_view bytes, transport::ClientId client) {

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <optional>
 #include <string>
@@ -58,6 +59,10 @@ struct ReceiverStats {
   std::uint64_t epochs_without_fix = 0;
   std::uint64_t epochs_silent = 0;  ///< epochs a `silence` fault left unwritten
   std::uint64_t replies_withheld_bytes = 0;  ///< answers to the client a `silence` kept back (bytes)
+  std::uint64_t epochs_garbled = 0;          ///< epochs a `garble` fault corrupted
+  std::uint64_t units_flipped = 0;           ///< sentences and frames with a bit flipped (bad checksum)
+  std::uint64_t units_truncated = 0;         ///< sentences and frames cut short
+  std::uint64_t epochs_delayed = 0;          ///< epochs a `latency` fault held back
 };
 
 class Channel final : public transport::ClientInput {
@@ -79,7 +84,8 @@ class Channel final : public transport::ClientInput {
   nmea::Fix step(UtcNs t);
   /// Epoch `t` from `truth` (none: no fix).
   nmea::Fix step(UtcNs t, const std::optional<sources::Truth>& truth);
-  /// The last epoch's bytes (every encoder's, in order).
+  /// The last epoch's bytes (every encoder's, in order; with a `latency` fault: those whose time
+  /// to leave has come by the epoch).
   [[nodiscard]] const std::string& bytes() const { return bytes_; }
   /// The same, to cut to what a serial line carries (ubx_effects.hpp).
   [[nodiscard]] std::string& bytes() { return bytes_; }
@@ -111,6 +117,12 @@ class Channel final : public transport::ClientInput {
   [[nodiscard]] faults::FaultTimeline& faults() { return *faults_; }
   /// The RTK state and its correction inputs (rtk_receiver.hpp).
   [[nodiscard]] const RtkReceiver& rtk() const { return *rtk_; }
+  /// A `latency` fault holds epochs back: the epoch time the first of them is due at, if any.
+  [[nodiscard]] std::optional<UtcNs> delayed_until() const {
+    return delayed_.empty() ? std::nullopt : std::optional<UtcNs>(delayed_.front().release);
+  }
+  /// The held-back bytes due by `t`, in order; valid until the next call.
+  [[nodiscard]] std::string_view take_delayed(UtcNs t);
   [[nodiscard]] ReceiverStats& stats() { return stats_; }
   /// A rover's RTCM3 input (frames and bad CRCs seen in what its clients wrote).
   /// A rover's: the moving base's 4072.0 messages its clients forwarded (frames with a bad CRC are
@@ -127,7 +139,16 @@ class Channel final : public transport::ClientInput {
   UbxEncoder* ubx_ = nullptr;  ///< owned by encoders_
   std::optional<faults::FaultTimeline> faults_;
   std::unique_ptr<RtkReceiver> rtk_;
+  /// Applies the byte-level faults (garble, latency) to the epoch `t`'s bytes.
+  void apply_byte_faults(UtcNs t, const faults::EpochEffect& effect);
+
+  struct Delayed {
+    UtcNs release;  ///< the epoch time it is due at (its epoch + the latency)
+    std::string bytes;
+  };
   std::string bytes_;
+  std::deque<Delayed> delayed_;  ///< `latency`: epochs held back, in order
+  std::string released_;         ///< take_delayed()'s bytes
   bool ended_ = false;
   bool silent_ = false;  ///< the last epoch was silenced: answers are withheld too
   bool rebooted_ = false;  ///< reboot() fed a CFG-RST whose cold-start effect is still to come

@@ -1,5 +1,8 @@
 #include "emulator/pipeline/channel_set.hpp"
 
+#include "emulator/faults/tee_events.hpp"
+#include "transport/tee_output.hpp"
+
 #include <algorithm>
 
 namespace gpsemu {
@@ -52,6 +55,20 @@ bool ChannelSet::next_epoch(UtcNs& t) {
   return !all_ended;
 }
 
+namespace {
+
+/// The live events applied at this epoch, into the receiver's --tee file (a session to replay).
+void record_events(const std::vector<faults::AppliedEvent>& events,
+                   const std::vector<std::unique_ptr<transport::Output>>& outputs) {
+  for (const auto& out : outputs) {
+    auto* tee = dynamic_cast<transport::TeeOutput*>(out.get());
+    if (!tee) continue;
+    for (const faults::AppliedEvent& e : events) tee->note(faults::tee_event_line(e));
+  }
+}
+
+}  // namespace
+
 std::string_view ChannelSet::produce(std::size_t i, UtcNs t) {
   Receiver& r = receivers_[i];
   Channel& ch = *r.channel;
@@ -63,6 +80,7 @@ std::string_view ChannelSet::produce(std::size_t i, UtcNs t) {
   }
   (void)ch.step(t);
   ++ch.stats().epochs_emitted;
+  if (!ch.faults().applied_events().empty() && sink_) record_events(ch.faults().applied_events(), sink_->outputs(i));
   if (r.line.baud != 0) fit_epoch_to_line(ch, r.schedule.period(), r.line, sink_->who(i));
   return ch.bytes();
 }

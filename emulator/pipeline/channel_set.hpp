@@ -66,6 +66,12 @@ class ChannelSet final : public EpochProducer {
   /// Services `input` with the receivers' inputs (may be null: none).
   void set_extra_input(LoopInput* input) { extra_ = input; }
   void service_inputs() override;
+  [[nodiscard]] std::optional<UtcNs> delayed_until(std::size_t i) const override {
+    return receivers_[i].channel->delayed_until();
+  }
+  [[nodiscard]] std::string_view take_delayed(std::size_t i, UtcNs t) override {
+    return receivers_[i].channel->take_delayed(t);
+  }
   [[nodiscard]] bool reschedule_wanted() const override;
   void reschedule(UtcNs now) override;
 

@@ -75,6 +75,7 @@ void EpochLoop::run(const std::atomic<bool>& stop) {
       if (!stop.load()) (void)rescheduled(*io);
       continue;
     } else if (idle_deadline) {
+      if (!ahead) send_delayed(io, *idle_deadline, stop);
       const EpochWait wait = wait_for_deadline(t, !ahead, stop);
       if (wait == EpochWait::stopped) break;
       if (wait == EpochWait::rescheduled) continue;
@@ -113,6 +114,7 @@ void EpochLoop::run(const std::atomic<bool>& stop) {
     ++stats_.epochs_emitted;
     if (io && sink_.all_gone()) break;  // real time: a few virtual calls an epoch
   }
+  if (!stop.load()) send_delayed(io, UtcNs::max(), stop);  // the last epochs a latency held back
   stats_.outputs_gone = sink_.all_gone();
   if (helper_) helper_->wait_done();
   if (pps_ && io) pps_->finish(*io, stop);
@@ -180,6 +182,30 @@ bool EpochLoop::rescheduled(ClockIo& io) {
 void EpochLoop::send(UtcNs t) {
   for (std::size_t i = 0; i < ahead_.size(); ++i) {
     if (producer_.active(i)) sink_.write(i, producer_.produce(i, t));
+  }
+}
+
+void EpochLoop::send_delayed(ClockIo* io, UtcNs until, const std::atomic<bool>& stop) {
+  for (;;) {
+    std::optional<UtcNs> first;
+    for (std::size_t i = 0; i < ahead_.size(); ++i) {
+      const std::optional<UtcNs> due = producer_.delayed_until(i);
+      if (due && (!first || *due < *first)) first = due;
+    }
+    if (!first) return;
+    const std::optional<UtcNs> wall = io ? clock_.deadline_of(*first) : std::nullopt;
+    if (wall) {
+      if (*wall >= until) return;
+      if (pps_) pps_->run_until(*wall, *io, stop);
+      io->sleep_until(*wall, stop);
+      if (stop.load()) return;
+    } else if (until != UtcNs::max()) {
+      return;  // not on the wall clock: each epoch's produce() writes what is due, the rest at the end
+    }
+    for (std::size_t i = 0; i < ahead_.size(); ++i) {
+      const std::string_view bytes = producer_.take_delayed(i, *first);
+      if (!bytes.empty()) sink_.write(i, bytes);
+    }
   }
 }
 

@@ -54,6 +54,10 @@ class EpochProducer {
   /// Applies the schedule changes at epoch time `now`; the epoch next_epoch() returned last is
   /// not sent (it comes again from next_epoch() for the receivers it was due for).
   virtual void reschedule(UtcNs /*now*/) {}
+  /// Bytes receiver i holds back (a `latency` fault): the epoch time they are due at, if any.
+  [[nodiscard]] virtual std::optional<UtcNs> delayed_until(std::size_t /*i*/) const { return std::nullopt; }
+  /// Receiver i's held-back bytes due by epoch time `t`; valid until the next call.
+  [[nodiscard]] virtual std::string_view take_delayed(std::size_t /*i*/, UtcNs /*t*/) { return {}; }
 };
 
 /// Exit status of a run that stopped because every output is gone (a pipe's reader left).
@@ -113,6 +117,9 @@ class EpochLoop {
   void send(UtcNs t);
   /// When the producer wants it: reschedules at the epoch time of now, true.
   bool rescheduled(ClockIo& io);
+  /// A `latency` fault: writes the held-back bytes due before wall time `until`, each at its own
+  /// time (all of them, now, without a wall clock).
+  void send_delayed(ClockIo* io, UtcNs until, const std::atomic<bool>& stop);
   /// Writes positions [from, to) of the receivers in the order that starts with receiver `first`.
   void write_range(std::size_t first, std::size_t from, std::size_t to);
 

@@ -187,6 +187,11 @@ void Runner::log_summary() const {
       spdlog::info("{}{} epochs silent (nothing written; {} bytes of answers to the client withheld)", sink_.who(i),
                    r.epochs_silent, r.replies_withheld_bytes);
     }
+    if (r.epochs_garbled != 0) {
+      spdlog::info("{}{} epochs garbled ({} sentences/frames with a flipped bit, {} cut short)", sink_.who(i),
+                   r.epochs_garbled, r.units_flipped, r.units_truncated);
+    }
+    if (r.epochs_delayed != 0) spdlog::info("{}{} epochs written late (latency)", sink_.who(i), r.epochs_delayed);
     sink_.log_summary(i);
     if (const std::string input = client_input_summary(channels_->channel(i)); !input.empty()) {
       spdlog::info("{}{}", sink_.who(i), input);

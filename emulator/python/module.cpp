@@ -1,5 +1,6 @@
 // The Python module `gpsemu`: the library facade (emulator/library/gpsemu.hpp) with numpy arrays for
-// batch generation. Configuration keys are the CLI's (a dict and/or keyword arguments; '_' in a
+// batch generation, and the fault control calls (Receiver.fault/clear/status in-process, Control
+// for a running gpsemu's --control socket). Configuration keys are the CLI's (a dict and/or keyword arguments; '_' in a
 // keyword stands for '-': start_time= is --start-time).
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -88,6 +89,39 @@ Enu to_enu3(const py::handle& v, const char* what) {
 using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
 Array rows(std::size_t n) { return Array({static_cast<py::ssize_t>(n), py::ssize_t{3}}); }
+
+/// A control request as one JSON line: a str as is, a dict through Python's json.
+std::string request_text(const py::object& request) {
+  if (py::isinstance<py::str>(request)) return request.cast<std::string>();
+  return py::module_::import("json").attr("dumps")(request).cast<std::string>();
+}
+
+/// A control answer as a dict.
+py::object answer_dict(const std::string& answer) { return py::module_::import("json").attr("loads")(answer); }
+
+/// {"fault": kind, **params} (params' '_'-names as they are: db, ramp_s, east_m, ...).
+py::dict fault_request(const std::string& kind, const py::kwargs& params) {
+  py::dict d;
+  d["fault"] = kind;
+  for (const auto& [k, v] : params) d[k] = v;
+  return d;
+}
+
+py::dict clear_request(const std::string& kind, const py::object& receiver) {
+  py::dict d;
+  d["clear"] = kind;
+  if (!receiver.is_none()) d["receiver"] = receiver;
+  return d;
+}
+
+/// A running gpsemu's control socket (--control unix:PATH or tcp:HOST:PORT).
+struct Control {
+  std::string socket;
+  double timeout_s = 5.0;
+  py::object send(const py::object& request) const {
+    return answer_dict(gpsemu::api::control_request(socket, request_text(request), timeout_s));
+  }
+};
 
 void check_rows(const Array& a, const char* what) {
   if (a.ndim() != 2 || a.shape(1) != 3) throw py::value_error(std::string(what) + ": expected an (n, 3) array");
@@ -193,6 +227,19 @@ PYBIND11_MODULE(gpsemu, m) {
            }, py::arg("positions"), py::arg("velocities") = py::none(),
            "one epoch per row of an (n, 3) ENU truth array: dict of time_ns (n,), enu (n, 3), "
            "lla (n, 3) (NaN rows without fix) and nmea (bytes)")
+      .def("control", [](gpsemu::api::Receiver& r, const py::object& request) {
+             return answer_dict(r.control(request_text(request)));
+           }, py::arg("request"),
+           "one control request (a dict or a JSON str, as on the --control socket) on this receiver's faults: "
+           "the answer as a dict; a fault applies from the next step")
+      .def("fault", [](gpsemu::api::Receiver& r, const std::string& kind, const py::kwargs& params) {
+             return answer_dict(r.control(request_text(fault_request(kind, params))));
+           }, py::arg("kind"), "a fault from the next step, e.g. fault('jam', db=25, ramp_s=5, duration=10)")
+      .def("clear", [](gpsemu::api::Receiver& r, const std::string& kind, const py::object& receiver) {
+             return answer_dict(r.control(request_text(clear_request(kind, receiver))));
+           }, py::arg("kind") = "all", py::arg("receiver") = py::none(), "ends the faults of a kind (or all) at the next step")
+      .def("status", [](gpsemu::api::Receiver& r) { return answer_dict(r.control(R"({"status":true})")); },
+           "the last epoch and the faults on, as a dict")
       .def_property_readonly("next_epoch_ns", &gpsemu::api::Receiver::next_epoch_ns)
       .def_property_readonly("rate_hz", &gpsemu::api::Receiver::rate_hz)
       .def_property_readonly("origin", [](const gpsemu::api::Receiver& r) {
@@ -206,6 +253,20 @@ PYBIND11_MODULE(gpsemu, m) {
              const auto x = r.to_geodetic({e, n, u});
              return py::make_tuple(x[0], x[1], x[2]);
            }, py::arg("east_m"), py::arg("north_m"), py::arg("up_m"));
+
+  py::class_<Control>(m, "Control",
+      "a running gpsemu's control socket (--control unix:PATH or tcp:HOST:PORT): fault, clear, status, send")
+      .def(py::init([](const std::string& socket, double timeout_s) { return Control{socket, timeout_s}; }),
+           py::arg("socket"), py::arg("timeout_s") = 5.0)
+      .def("send", &Control::send, py::arg("request"), "one request (a dict or a JSON str): the answer as a dict")
+      .def("fault", [](const Control& c, const std::string& kind, const py::kwargs& params) {
+             return c.send(fault_request(kind, params));
+           }, py::arg("kind"), "a fault from the next epoch, e.g. fault('jam', db=25, ramp_s=5, receiver=0)")
+      .def("clear", [](const Control& c, const std::string& kind, const py::object& receiver) {
+             return c.send(clear_request(kind, receiver));
+           }, py::arg("kind") = "all", py::arg("receiver") = py::none())
+      .def("status", [](const Control& c) { return c.send(py::str(R"({"status":true})")); })
+      .def_readonly("socket", &Control::socket);
 
   m.def("generate", [](std::size_t n, double rate_hz, const py::object& options, const py::kwargs& kw) {
           gpsemu::api::NoiseGenerator g(to_options(options, kw));

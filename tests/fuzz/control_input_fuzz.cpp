@@ -1,7 +1,9 @@
 // libFuzzer target for the control socket's protocol (faults/control.hpp): each '\n'-separated
 // line of the input through FaultControl over two receivers' fault timelines, with an epoch of a
-// fix through both after each line. Checks: nothing crashes or throws, every answer is one JSON
-// object with a class, an ERROR has a message, and every fix stays finite.
+// fix through both after each line (the truth moving, so `where` areas are entered and left).
+// Checks: nothing crashes or throws, every answer is one JSON object with a class, an ERROR has a
+// message, every fix stays finite, and every applied event's --tee line reads back as a scenario
+// (faults/tee_events.hpp) without an error.
 #include <chrono>
 #include <cmath>
 #include <cstddef>
@@ -13,6 +15,7 @@
 #include <spdlog/spdlog.h>
 
 #include "emulator/faults/control.hpp"
+#include "emulator/faults/tee_events.hpp"
 
 namespace {
 
@@ -69,7 +72,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (faults::FaultTimeline* t : {&a, &b}) {
       const UtcNs now = start + std::chrono::milliseconds(100 * epoch);
       nmea::Fix fix = a_fix(frame, now);
-      (void)t->apply(now, fix, Enu{}, frame, &rf);
+      const Enu truth{50.0 * epoch, 0.0, 0.0};
+      (void)t->apply(now, fix, truth, frame, &rf);
+      for (const faults::AppliedEvent& e : t->applied_events()) {
+        try {
+          (void)faults::faults_from_tee(faults::tee_event_line(e));
+        } catch (const std::exception&) {
+          check(false);  // what the control socket applied must replay
+        }
+      }
       check(std::isfinite(fix.lat_deg) && std::isfinite(fix.lon_deg) && std::isfinite(fix.alt_msl_m));
       check(std::isfinite(fix.hdop) && std::isfinite(fix.sigma_lat_m));
       check(fix.satellites_used >= 0 && fix.satellites_used <= fix.satellites_in_view);

@@ -174,3 +174,50 @@ def test_epoch_bytes_through_a_pty():
     finally:
         os.close(master)
         os.close(slave)
+
+
+def test_receiver_fault_calls_apply_from_the_next_step():
+    rx = gpsemu.Receiver(KEYS)
+    assert rx.step().has_fix
+    answer = rx.fault("outage", duration=0.2)         # 2 epochs at 10 Hz
+    assert answer["class"] == "FAULT" and answer["starts"] == "next epoch"
+    assert [rx.step().has_fix for _ in range(3)] == [False, False, True]
+    rx.control({"fault": "outage"})
+    assert not rx.step().has_fix
+    assert rx.status()["receivers"][0]["faults"][0]["fault"] == "outage"
+    assert rx.clear("outage")["cleared"] == 1
+    assert rx.step().has_fix
+    assert rx.status()["receivers"][0]["epochs"] == 6
+    bad = rx.fault("jam", db=99)
+    assert bad["class"] == "ERROR" and "db" in bad["message"]
+
+
+def test_control_reaches_a_running_gpsemu_over_tcp(tmp_path):
+    binary = os.environ.get("GPSEMU_BINARY")
+    if not binary:
+        pytest.fail("GPSEMU_BINARY not set (run through CTest)")
+    proc = subprocess.Popen([binary, "--rate", "10", "--duration", "20", "--output", "file:" + str(tmp_path / "o.nmea"),
+                             "--control", "tcp:127.0.0.1:0", "--log-level", "info"], stderr=subprocess.PIPE)
+    try:
+        spec, text = None, b""
+        while spec is None:
+            ready, _, _ = select.select([proc.stderr], [], [], 10.0)
+            assert ready, "gpsemu did not open its control socket: " + text.decode()
+            chunk = os.read(proc.stderr.fileno(), 4096)
+            assert chunk, "gpsemu exited: " + text.decode()
+            text += chunk
+            for line in text.decode().splitlines():
+                if "control socket tcp:" in line:
+                    spec = "tcp:" + line.split("control socket tcp:")[1].split(":")[0] + ":" + \
+                           line.split("control socket tcp:")[1].split(":")[1]
+        ctl = gpsemu.Control(spec)
+        assert ctl.fault("garble", rate=0.25, receiver=0)["class"] == "FAULT"
+        faults = ctl.status()["receivers"][0]["faults"]
+        assert [f["fault"] for f in faults] in ([], ["garble"])   # [] until the next epoch took it
+        assert ctl.clear("all")["class"] == "CLEAR"
+        assert ctl.send('{"nonsense":1}')["class"] == "ERROR"
+    finally:
+        proc.terminate()
+        proc.wait(timeout=10)
+    with pytest.raises(gpsemu.Error):
+        gpsemu.Control(spec, timeout_s=1).status()

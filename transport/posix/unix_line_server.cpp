@@ -12,7 +12,10 @@
 
 #include <fmt/format.h>
 
+#include <functional>
+
 #include "transport/posix/errors.hpp"
+#include "transport/posix/sockets.hpp"
 
 namespace gpsemu::posix {
 namespace {
@@ -54,8 +57,11 @@ UnixLineServer::UnixLineServer(std::string path, Messages messages) : path_(std:
   }
 }
 
+UnixLineServer::UnixLineServer(UniqueFd listening, std::string name, Messages messages)
+    : path_(std::move(name)), messages_(std::move(messages)), listen_(std::move(listening)), owns_file_(false) {}
+
 UnixLineServer::~UnixLineServer() {
-  if (listen_.valid()) ::unlink(path_.c_str());
+  if (listen_.valid() && owns_file_) ::unlink(path_.c_str());
 }
 
 void UnixLineServer::fds(std::vector<int>& out) const {
@@ -125,8 +131,34 @@ void UnixLineServer::service(const Handler& handle) {
   }
 }
 
+namespace {
+
+/// Sends `line` on the connected `fd` and returns the first line of the answer.
+std::string exchange(int fd, std::string_view line, std::chrono::milliseconds timeout,
+                     const std::function<std::runtime_error(const std::string&)>& fail) {
+  if (!send_line_blocking(fd, line)) throw fail(fmt::format("cannot send: {}", errno_text(errno)));
+  std::string answer;
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  char buffer[4096];
+  while (answer.find('\n') == std::string::npos) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    pollfd p{fd, POLLIN, 0};
+    if (left.count() <= 0 || ::poll(&p, 1, static_cast<int>(left.count())) == 0) throw fail("no answer");
+    const ssize_t n = ::recv(fd, buffer, sizeof buffer, 0);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) throw fail("closed without an answer");
+    answer.append(buffer, static_cast<std::size_t>(n));
+  }
+  answer.resize(answer.find('\n'));
+  return answer;
+}
+
+}  // namespace
+
 std::string unix_request(const std::string& path, std::string_view line, std::chrono::milliseconds timeout) {
-  const auto fail = [&path](const std::string& why) { return std::runtime_error(fmt::format("control socket {}: {}", path, why)); };
+  const std::function<std::runtime_error(const std::string&)> fail = [&path](const std::string& why) {
+    return std::runtime_error(fmt::format("control socket {}: {}", path, why));
+  };
   sockaddr_un address{};
   address.sun_family = AF_UNIX;
   if (path.empty() || path.size() >= sizeof address.sun_path) throw fail("path too long");
@@ -135,21 +167,23 @@ std::string unix_request(const std::string& path, std::string_view line, std::ch
   if (!fd.valid()) throw fail(errno_text(errno));
   if (::connect(fd.get(), reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0)
     throw fail(fmt::format("cannot connect: {} (is gpsemu running with --control unix:{}?)", errno_text(errno), path));
-  if (!send_line_blocking(fd.get(), line)) throw fail(fmt::format("cannot send: {}", errno_text(errno)));
-  std::string answer;
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  char buffer[4096];
-  while (answer.find('\n') == std::string::npos) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-    pollfd p{fd.get(), POLLIN, 0};
-    if (left.count() <= 0 || ::poll(&p, 1, static_cast<int>(left.count())) == 0) throw fail("no answer");
-    const ssize_t n = ::recv(fd.get(), buffer, sizeof buffer, 0);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) throw fail("closed without an answer");
-    answer.append(buffer, static_cast<std::size_t>(n));
-  }
-  answer.resize(answer.find('\n'));
-  return answer;
+  return exchange(fd.get(), line, timeout, fail);
+}
+
+std::string tcp_request(const std::string& host, std::uint16_t port, std::string_view line,
+                        std::chrono::milliseconds timeout) {
+  const std::string name = "tcp:" + host_port(host, port);
+  const std::function<std::runtime_error(const std::string&)> fail = [&name](const std::string& why) {
+    return std::runtime_error(fmt::format("control socket {}: {}", name, why));
+  };
+  SocketRequest request;
+  request.host = host;
+  request.port = port;
+  request.passive = false;
+  request.blocking = true;
+  request.context = fmt::format("control socket {}: cannot connect (is gpsemu running with --control {}?)", name, name);
+  UniqueFd fd = connect_socket(request);
+  return exchange(fd.get(), line, timeout, fail);
 }
 
 }  // namespace gpsemu::posix

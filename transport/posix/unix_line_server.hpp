@@ -1,5 +1,5 @@
-// A Unix-domain stream socket that takes text lines from a few clients and answers each line with
-// one line (the control socket: JSON lines in, one JSON answer each). Never blocks: the caller
+// A Unix-domain (or loopback TCP) stream socket that takes text lines from a few clients and
+// answers each line with one line (the control socket: JSON lines in, one JSON answer each). Never blocks: the caller
 // polls fds() and calls service() when one is readable. A line longer than kMaxLineBytes, or a
 // client whose answers do not fit its socket buffer, is dropped (counted); a client beyond
 // kMaxClients is told so and closed. The socket file is removed when the server goes.
@@ -32,6 +32,9 @@ class UnixLineServer {
   /// Listens on `path` (a stale socket file there is replaced; any other file is an error).
   /// Throws std::runtime_error beginning with "control socket PATH: ".
   UnixLineServer(std::string path, Messages messages);
+  /// The same on a listening socket made by the caller (listen_tcp()); `name` ("tcp:127.0.0.1:5005")
+  /// stands for it in path() and messages, and no file is removed.
+  UnixLineServer(UniqueFd listening, std::string name, Messages messages);
   ~UnixLineServer();
   UnixLineServer(const UnixLineServer&) = delete;
   UnixLineServer& operator=(const UnixLineServer&) = delete;
@@ -57,6 +60,7 @@ class UnixLineServer {
   std::string path_;
   Messages messages_;
   UniqueFd listen_;
+  bool owns_file_ = true;  ///< a Unix socket's file, removed at the end
   std::vector<Client> clients_;
   std::uint64_t lines_answered_ = 0;
   std::uint64_t clients_dropped_ = 0;
@@ -66,5 +70,8 @@ class UnixLineServer {
 /// first line of the answer (without '\n'). Throws std::runtime_error ("control socket PATH: ...")
 /// when it cannot connect or no answer comes within `timeout`.
 [[nodiscard]] std::string unix_request(const std::string& path, std::string_view line, std::chrono::milliseconds timeout);
+/// The same over TCP to `host`:`port` ("control socket tcp:HOST:PORT: ...").
+[[nodiscard]] std::string tcp_request(const std::string& host, std::uint16_t port, std::string_view line,
+                                      std::chrono::milliseconds timeout);
 
 }  // namespace gpsemu::posix

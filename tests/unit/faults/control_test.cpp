@@ -96,5 +96,23 @@ TEST(FaultControl, EveryBadLineIsAnErrorObject) {
   EXPECT_TRUE(r.a.entries().empty());
 }
 
+TEST(FaultControl, AnswersNameTheEpochTheyCameAfterAndEachReceiverRecordsTheEventItApplied) {
+  TwoReceivers r;
+  EXPECT_TRUE(r.ask(R"({"fault":"outage"})")["after_epoch_s"].is_null());  // before the first epoch
+  r.epoch(0);
+  r.epoch(100);
+  const json answer = r.ask(R"({"fault":"garble","rate":0.5,"unused":[1]})");
+  EXPECT_EQ(answer["class"], "ERROR");  // a fault's keys are its parameters: an array is refused
+  const json ok = r.ask(R"({"fault":"latency","delay_ms":300})");
+  EXPECT_DOUBLE_EQ(ok["after_epoch_s"].get<double>(), 0.1);
+  r.epoch(200);
+  ASSERT_EQ(r.a.applied_events().size(), 1u);  // the outage applied at epoch 0 was that epoch's
+  EXPECT_EQ(r.a.applied_events()[0].request, R"({"delay_ms":300,"fault":"latency","receiver":0})");
+  EXPECT_EQ(r.b.applied_events()[0].request, R"({"delay_ms":300,"fault":"latency","receiver":1})");
+  EXPECT_DOUBLE_EQ(r.a.applied_events()[0].since_s, 0.2);
+  EXPECT_EQ(r.ask(R"({"fault":"outage","at_utc":"2026-01-01T00:00:00Z"})")["class"], "ERROR");
+  EXPECT_EQ(r.ask(R"({"fault":"jam","db":20,"where":"circle:47,8,100","ramp_out_s":2})")["class"], "FAULT");
+}
+
 }  // namespace
 }  // namespace gpsemu::faults
