@@ -70,7 +70,11 @@ void refresh(const Fix& fix, const FormatOptions& options, SatelliteTextMemo& me
 }
 
 void append_epoch_with(const Fix& fix, const FormatOptions& options, std::string& out, SatelliteTextMemo* memo) {
-  if (memo) refresh(fix, options, *memo);
+  // Without GSA and GSV there is no satellite text to keep (comparing the satellites would cost
+  // a thousand instructions an epoch for nothing).
+  if (memo && (options.sentences.contains(SentenceType::gsa) || options.sentences.contains(SentenceType::gsv))) {
+    refresh(fix, options, *memo);
+  }
   // GGA, RMC and GLL share the time and position fields: formatted once, written straight into `out`.
   const bool with_rmc = options.sentences.contains(SentenceType::rmc);
   const bool shared = with_rmc || options.sentences.contains(SentenceType::gga) ||
