@@ -1,7 +1,7 @@
-// The sky: orbits from RTKLIB checked against independent computations written here (the
-// IS-GPS-200 ephemeris algorithm for a RINEX record and for the real records of the embedded file,
-// with GeographicLib for azimuth/elevation; Kepler with J2 secular rates and a GMST rotation for
-// the embedded two-line elements), the
+// The sky: orbits from RTKLIB checked against independent computations (the IS-GPS-200 ephemeris
+// algorithm of sky_kepler.hpp for a RINEX record, with GeographicLib for azimuth/elevation; the
+// embedded file's real records in sky_records_test.cpp; Kepler with J2 secular rates and a GMST
+// rotation for the embedded two-line elements), the
 // multi-clock DOP against RTKLIB's single-clock dops() on one system, and the per-model sky:
 // systems, elevation mask, obstruction, channels, C/N0 by elevation.
 #include <gtest/gtest.h>
@@ -24,42 +24,16 @@
 #include "emulator/model/sky/embedded_data.hpp"
 #include "emulator/model/sky/orbits.hpp"
 #include "emulator/model/sky/profile.hpp"
+#include "tests/unit/model/sky_kepler.hpp"
 
 namespace gpsemu {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
-constexpr double kMu = 3.986005e14;          // WGS84 GM of IS-GPS-200 (m^3/s^2)
-constexpr double kOmegaE = 7.2921151467e-5;  // earth rotation (rad/s)
-const Geodetic kMadison{43.0725, -89.4125, 260.0 - 33.9};  // ellipsoidal height
+using namespace sky_test_support;
 
-double distance_m(const sky::Ecef& a, const sky::Ecef& b) {
-  return std::hypot(a.x_m - b.x_m, a.y_m - b.y_m, a.z_m - b.z_m);
-}
-
-sky::AzEl azel_by_geographiclib(const Geodetic& rx, const sky::Ecef& sat) {
-  const GeographicLib::LocalCartesian frame(rx.lat_deg, rx.lon_deg, rx.alt_m);
-  double e = 0, n = 0, u = 0;
-  // LocalCartesian::Forward takes geodetic; go through the Geocentric inverse.
-  double lat = 0, lon = 0, h = 0;
-  GeographicLib::Geocentric::WGS84().Reverse(sat.x_m, sat.y_m, sat.z_m, lat, lon, h);
-  frame.Forward(lat, lon, h, e, n, u);
-  double az = std::atan2(e, n) / kDeg;
-  if (az < 0) az += 360.0;
-  return {az, std::atan2(u, std::hypot(e, n)) / kDeg};
-}
 
 // --- A RINEX 3 GPS record, and IS-GPS-200's algorithm -----------------------------------------
 
-struct Kepler {
-  double af0 = 1.0e-5, af1 = 1.0e-12, af2 = 0.0;
-  double iode = 42, crs = 35.5, dn = 4.5e-9, m0 = 0.3;
-  double cuc = 1.8e-6, e = 0.0105, cus = 8.2e-6, sqrt_a = 5153.65;
-  double toe = 180000.0, cic = -1.1e-7, omega0 = 1.0, cis = 9.0e-8;
-  double i0 = 0.958, crc = 210.3, w = 0.52, omega_dot = -8.1e-9;
-  double idot = 1.2e-10, week = 2134;
-};
 
 std::string d19(double v) {
   char b[32];
@@ -89,23 +63,6 @@ std::string rinex3_gps_nav(const Kepler& k) {
   return o.str();
 }
 
-sky::Ecef is_gps_200(const Kepler& k, double tk) {
-  const double a = k.sqrt_a * k.sqrt_a;
-  const double n = std::sqrt(kMu / (a * a * a)) + k.dn;
-  const double m = k.m0 + n * tk;
-  double ecc_anomaly = m;
-  for (int i = 0; i < 30; ++i) ecc_anomaly = m + k.e * std::sin(ecc_anomaly);
-  const double nu = std::atan2(std::sqrt(1 - k.e * k.e) * std::sin(ecc_anomaly), std::cos(ecc_anomaly) - k.e);
-  const double phi = nu + k.w;
-  const double s2 = std::sin(2 * phi), c2 = std::cos(2 * phi);
-  const double u = phi + k.cus * s2 + k.cuc * c2;
-  const double r = a * (1 - k.e * std::cos(ecc_anomaly)) + k.crs * s2 + k.crc * c2;
-  const double inc = k.i0 + k.cis * s2 + k.cic * c2 + k.idot * tk;
-  const double omega = k.omega0 + (k.omega_dot - kOmegaE) * tk - kOmegaE * k.toe;
-  const double xp = r * std::cos(u), yp = r * std::sin(u);
-  return {xp * std::cos(omega) - yp * std::cos(inc) * std::sin(omega), xp * std::sin(omega) + yp * std::cos(inc) * std::cos(omega),
-          yp * std::sin(inc)};
-}
 
 TEST(SkyOrbits, RinexRecordGivesTheIsGps200PositionOfItsEphemeris) {
   const Kepler k;
@@ -241,106 +198,6 @@ TEST(SkyOrbits, EmbeddedElementsAgreeWithKeplerAndJ2AtTheSameSiderealTime) {
   EXPECT_GE(checked, 3);
 }
 
-// --- A real record of the embedded RINEX file, by hand, against what the sky writes ------------
-
-/// The RINEX 3 GPS records of the embedded navigation file (IS-GPS-200 parameters, toe in GPS
-/// seconds since 1980).
-std::vector<std::pair<int, Kepler>> embedded_gps_records() {
-  std::vector<std::pair<int, Kepler>> out;
-  std::istringstream in{std::string(sky::embedded_rinex_nav_text())};
-  std::string line;
-  bool body = false;
-  const auto field = [](const std::string& l, int index) {
-    std::string text = l.substr(static_cast<std::size_t>(4 + 19 * index), 19);
-    for (char& c : text) {
-      if (c == 'D') c = 'E';
-    }
-    return std::stod(text);
-  };
-  while (std::getline(in, line)) {
-    if (!body) {
-      body = line.find("END OF HEADER") != std::string::npos;
-      continue;
-    }
-    if (line.empty() || line[0] != 'G') continue;
-    std::array<std::string, 7> l;
-    for (auto& x : l) std::getline(in, x);
-    Kepler k;
-    k.af0 = std::stod(line.substr(23, 19));
-    k.iode = field(l[0], 0), k.crs = field(l[0], 1), k.dn = field(l[0], 2), k.m0 = field(l[0], 3);
-    k.cuc = field(l[1], 0), k.e = field(l[1], 1), k.cus = field(l[1], 2), k.sqrt_a = field(l[1], 3);
-    k.toe = field(l[2], 0), k.cic = field(l[2], 1), k.omega0 = field(l[2], 2), k.cis = field(l[2], 3);
-    k.i0 = field(l[3], 0), k.crc = field(l[3], 1), k.w = field(l[3], 2), k.omega_dot = field(l[3], 3);
-    k.idot = field(l[4], 0), k.week = field(l[4], 2);
-    if (field(l[5], 1) != 0.0) continue;  // unhealthy: the sky leaves it out
-    out.emplace_back(std::stoi(line.substr(1, 2)), k);
-  }
-  return out;
-}
-
-// The whole chain (RTKLIB reading the real file, the nodes and their interpolation, the line of
-// sight, the rounding) against IS-GPS-200 by hand from the same record and GeographicLib: each GPS
-// satellite above 5 degrees at Madison ten minutes after its record's toe is listed where the
-// hand computation sees it, within the half degree of NMEA's integer degrees (+0.05).
-TEST(SkyOrbits, SkyAzimuthElevationMatchesAHandComputationOfTheRealRecords) {
-  SkyOptions o;
-  o.profile = sky::profile_of(ubx::ReceiverModel::ublox_m8n);
-  int checked = 0;
-  for (const auto& [prn, k] : embedded_gps_records()) {
-    const double toe_gps_s = k.week * 604800.0 + k.toe;
-    const double t_gps_s = toe_gps_s + 600.0;
-    if (t_gps_s < gps_seconds_of(parse_iso8601_utc("2018-07-29T00:00:00Z")) ||
-        t_gps_s >= gps_seconds_of(parse_iso8601_utc("2018-07-30T00:00:00Z"))) {
-      continue;  // the sky maps times outside the file's day; keep to its own day
-    }
-    const sky::Ecef hand = is_gps_200(k, 600.0);
-    const sky::AzEl expected = azel_by_geographiclib(kMadison, hand);
-    if (expected.elevation_deg < 5.0) continue;
-    Sky sky(o, kMadison);
-    nmea::Fix fix;
-    const UtcNs when{std::chrono::seconds(static_cast<std::int64_t>(t_gps_s) + 315964800 - 18)};
-    (void)sky.fill(when, {}, fix);
-    const nmea::SatelliteInView* listed = nullptr;
-    for (int i = 0; i < fix.satellites_in_view; ++i) {
-      const auto& s = fix.satellites[static_cast<std::size_t>(i)];
-      if (s.system == nmea::GnssSystem::gps && s.sv_id == prn) listed = &s;
-    }
-    ASSERT_NE(listed, nullptr) << "G" << prn << " at elevation " << expected.elevation_deg;
-    EXPECT_LE(std::fabs(listed->elevation_deg - expected.elevation_deg), 0.55) << "G" << prn;
-    if (expected.elevation_deg < 85.0) {
-      const double daz = std::fabs(listed->azimuth_deg - expected.azimuth_deg);
-      EXPECT_LE(std::min(daz, 360.0 - daz), 0.55) << "G" << prn;
-    }
-    ++checked;
-  }
-  EXPECT_GE(checked, 10);
-}
-
-// Positions between the nodes (ten minutes apart, cubic Hermite) against RTKLIB's own at every
-// minute: within 50 m (0.0002 degree seen from the ground).
-TEST(SkyOrbits, InterpolatedPositionsStayCloseToRtklibs) {
-  const auto orbits = sky::Orbits::embedded_default();
-  const double start = orbits->coverage_start() + 6 * 3600.0;
-  constexpr double node_s = 600.0;
-  int checked = 0;
-  for (std::size_t i = 0; i < orbits->satellites().size(); ++i) {
-    const auto a = orbits->motion(i, start), b = orbits->motion(i, start + node_s);
-    if (!a || !b) continue;
-    for (double x = 0.1; x < 1.0; x += 0.2) {
-      const auto exact = orbits->position(i, start + x * node_s);
-      if (!exact) continue;
-      const double x2 = x * x, x3 = x2 * x;
-      const double h00 = 2 * x3 - 3 * x2 + 1, h10 = (x3 - 2 * x2 + x) * node_s, h01 = -2 * x3 + 3 * x2, h11 = (x3 - x2) * node_s;
-      const sky::Ecef p{h00 * a->position.x_m + h10 * a->vx_mps + h01 * b->position.x_m + h11 * b->vx_mps,
-                        h00 * a->position.y_m + h10 * a->vy_mps + h01 * b->position.y_m + h11 * b->vy_mps,
-                        h00 * a->position.z_m + h10 * a->vz_mps + h01 * b->position.z_m + h11 * b->vz_mps};
-      EXPECT_LT(distance_m(p, *exact), 50.0) << static_cast<int>(orbits->satellites()[i].system) << " "
-                                             << orbits->satellites()[i].sv_id << " x " << x;
-      ++checked;
-    }
-  }
-  EXPECT_GE(checked, 200);
-}
 
 TEST(SkyOrbits, AnyDateMapsToTheDataDayAtTheSameSiderealTime) {
   const auto orbits = sky::Orbits::embedded_default();
