@@ -1,11 +1,13 @@
 // One epoch's sentences in receiver order (table-driven dispatch by SentenceType).
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <string>
 
 #include "nmea/epoch_fields.hpp"
 #include "nmea/heading.hpp"
 #include "nmea/sentences.hpp"
+#include "nmea/text_append.hpp"
 
 namespace gpsemu::nmea {
 namespace {
@@ -29,6 +31,13 @@ bool same_satellite(const SatelliteInView& a, const SatelliteInView& b) {
          a.snr_dbhz == b.snr_dbhz && a.used == b.used && a.system == b.system && a.sv_id == b.sv_id;
 }
 
+/// A DOP as GSA writes it (satellites.cpp: clamped to 0..99.99, two decimals; -1 when not
+/// finite): the memo keeps these, so a DOP that changes below the printed digits keeps the text.
+double dop_as_written(double dop) {
+  if (!std::isfinite(dop)) return -1.0;
+  return static_cast<double>(text::round_half_away(std::clamp(dop, 0.0, 99.99) * 100.0)) / 100.0;
+}
+
 /// Brings `memo` up to date with `fix`: what is still valid stays, the rest is formatted again.
 void refresh(const Fix& fix, const FormatOptions& options, SatelliteTextMemo& memo) {
   const int n = std::clamp(fix.satellites_in_view, 0, static_cast<int>(max_satellites));
@@ -39,14 +48,15 @@ void refresh(const Fix& fix, const FormatOptions& options, SatelliteTextMemo& me
     memo.in_view = n;
     std::copy_n(fix.satellites.begin(), n, memo.satellites.begin());
   }
-  if (memo.quality != fix.quality || memo.dimension != fix.dimension || memo.pdop != fix.pdop || memo.hdop != fix.hdop ||
-      memo.vdop != fix.vdop) {
+  const double pdop = dop_as_written(fix.pdop), hdop = dop_as_written(fix.hdop), vdop = dop_as_written(fix.vdop);
+  if (memo.quality != fix.quality || memo.dimension != fix.dimension || memo.pdop != pdop || memo.hdop != hdop ||
+      memo.vdop != vdop) {
     memo.gsa_valid = false;
     memo.quality = fix.quality;
     memo.dimension = fix.dimension;
-    memo.pdop = fix.pdop;
-    memo.hdop = fix.hdop;
-    memo.vdop = fix.vdop;
+    memo.pdop = pdop;
+    memo.hdop = hdop;
+    memo.vdop = vdop;
   }
   if (!memo.gsv_valid && options.sentences.contains(SentenceType::gsv)) {
     memo.gsv.clear();
@@ -61,15 +71,22 @@ void refresh(const Fix& fix, const FormatOptions& options, SatelliteTextMemo& me
 }
 
 void append_epoch_with(const Fix& fix, const FormatOptions& options, std::string& out, SatelliteTextMemo* memo) {
-  if (memo) refresh(fix, options, *memo);
-  // GGA and RMC share the time and position fields: formatted once, written straight into `out`.
-  const bool with_gga = options.sentences.contains(SentenceType::gga);
+  // Without GSA and GSV there is no satellite text to keep (comparing the satellites would cost
+  // a thousand instructions an epoch for nothing).
+  if (memo && (options.sentences.contains(SentenceType::gsa) || options.sentences.contains(SentenceType::gsv))) {
+    refresh(fix, options, *memo);
+  }
+  // GGA, RMC and GLL share the time and position fields: formatted once, written straight into `out`.
   const bool with_rmc = options.sentences.contains(SentenceType::rmc);
-  const EpochFields fields = with_gga || with_rmc ? epoch_fields(fix, options, with_rmc) : EpochFields{};
+  const bool shared = with_rmc || options.sentences.contains(SentenceType::gga) ||
+                      options.sentences.contains(SentenceType::gll);
+  const EpochFields fields = shared ? epoch_fields(fix, options, with_rmc) : EpochFields{};
   options.sentences.for_each([&](SentenceType type) {
     switch (type) {
       case SentenceType::gga: append_gga(fix, options, fields, out); break;
       case SentenceType::rmc: append_rmc(fix, options, fields, out); break;
+      case SentenceType::vtg: append_vtg(fix, options, out); break;
+      case SentenceType::gll: append_gll(fix, options, fields, out); break;
       case SentenceType::gsa: memo ? void(out += memo->gsa) : append_gsa(fix, options, out); break;
       case SentenceType::gsv: memo ? void(out += memo->gsv) : append_gsv(fix, options, out); break;
       default: out += format_sentences(type, fix, options); break;

@@ -42,5 +42,8 @@ struct EpochFields {
 /// (from epoch_fields(fix, options, ...); RMC needs the date).
 void append_gga(const Fix& fix, const FormatOptions& options, const EpochFields& fields, std::string& out);
 void append_rmc(const Fix& fix, const FormatOptions& options, const EpochFields& fields, std::string& out);
+/// Appends the VTG / GLL sentence of `fix` (as format_vtg / format_gll); GLL from `fields`.
+void append_vtg(const Fix& fix, const FormatOptions& options, std::string& out);
+void append_gll(const Fix& fix, const FormatOptions& options, const EpochFields& fields, std::string& out);
 
 }  // namespace gpsemu::nmea

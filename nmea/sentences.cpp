@@ -1,6 +1,6 @@
-// GGA and RMC formatters: written straight into the output buffer from the epoch's shared
-// fields (epoch_fields.hpp), framed with the checksum by text::put_checksum.
-// (VTG, GLL, ZDA, GST: sentences_more.cpp; GSA, GSV: satellites.cpp; the epoch: epoch.cpp.)
+// GGA, RMC, VTG and GLL formatters: written straight into the output buffer from the epoch's
+// shared fields (epoch_fields.hpp), framed with the checksum by text::put_checksum.
+// (ZDA, GST: sentences_more.cpp; GSA, GSV: satellites.cpp; the epoch: epoch.cpp.)
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -20,6 +20,7 @@ namespace {
 constexpr double max_alt_m = 1e6;
 constexpr double max_geoid_sep_m = 1e4;
 constexpr double max_speed_knots = 1e6;
+constexpr double kmh_per_mps = 3.6;
 
 // Most bytes put_gga or put_rmc writes besides the talker (GGA: at most 119, with 8 decimals of
 // minutes, 3 of seconds, a 20-digit quality, "-1000000.0" altitudes and "999.9,4095" of
@@ -111,6 +112,41 @@ char* put_rmc(char* const begin, const Fix& fix, const FormatOptions& options, c
   return text::put_checksum(begin, p);
 }
 
+char* put_vtg(char* const begin, const Fix& fix, const FormatOptions& options) {
+  char* p = put_start(begin, options, "VTG,");
+  if (!fix.has_fix()) {
+    p = text::put_chars(p, ",T,,M,,N,,K,N");
+    return text::put_checksum(begin, p);
+  }
+  const double speed_mps = std::fabs(fix.speed_mps);
+  p = fields::put_course(p, fix.course_deg_true);
+  p = text::put_chars(p, ",T,,M,");
+  p = fields::put_fixed(p, speed_mps * fields::knots_per_mps, 3, max_speed_knots);
+  p = text::put_chars(p, ",N,");
+  p = fields::put_fixed(p, speed_mps * kmh_per_mps, 3, max_speed_knots * 2);
+  p = text::put_chars(p, ",K,");
+  *p++ = mode_indicator(fix.quality);
+  return text::put_checksum(begin, p);
+}
+
+char* put_gll(char* const begin, const Fix& fix, const FormatOptions& options, const EpochFields& fields) {
+  char* p = put_start(begin, options, "GLL,");
+  if (!fix.has_fix()) {
+    p = text::put_chars(p, ",,,,");
+    p = put_field(p, fields.time);
+    p = text::put_chars(p, ",V,N");
+    return text::put_checksum(begin, p);
+  }
+  p = put_field(p, fields.latitude);
+  *p++ = ',';
+  p = put_field(p, fields.longitude);
+  *p++ = ',';
+  p = put_field(p, fields.time);
+  p = text::put_chars(p, ",A,");
+  *p++ = mode_indicator(fix.quality);
+  return text::put_checksum(begin, p);
+}
+
 template <typename Put>
 void set_field(FieldText& field, Put put) {
   field.size = static_cast<std::uint8_t>(put(field.chars.data()) - field.chars.data());
@@ -150,6 +186,26 @@ void append_gga(const Fix& fix, const FormatOptions& options, const EpochFields&
 
 void append_rmc(const Fix& fix, const FormatOptions& options, const EpochFields& fields, std::string& out) {
   append_sentence(out, options, [&](char* p) { return put_rmc(p, fix, options, fields); });
+}
+
+void append_vtg(const Fix& fix, const FormatOptions& options, std::string& out) {
+  append_sentence(out, options, [&](char* p) { return put_vtg(p, fix, options); });
+}
+
+void append_gll(const Fix& fix, const FormatOptions& options, const EpochFields& fields, std::string& out) {
+  append_sentence(out, options, [&](char* p) { return put_gll(p, fix, options, fields); });
+}
+
+std::string format_vtg(const Fix& fix, const FormatOptions& options) {
+  std::string out;
+  append_vtg(fix, options, out);
+  return out;
+}
+
+std::string format_gll(const Fix& fix, const FormatOptions& options) {
+  std::string out;
+  append_gll(fix, options, epoch_fields(fix, options, false), out);
+  return out;
 }
 
 std::string format_gga(const Fix& fix, const FormatOptions& options) {

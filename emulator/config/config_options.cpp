@@ -305,19 +305,8 @@ std::vector<OptionDef> make_option_table() {
   add("hdop", "X", "HDOP reported with a fix, 0.5..50; VDOP and PDOP scale alike (default: from the geometry of "
       "the satellites used)",
       [](ConfigDraft& d, V v) { d.receiver.settings.model.hdop = parse_number("hdop", v.back(), 0.5, 50.0); });
-  add("heading-noise", "DEG", "1-sigma noise of the true heading (HDT, THS) from a pose's yaw_deg, 0..180 degrees "
-      "(default 0.2, a dual-antenna receiver with a 1 m baseline)",
-      [](ConfigDraft& d, V v) { d.receiver.settings.model.heading_sigma_deg = parse_number("heading-noise", v.back(), 0.0, 180.0); });
-  add("role", "ROLE", "standalone | moving-base | rover: a moving-base pair on one vehicle in a fleet (docs/heading.md): "
-      "the moving base also writes RTCM3 (4072.0, MSM4, 1230), the rover (--protocol ubx or nmea+ubx) reports "
-      "NAV-RELPOSNED while it receives that RTCM3 (default standalone)",
-      [](ConfigDraft& d, V v) { d.receiver.settings.moving_base.role = heading::parse_role(v.back()); });
-  add("antenna-offset", "F,R,D", "the antenna's place on the vehicle, metres forward, right, down of the pose's point "
-      "(body frame, each within +-100; with a pose's yaw_deg it moves the reported position and sets a moving-base "
-      "pair's baseline) (default 0,0,0)",
-      [](ConfigDraft& d, V v) { d.receiver.settings.moving_base.antenna = heading::parse_antenna_offset(v.back()); });
-  add("ephemeris", "FILE", "RINEX 2/3 navigation file: the true sky of its date (default: the embedded sky, real "
-      "orbits of 2020-12-01 at the same sidereal time; docs/sky.md)",
+  add("ephemeris", "FILE", "RINEX 2/3 navigation file: the true sky of its date (default: the embedded sky, a real "
+      "RINEX file of 2018-07-29 at the same sidereal time; docs/sky.md)",
       [](ConfigDraft& d, V v) { d.receiver.settings.ephemeris = v.back(); });
   add("elevation-mask", "DEG", "satellites below this elevation are tracked but not used, 0..60 degrees "
       "(default: the model's, 5)",

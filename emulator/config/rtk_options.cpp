@@ -1,11 +1,13 @@
-// The RTK options of the option table (docs/rtk.md): the base station's RTCM3 input and the RTK
-// state timeline. Kept apart from config_options.cpp (its size).
+// The RTK and heading options of the option table (docs/rtk.md, docs/heading.md): the base
+// station's RTCM3 input, the RTK state timeline, the heading's noise and a moving-base pair's roles
+// and antenna offsets. Kept apart from config_options.cpp (its size).
 #include <stdexcept>
 
 #include <fmt/format.h>
 
 #include "emulator/config/config_options.hpp"
 #include "emulator/config/config_values.hpp"
+#include "emulator/heading/moving_base.hpp"
 #include "emulator/rtk/rtk_state.hpp"
 
 namespace gpsemu {
@@ -50,6 +52,17 @@ void add_rtk_options(std::vector<OptionDef>& t) {
   add("rtk-max-baseline", "KM", "beyond this distance to the base, corrections give DGPS only, 0.1..1000 km "
       "(default 50)",
       [](ConfigDraft& d, V v) { d.receiver.settings.rtk.max_baseline_km = parse_number("rtk-max-baseline", v.back(), 0.1, 1000.0); });
+  add("heading-noise", "DEG", "1-sigma noise of the true heading (HDT, THS) from a pose's yaw_deg, 0..180 degrees "
+      "(default 0.2, a dual-antenna receiver with a 1 m baseline)",
+      [](ConfigDraft& d, V v) { d.receiver.settings.model.heading_sigma_deg = parse_number("heading-noise", v.back(), 0.0, 180.0); });
+  add("role", "ROLE", "standalone | moving-base | rover: a moving-base pair on one vehicle in a fleet (docs/heading.md): "
+      "the moving base also writes RTCM3 (4072.0, MSM4, 1230), the rover (--protocol ubx or nmea+ubx) reports "
+      "NAV-RELPOSNED while it receives that RTCM3 (default standalone)",
+      [](ConfigDraft& d, V v) { d.receiver.settings.moving_base.role = heading::parse_role(v.back()); });
+  add("antenna-offset", "F,R,D", "the antenna's place on the vehicle, metres forward, right, down of the pose's point "
+      "(body frame, each within +-100; with a pose's yaw_deg it moves the reported position and sets a moving-base "
+      "pair's baseline) (default 0,0,0)",
+      [](ConfigDraft& d, V v) { d.receiver.settings.moving_base.antenna = heading::parse_antenna_offset(v.back()); });
 }
 
 }  // namespace gpsemu

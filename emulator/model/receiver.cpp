@@ -152,7 +152,7 @@ nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) 
   fix.geoid_sep_m = geoid_sep_m_;
   const double ve = truth->velocity_mps.east_m;
   const double vn = truth->velocity_mps.north_m;
-  fix.speed_mps = std::hypot(ve, vn);
+  fix.speed_mps = std::sqrt(ve * ve + vn * vn);  // std::hypot's care for overflow costs 20 ns an epoch
   if (fix.speed_mps >= options_.course_min_speed_mps) {
     double course = std::atan2(ve, vn) * 180.0 / std::numbers::pi;
     if (course < 0.0) course += 360.0;
@@ -168,7 +168,7 @@ nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) 
   fix.vdop = vdop;
   fix.pdop = pdop;
   fix.tdop = sky.dops.tdop;
-  fix.gdop = std::hypot(pdop, fix.tdop);
+  fix.gdop = std::sqrt(pdop * pdop + fix.tdop * fix.tdop);
   // Reported accuracy: DOP x UERE x scale, never below the quality's floor.
   const double floor_m = sky::accuracy_floor_m(options_.quality);
   const double sigma_axis_m = std::max(floor_m, hdop * uere_m_ * scale / std::numbers::sqrt2);

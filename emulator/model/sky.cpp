@@ -12,11 +12,19 @@
 namespace gpsemu {
 namespace {
 
-constexpr double kNodeS = 60.0;
+// Orbit nodes (RTKLIB's position and velocity) this far apart in time, cubic Hermite between:
+// within ~20 m of RTKLIB's own positions for a medium orbit (h^4/384 x r w^4; checked in
+// tests/unit/model/sky_test.cpp), 0.0001 degree as seen from the ground. RTKLIB's broadcast
+// orbits cost 3-5 us a call (GLONASS integrates from its reference time), so a minute apart
+// they were most of a --fast epoch.
+constexpr double kNodeS = 600.0;
 // Azimuth/elevation (and with them the satellites used and the DOPs) are computed every this many
-// GPS seconds and interpolated linearly between (docs/performance.md: 10 s would take a quarter
-// off a --fast default epoch; a satellite moves at most ~0.01 degree a second).
-constexpr std::int64_t kAzElStepS = 1;          // orbit nodes a minute apart (cubic: well under a metre)
+// GPS seconds and interpolated linearly between (a satellite moves at most ~0.015 degree a second).
+constexpr std::int64_t kAzElStepS = 1;
+// No GNSS satellite's elevation changes faster than this as seen from the ground (a medium orbit
+// overhead: ~4.4 km/s across ~19 000 km is 0.013 degree/s): one further below the horizon than
+// this rate covers is not looked at again until it could have risen.
+constexpr double kMaxElevationRateDegPerS = 0.02;
 constexpr std::uint64_t kSkyStream = 0x736b79;  // "sky": the noise models use streams 0..2
 constexpr double kPi = std::numbers::pi;
 
@@ -103,7 +111,6 @@ double gps_seconds_of(UtcNs t) {
 Sky::Sky(const SkyOptions& options, const Geodetic& receiver)
     : orbits_(options.orbits ? options.orbits : sky::Orbits::embedded_default()),
       options_(options),
-      receiver_geodetic_{receiver.lat_deg, receiver.lon_deg, receiver.alt_m},
       receiver_ecef_(sky::to_ecef(receiver.lat_deg, receiver.lon_deg, receiver.alt_m)) {
   const auto& sats = orbits_->satellites();
   noise::Rng rng(options.seed, kSkyStream);
@@ -119,10 +126,14 @@ Sky::Sky(const SkyOptions& options, const Geodetic& receiver)
     return std::pair{system_rank(sats[a].system), sats[a].sv_id} < std::pair{system_rank(sats[b].system), sats[b].sv_id};
   });
   const double lat = receiver.lat_deg * kPi / 180.0, lon = receiver.lon_deg * kPi / 180.0;
+  // RTKLIB's xyz2enu axes.
+  east_ = {-std::sin(lon), std::cos(lon), 0.0};
+  north_ = {-std::sin(lat) * std::cos(lon), -std::sin(lat) * std::sin(lon), std::cos(lat)};
   up_ = {std::cos(lat) * std::cos(lon), std::cos(lat) * std::sin(lon), std::sin(lat)};
   nodes_.resize(tracked_.size());
-  azel0_.resize(tracked_.size());
-  azel1_.resize(tracked_.size());
+  look0_.resize(tracked_.size());
+  look1_.resize(tracked_.size());
+  hidden_until_.assign(tracked_.size(), INT64_MIN);
 }
 
 bool Sky::obstructed(double az, double el) const {
@@ -135,60 +146,77 @@ bool Sky::obstructed(double az, double el) const {
 }
 
 std::optional<sky::Ecef> Sky::position(std::size_t k, double t) {
-  // Four nodes around t: base-1, base, base+1, base+2, with base = floor(t / node).
+  // The two nodes around t: base and base + 1, with base = floor(t / node).
   const auto base = static_cast<std::int64_t>(std::floor(t / kNodeS));
   if (base != node_base_) {
-    // No nodes yet (INT64_MIN): every node computed (shift 0), without overflowing the subtraction.
-    const std::int64_t shift = node_base_ == INT64_MIN ? 0 : base - node_base_;
+    // One node on: the later one becomes the earlier. No nodes yet (INT64_MIN): both computed.
+    const bool next = node_base_ != INT64_MIN && base == node_base_ + 1;
     for (std::size_t j = 0; j < tracked_.size(); ++j) {
       auto& n = nodes_[j];
-      if (shift > 0 && shift < 4) {
-        for (int i = 0; i + shift < 4; ++i) n[static_cast<std::size_t>(i)] = n[static_cast<std::size_t>(i + shift)];
-      }
-      for (int i = 0; i < 4; ++i) {
-        if (shift > 0 && shift < 4 && i < 4 - shift) continue;
-        n[static_cast<std::size_t>(i)] = orbits_->position(tracked_[j], (static_cast<double>(base) + i - 1) * kNodeS);
-      }
+      n[0] = next ? n[1] : orbits_->motion(tracked_[j], static_cast<double>(base) * kNodeS);
+      n[1] = orbits_->motion(tracked_[j], static_cast<double>(base + 1) * kNodeS);
     }
     node_base_ = base;
   }
   const auto& n = nodes_[k];
-  if (!n[0] || !n[1] || !n[2] || !n[3]) return std::nullopt;
-  // Cubic Lagrange through nodes at x = -1, 0, 1, 2 (units of kNodeS).
+  if (!n[0] || !n[1]) return std::nullopt;
+  // Cubic Hermite on [0, 1] (units of kNodeS) from the positions and velocities at both ends.
   const double x = t / kNodeS - static_cast<double>(base);
-  const double w0 = -x * (x - 1) * (x - 2) / 6.0, w1 = (x + 1) * (x - 1) * (x - 2) / 2.0;
-  const double w2 = -(x + 1) * x * (x - 2) / 2.0, w3 = (x + 1) * x * (x - 1) / 6.0;
-  return sky::Ecef{w0 * n[0]->x_m + w1 * n[1]->x_m + w2 * n[2]->x_m + w3 * n[3]->x_m,
-                   w0 * n[0]->y_m + w1 * n[1]->y_m + w2 * n[2]->y_m + w3 * n[3]->y_m,
-                   w0 * n[0]->z_m + w1 * n[1]->z_m + w2 * n[2]->z_m + w3 * n[3]->z_m};
+  const double x2 = x * x, x3 = x2 * x;
+  const double h00 = 2 * x3 - 3 * x2 + 1, h10 = (x3 - 2 * x2 + x) * kNodeS;
+  const double h01 = -2 * x3 + 3 * x2, h11 = (x3 - x2) * kNodeS;
+  const sky::EcefMotion& a = *n[0];
+  const sky::EcefMotion& b = *n[1];
+  return sky::Ecef{h00 * a.position.x_m + h10 * a.vx_mps + h01 * b.position.x_m + h11 * b.vx_mps,
+                   h00 * a.position.y_m + h10 * a.vy_mps + h01 * b.position.y_m + h11 * b.vy_mps,
+                   h00 * a.position.z_m + h10 * a.vz_mps + h01 * b.position.z_m + h11 * b.vz_mps};
 }
 
-void Sky::snapshot(std::int64_t second, std::vector<std::array<float, 2>>& azel) {
+void Sky::snapshot(std::int64_t second, std::vector<Look>& looks) {
   const double t = orbits_->map_time(static_cast<double>(second));
+  // The skipping below assumes the satellites moved one second since the last snapshot: after a
+  // jump (a new start, the day's wrap) every satellite is looked at again.
+  if (std::fabs(t - last_mapped_ - 1.0) > 1e-3) std::fill(hidden_until_.begin(), hidden_until_.end(), INT64_MIN);
+  last_mapped_ = t;
+  constexpr double deg = 180.0 / kPi;
   for (std::size_t k = 0; k < tracked_.size(); ++k) {
-    azel[k] = {0.0f, -100.0f};
-    const auto p = position(k, t);
-    if (!p) continue;
-    // Below the horizon (the line of sight points down): no need for RTKLIB's azimuth/elevation.
-    const double up = (p->x_m - receiver_ecef_.x_m) * up_[0] + (p->y_m - receiver_ecef_.y_m) * up_[1] +
-                      (p->z_m - receiver_ecef_.z_m) * up_[2];
-    if (up < 0.0) {
-      azel[k] = {0.0f, -1.0f};
+    Look& look = looks[k];
+    if (second < hidden_until_[k]) {
+      look = {0.0f, -1.0f, {}};
       continue;
     }
-    const sky::AzEl a = sky::azimuth_elevation(receiver_geodetic_, receiver_ecef_, *p);
-    azel[k] = {static_cast<float>(a.azimuth_deg), static_cast<float>(a.elevation_deg)};
+    look = {0.0f, -100.0f, {}};
+    const auto p = position(k, t);
+    if (!p) continue;
+    // The line of sight in the receiver's east-north-up axes (RTKLIB's geodist + satazel, with the
+    // axes computed once).
+    const double dx = p->x_m - receiver_ecef_.x_m, dy = p->y_m - receiver_ecef_.y_m, dz = p->z_m - receiver_ecef_.z_m;
+    const double range = std::sqrt(dx * dx + dy * dy + dz * dz);
+    const double e = (dx * east_[0] + dy * east_[1]) / range;
+    const double n = (dx * north_[0] + dy * north_[1] + dz * north_[2]) / range;
+    const double u = (dx * up_[0] + dy * up_[1] + dz * up_[2]) / range;
+    if (u < 0.0) {
+      // Below the horizon: not listed; not looked at again until it could have risen.
+      const double below_deg = -std::asin(u) * deg;
+      look = {0.0f, -1.0f, {}};
+      if (below_deg > 2.0) hidden_until_[k] = second + static_cast<std::int64_t>((below_deg - 1.0) / kMaxElevationRateDegPerS);
+      continue;
+    }
+    double az = e * e + n * n < 1e-12 ? 0.0 : std::atan2(e, n) * deg;
+    if (az < 0.0) az += 360.0;
+    if (az >= 360.0) az -= 360.0;
+    look = {static_cast<float>(az), static_cast<float>(std::asin(u) * deg), {e, n, u, nmea::GnssSystem::gps}};
   }
 }
 
 void Sky::advance_to(std::int64_t second) {
   if (second == second_) return;
   if (second == second_ + kAzElStepS) {
-    std::swap(azel0_, azel1_);
+    std::swap(look0_, look1_);
   } else {
-    snapshot(second, azel0_);
+    snapshot(second, look0_);
   }
-  snapshot(second + kAzElStepS, azel1_);
+  snapshot(second + kAzElStepS, look1_);
   second_ = second;
 }
 
@@ -221,12 +249,10 @@ void Sky::select_used(int limit) {
   // A geometry a receiver would choose: drop, one at a time, the satellite whose loss raises the
   // PDOP least, until `limit` remain (greedy; only when the model's channels or --satellites cap).
   const auto pdop_without = [&](std::size_t skip) {
-    std::array<sky::UsedSatellite, nmea::max_satellites> u{};
+    std::array<sky::LineOfSight, nmea::max_satellites> u{};
     std::size_t m = 0;
     for (std::size_t k = 0; k < usable.size(); ++k) {
-      if (k == skip) continue;
-      const Entry& e = entries_[usable[k]];
-      u[m++] = {e.az0, e.el0, orbits_->satellites()[tracked_[e.sat]].system};
+      if (k != skip) u[m++] = entries_[usable[k]].line;
     }
     const sky::Dops d = sky::multi_clock_dops(std::span(u.data(), m));
     return d.valid() ? d.pdop : 1e9;
@@ -243,6 +269,18 @@ void Sky::select_used(int limit) {
   for (const std::size_t i : usable) entries_[i].usable = true;
 }
 
+void Sky::write_entry(const Entry& e, float f, nmea::SatelliteInView& out) const {
+  const sky::SatelliteId& id = orbits_->satellites()[tracked_[e.sat]];
+  out.system = id.system;
+  out.sv_id = id.sv_id;
+  out.prn = nmea_id(id);
+  // Both non-negative: rounding is adding a half and truncating.
+  out.elevation_deg = static_cast<int>(std::max(0.0f, e.el0 + f * (e.el1 - e.el0)) + 0.5f);
+  out.azimuth_deg = static_cast<int>(lerp_azimuth(e.az0, e.az1, f) + 0.5f) % 360;
+  out.snr_dbhz = e.cn0;
+  out.used = e.usable;
+}
+
 SkyState Sky::fill(UtcNs t, const Tracking& tracking, nmea::Fix& fix) {
   const double gps = gps_seconds_of(t);
   const auto second = static_cast<std::int64_t>(std::floor(gps / kAzElStepS)) * kAzElStepS;
@@ -257,20 +295,23 @@ SkyState Sky::fill(UtcNs t, const Tracking& tracking, nmea::Fix& fix) {
     const sky::ReceiverProfile& p = options_.profile;
     entries_.clear();
     for (std::size_t k = 0; k < tracked_.size(); ++k) {
-      const float el = azel0_[k][1], az = azel0_[k][0];
-      if (el <= 0.0f || azel1_[k][1] < -90.0f || obstructed(az, el)) continue;
+      const Look& look = look0_[k];
+      if (look.el <= 0.0f || look1_[k].el < -90.0f || obstructed(look.az, look.el)) continue;
       const std::size_t s = tracked_[k];
       if (acquisition_rank_[s] >= tracking.acquired_fraction) continue;
       Entry e;
       e.sat = static_cast<std::uint16_t>(k);
-      e.az0 = az;
-      e.el0 = el;
-      e.az1 = azel1_[k][0];
-      e.el1 = azel1_[k][1];
-      const double cn0 = 28.0 + 20.0 * std::sin(el * kPi / 180.0) + cn0_offset_db_[s] -
+      e.az0 = look.az;
+      e.el0 = look.el;
+      e.az1 = look1_[k].az;
+      e.el1 = look1_[k].el;
+      e.line = look.line;
+      e.line.system = sats[s].system;
+      // C/N0 by elevation (the line of sight's up component is sin(elevation)).
+      const double cn0 = 28.0 + 20.0 * look.line.up + cn0_offset_db_[s] -
                          (sats[s].system == nmea::GnssSystem::sbas ? 6.0 : 0.0);
       e.cn0 = static_cast<std::uint8_t>(std::clamp(std::lround(cn0), 0L, 99L));
-      e.usable = el >= p.elevation_mask_deg && e.cn0 >= p.cn0_threshold_dbhz;
+      e.usable = look.el >= p.elevation_mask_deg && e.cn0 >= p.cn0_threshold_dbhz;
       entries_.push_back(e);
     }
     // Channels and the Fix's capacity: keep the highest.
@@ -289,28 +330,38 @@ SkyState Sky::fill(UtcNs t, const Tracking& tracking, nmea::Fix& fix) {
     int limit = tracking.solving ? tracking.max_used : 0;
     if (options_.max_used) limit = std::min(limit, *options_.max_used);
     select_used(limit);
-    std::array<sky::UsedSatellite, nmea::max_satellites> used{};
+    std::array<sky::LineOfSight, nmea::max_satellites> used{};
     used_ = 0;
     for (const Entry& e : entries_) {
-      if (e.usable) used[static_cast<std::size_t>(used_++)] = {e.az0, e.el0, sats[tracked_[e.sat]].system};
+      if (e.usable) used[static_cast<std::size_t>(used_++)] = e.line;
     }
     dops_ = sky::multi_clock_dops(std::span(used.data(), static_cast<std::size_t>(used_)));
+    // What each entry writes all second: the integer degrees of the interpolation at its start.
+    // Interpolation is monotone within the second, so when both ends round alike (and the azimuth
+    // does not cross north) every moment does; the others ("moving") are interpolated each epoch.
+    written_.resize(entries_.size());
+    moving_.clear();
+    for (std::size_t i = 0; i < entries_.size(); ++i) {
+      const Entry& e = entries_[i];
+      write_entry(e, 0.0f, written_[i]);
+      nmea::SatelliteInView end;
+      write_entry(e, 1.0f, end);
+      float d = e.az1 - e.az0;
+      if (d > 180.0f) d -= 360.0f;
+      if (d < -180.0f) d += 360.0f;
+      const float az_end = e.az0 + d;
+      if (end.elevation_deg != written_[i].elevation_deg || end.azimuth_deg != written_[i].azimuth_deg ||
+          az_end < 0.0f || az_end >= 360.0f) {
+        moving_.push_back(static_cast<std::uint8_t>(i));
+      }
+    }
   }
-  // Write the entries, azimuth and elevation interpolated within the second.
-  const auto f = static_cast<float>((gps - static_cast<double>(second)) / kAzElStepS);
-  const auto& sats = orbits_->satellites();
-  int n = 0;
-  for (const Entry& e : entries_) {
-    nmea::SatelliteInView& out = fix.satellites[static_cast<std::size_t>(n++)];
-    const sky::SatelliteId& id = sats[tracked_[e.sat]];
-    out.system = id.system;
-    out.sv_id = id.sv_id;
-    out.prn = nmea_id(id);
-    // Both non-negative: rounding is adding a half and truncating.
-    out.elevation_deg = static_cast<int>(std::max(0.0f, e.el0 + f * (e.el1 - e.el0)) + 0.5f);
-    out.azimuth_deg = static_cast<int>(lerp_azimuth(e.az0, e.az1, f) + 0.5f) % 360;
-    out.snr_dbhz = e.cn0;
-    out.used = e.usable;
+  // Write the entries, the moving ones' azimuth and elevation interpolated within the second.
+  const auto n = static_cast<int>(entries_.size());
+  std::copy(written_.begin(), written_.end(), fix.satellites.begin());
+  if (!moving_.empty()) {
+    const auto f = static_cast<float>((gps - static_cast<double>(second)) / kAzElStepS);
+    for (const std::uint8_t i : moving_) write_entry(entries_[i], f, fix.satellites[i]);
   }
   fix.satellites_in_view = n;
   return {n, used_, dops_};

@@ -2,7 +2,8 @@
 // elevation from real orbits, sky/orbits.hpp), how strong (C/N0 by elevation), which are used
 // (above the elevation mask, not obstructed, strong enough, within the channels) and the DOPs of
 // the used ones (sky/dop.hpp). Computed once a GPS second (satellite positions from orbit nodes
-// a minute apart, cubic interpolation) and interpolated between seconds. Deterministic; the only
+// ten minutes apart, cubic Hermite interpolation of RTKLIB's positions and velocities) and
+// interpolated between seconds. Deterministic; the only
 // randomness (per-satellite C/N0 offsets, the cold-start acquisition order) comes from the seed.
 // docs/sky.md.
 #pragma once
@@ -69,35 +70,46 @@ class Sky {
   [[nodiscard]] const sky::Orbits& orbits() const { return *orbits_; }
 
  private:
+  /// Where a satellite is seen at a whole GPS second. el < -90: no orbit then.
+  struct Look {
+    float az = 0.0f, el = -100.0f;
+    sky::LineOfSight line;  // unit vector east-north-up
+  };
   struct Entry {
-    std::uint16_t sat = 0;           // index into orbits_->satellites()
+    std::uint16_t sat = 0;           // index into tracked_
     float az0 = 0, el0 = 0, az1 = 0, el1 = 0;
     std::uint8_t cn0 = 0;
     bool usable = false;             // above the mask, strong enough
+    bool fixed = false;              // its integer degrees stay the same all second (see fill)
+    sky::LineOfSight line;           // at the second
   };
   void advance_to(std::int64_t second);
   /// Keeps at most `limit` of the usable entries used (a spread geometry).
   void select_used(int limit);
   [[nodiscard]] int clock_of(const Entry& e) const;
-  void snapshot(std::int64_t second, std::vector<std::array<float, 2>>& azel);
-  [[nodiscard]] std::optional<sky::Ecef> position(std::size_t sat, double mapped_t);
+  void snapshot(std::int64_t second, std::vector<Look>& looks);
+  [[nodiscard]] std::optional<sky::Ecef> position(std::size_t k, double mapped_t);
   [[nodiscard]] bool obstructed(double az_deg, double el_deg) const;
+  void write_entry(const Entry& e, float f, nmea::SatelliteInView& out) const;
 
   std::shared_ptr<const sky::Orbits> orbits_;
   SkyOptions options_;
-  std::array<double, 3> receiver_geodetic_{};
   sky::Ecef receiver_ecef_;
-  std::array<double, 3> up_{};                  // the receiver's local vertical (ECEF unit vector)
+  std::array<double, 3> east_{}, north_{}, up_{};  // the receiver's local axes (ECEF unit vectors)
   std::vector<std::size_t> tracked_;            // satellites of the tracked systems
   std::vector<float> cn0_offset_db_;            // per satellite of the orbits
   std::vector<float> acquisition_rank_;         // per satellite: 0..1, seeded
-  // Orbit nodes: positions every kNodeS seconds of mapped time, 4 around the second computed.
+  // Orbit nodes: position and velocity every kNodeS seconds of mapped time, the two around the
+  // time asked (cubic Hermite between them).
   std::int64_t node_base_ = INT64_MIN;
-  double node_base_time_ = 0.0;
-  std::vector<std::array<std::optional<sky::Ecef>, 4>> nodes_;
-  std::int64_t second_ = INT64_MIN;             // the GPS second of az/el 0 (az/el 1: second + 1)
-  std::vector<std::array<float, 2>> azel0_, azel1_;  // per tracked satellite; el < -90: none
+  std::vector<std::array<std::optional<sky::EcefMotion>, 2>> nodes_;
+  std::int64_t second_ = INT64_MIN;             // the GPS second of looks 0 (looks 1: second + 1)
+  double last_mapped_ = 0.0;                    // the mapped time of the last snapshot
+  std::vector<Look> look0_, look1_;             // per tracked satellite
+  std::vector<std::int64_t> hidden_until_;      // per tracked: below the horizon before this second
   std::vector<Entry> entries_;                  // listed this second, by system then number
+  std::vector<nmea::SatelliteInView> written_;  // entries_ as written at any moment of the second
+  std::vector<std::uint8_t> moving_;            // entries_ whose integer degrees change within it
   sky::Dops dops_;
   int used_ = 0;
   Tracking tracking_{};

@@ -1,5 +1,6 @@
 #include "emulator/model/sky/dop.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
@@ -22,9 +23,21 @@ int clock_group(nmea::GnssSystem s) {
 }  // namespace
 
 Dops multi_clock_dops(std::span<const UsedSatellite> used) {
+  std::array<LineOfSight, 256> lines{};
+  const std::size_t n = std::min(used.size(), lines.size());
+  constexpr double deg = std::numbers::pi / 180.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double ce = std::cos(used[i].elevation_deg * deg);
+    lines[i] = {ce * std::sin(used[i].azimuth_deg * deg), ce * std::cos(used[i].azimuth_deg * deg),
+                std::sin(used[i].elevation_deg * deg), used[i].system};
+  }
+  return multi_clock_dops(std::span<const LineOfSight>(lines.data(), n));
+}
+
+Dops multi_clock_dops(std::span<const LineOfSight> used) {
   // Columns: east, north, up, then one per clock group present, in group order.
   std::array<int, kMaxClocks> column{-1, -1, -1, -1};
-  for (const UsedSatellite& s : used) column[static_cast<std::size_t>(clock_group(s.system))] = 0;
+  for (const LineOfSight& s : used) column[static_cast<std::size_t>(clock_group(s.system))] = 0;
   int n = 3;
   for (int& c : column) {
     if (c == 0) c = n++;
@@ -32,17 +45,20 @@ Dops multi_clock_dops(std::span<const UsedSatellite> used) {
   if (static_cast<int>(used.size()) < n) return {};
   // Normal matrix N = G^T G, then invert (Gauss-Jordan with partial pivoting).
   double a[kMaxUnknowns][2 * kMaxUnknowns] = {};
-  constexpr double deg = std::numbers::pi / 180.0;
-  for (const UsedSatellite& s : used) {
-    const double ce = std::cos(s.elevation_deg * deg);
-    double row[kMaxUnknowns] = {};
-    row[0] = -ce * std::sin(s.azimuth_deg * deg);
-    row[1] = -ce * std::cos(s.azimuth_deg * deg);
-    row[2] = -std::sin(s.elevation_deg * deg);
-    row[column[static_cast<std::size_t>(clock_group(s.system))]] = 1.0;
-    for (int i = 0; i < n; ++i) {
-      for (int j = 0; j < n; ++j) a[i][j] += row[i] * row[j];
+  // Each row is [-east, -north, -up, 1 in the satellite's clock column]: only the position block,
+  // the satellite's clock column and its diagonal gain terms (the same sums as the full product).
+  for (const LineOfSight& s : used) {
+    const double v[3] = {-s.east, -s.north, -s.up};
+    const int c = column[static_cast<std::size_t>(clock_group(s.system))];
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j <= i; ++j) a[i][j] += v[i] * v[j];
+      a[i][c] += v[i];
     }
+    a[c][c] += 1.0;
+  }
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < i; ++j) a[j][i] = a[i][j];
+    for (int c = 3; c < n; ++c) a[c][i] = a[i][c];
   }
   for (int i = 0; i < n; ++i) a[i][n + i] = 1.0;
   for (int c = 0; c < n; ++c) {

@@ -22,8 +22,17 @@ struct UsedSatellite {
   nmea::GnssSystem system = nmea::GnssSystem::gps;
 };
 
+/// The unit vector from the receiver to a satellite in the receiver's east-north-up frame
+/// (east = cos(el) sin(az), north = cos(el) cos(az), up = sin(el)).
+struct LineOfSight {
+  double east = 0.0, north = 0.0, up = 0.0;
+  nmea::GnssSystem system = nmea::GnssSystem::gps;
+};
+
 /// All zero when the geometry does not determine position and clocks (fewer satellites than
 /// 3 + clocks, or a singular matrix).
 [[nodiscard]] Dops multi_clock_dops(std::span<const UsedSatellite> used);
+/// The same from the lines of sight (no trigonometry: what the sky computes once a second).
+[[nodiscard]] Dops multi_clock_dops(std::span<const LineOfSight> used);
 
 }  // namespace gpsemu::sky

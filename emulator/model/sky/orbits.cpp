@@ -106,12 +106,14 @@ class TextFile {
   std::string path_;
 };
 
-/// The time of the first navigation record of a RINEX 2/3 file (GPS seconds), read from its text.
-std::optional<GpsSeconds> first_record_time(const std::string& path) {
+/// The day a RINEX 2/3 navigation file covers (GPS seconds of its 00:00): the civil day of most of
+/// its records (a daily file starts with a few records of the evening before), read from its text.
+std::optional<GpsSeconds> coverage_day(const std::string& path) {
   std::ifstream in(path);
   std::string line;
   bool body = false;
   double version = 0.0;
+  std::map<long, int> records_per_day;
   while (std::getline(in, line)) {
     if (!body) {
       if (line.find("RINEX VERSION") != std::string::npos) version = std::atof(line.substr(0, 9).c_str());
@@ -124,29 +126,36 @@ std::optional<GpsSeconds> first_record_time(const std::string& path) {
     fields >> y >> mo >> d;
     if (!fields || mo < 1 || mo > 12 || d < 1 || d > 31) continue;
     if (y < 80) y += 2000; else if (y < 100) y += 1900;
-    // Days since 1980-01-06 (a Sunday) from the civil date.
-    const auto days = [](int yy, int mm, int dd) {
-      yy -= mm <= 2;
-      const int era = (yy >= 0 ? yy : yy - 399) / 400;
-      const int yoe = yy - era * 400;
-      const int doy = (153 * (mm + (mm > 2 ? -3 : 9)) + 2) / 5 + dd - 1;
-      const int doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
-      return era * 146097 + doe - 719468;  // days since 1970-01-01
-    };
-    return (days(y, mo, d) - 3657) * kDayS;  // 1980-01-06 is day 3657 of the Unix epoch
+    // Days since 1970-01-01 from the civil date.
+    y -= mo <= 2;
+    const int era = (y >= 0 ? y : y - 399) / 400;
+    const int yoe = y - era * 400;
+    const int doy = (153 * (mo + (mo > 2 ? -3 : 9)) + 2) / 5 + d - 1;
+    ++records_per_day[static_cast<long>(era) * 146097 + yoe * 365 + yoe / 4 - yoe / 100 + doy - 719468];
   }
-  return std::nullopt;
+  if (records_per_day.empty()) return std::nullopt;
+  const auto most = std::max_element(records_per_day.begin(), records_per_day.end(),
+                                     [](const auto& a, const auto& b) { return a.second < b.second; });
+  return static_cast<double>(most->first - 3657) * kDayS;  // 1980-01-06 is day 3657 of the Unix epoch
+}
+
+/// `t` moved into the day starting at `start` at the same sidereal time (t itself when inside).
+GpsSeconds same_sidereal_time(GpsSeconds t, GpsSeconds start) {
+  if (t >= start && t < start + kDayS) return t;
+  double offset = std::fmod(t - start, kSiderealDayS);
+  if (offset < 0.0) offset += kSiderealDayS;
+  return start + offset;
 }
 
 }  // namespace
 
 struct Orbits::Impl {
-  enum class Kind { rinex, tle } kind = Kind::rinex;
   std::string description;
-  GpsSeconds start = 0.0;
+  GpsSeconds start = 0.0;               // the data's day (the RINEX file's when there is one)
+  GpsSeconds tle_start = 0.0;           // the two-line elements' day
   std::vector<SatelliteId> satellites;
-  std::vector<int> rtklib_sat;          // RINEX: RTKLIB satellite number per satellite
-  std::vector<std::string> tle_name;    // TLE: the name tle_pos finds it by
+  std::vector<int> rtklib_sat;          // per satellite: RTKLIB satellite number, 0 for a TLE one
+  std::vector<std::string> tle_name;    // per satellite: the name tle_pos finds it by ("" for RINEX)
   void* nav = nullptr;                  // RINEX: RTKLIB nav_t (opaque)
   TleTable tle;                         // TLE: RTKLIB tle_t
 
@@ -158,37 +167,71 @@ struct Orbits::Impl {
     std::free(tle.data);
   }
 
-  std::optional<Ecef> position(std::size_t i, GpsSeconds t) const {
+  std::optional<EcefMotion> motion(std::size_t i, GpsSeconds t) const {
     double rs[6] = {0, 0, 0, 0, 0, 0};
-    const rtk::GTime time = to_gtime(t);
-    if (kind == Kind::rinex) {
+    if (rtklib_sat[i] != 0) {
+      const rtk::GTime time = to_gtime(t);
       double dts[2] = {0, 0}, var = 0.0;
       int svh = 0;
       if (!satpos(time, time, rtklib_sat[i], 0 /* EPHOPT_BRDC */, nav, rs, dts, &var, &svh) || svh != 0) {
         return std::nullopt;
       }
-    } else if (!tle_pos(time, tle_name[i].c_str(), "", "", &tle, nullptr, rs)) {
-      return std::nullopt;
+    } else {
+      // Elements of another day than the RINEX file's: the moment of their day with the same
+      // sidereal time, so the Earth has the same orientation under them.
+      const rtk::GTime time = to_gtime(same_sidereal_time(t, tle_start));
+      if (!tle_pos(time, tle_name[i].c_str(), "", "", &tle, nullptr, rs)) return std::nullopt;
     }
     if (rs[0] == 0.0 && rs[1] == 0.0 && rs[2] == 0.0) return std::nullopt;
-    return Ecef{rs[0], rs[1], rs[2]};
+    return EcefMotion{{rs[0], rs[1], rs[2]}, rs[3], rs[4], rs[5]};
   }
 
-  /// Keeps the satellites with an orbit at some hour of the day.
-  void keep_satellites_with_orbits(std::vector<SatelliteId> ids, std::vector<int> sats, std::vector<std::string> names) {
+  /// Keeps the satellites with an orbit at some hour of the day: RTKLIB numbers `sats` (RINEX)
+  /// or the names `names` (TLE), one of them empty.
+  void keep_satellites_with_orbits(const std::vector<SatelliteId>& ids, const std::vector<int>& sats,
+                                   const std::vector<std::string>& names) {
     for (std::size_t i = 0; i < ids.size(); ++i) {
       satellites.push_back(ids[i]);
-      if (!sats.empty()) rtklib_sat.push_back(sats[i]);
-      if (!names.empty()) tle_name.push_back(names[i]);
+      rtklib_sat.push_back(sats.empty() ? 0 : sats[i]);
+      tle_name.push_back(names.empty() ? std::string() : names[i]);
       bool any = false;
-      for (int hour = 1; hour < 24 && !any; hour += 2) any = position(satellites.size() - 1, start + hour * 3600.0).has_value();
+      for (int hour = 1; hour < 24 && !any; hour += 2) any = motion(satellites.size() - 1, start + hour * 3600.0).has_value();
       if (!any) {
         satellites.pop_back();
-        if (!sats.empty()) rtklib_sat.pop_back();
-        if (!names.empty()) tle_name.pop_back();
+        rtklib_sat.pop_back();
+        tle_name.pop_back();
       }
     }
   }
+
+  /// Reads the RINEX navigation file at `path` (RTKLIB's readrnx) and keeps its satellites of
+  /// `systems` (all when empty). Throws std::runtime_error naming `what`.
+  void read_rinex(const std::string& path, const std::string& what, const std::vector<nmea::GnssSystem>& systems) {
+    const auto day = coverage_day(path);
+    if (!day) throw std::runtime_error(what + ": not a RINEX navigation file with records");
+    start = *day;
+    nav = std::calloc(1, kNavBufferBytes);
+    if (!nav) throw std::bad_alloc();
+    if (readrnx(path.c_str(), 1, "", nullptr, nav, nullptr) <= 0) {
+      throw std::runtime_error(what + ": RTKLIB cannot read it as RINEX navigation data");
+    }
+    uniqnav(nav);
+    std::vector<SatelliteId> ids;
+    std::vector<int> sats;
+    for (int sat = 1; sat < rtk::kSatNumberLimit; ++sat) {
+      int prn = 0;
+      const int sys = satsys(sat, &prn);
+      if (sys == 0) continue;
+      const auto system = our_system(sys);
+      if (!system || (!systems.empty() && std::find(systems.begin(), systems.end(), *system) == systems.end())) continue;
+      ids.push_back({*system, prn});
+      sats.push_back(sat);
+    }
+    keep_satellites_with_orbits(ids, sats, {});
+  }
+
+  /// Reads the embedded two-line elements and keeps their satellites of `systems`.
+  void read_tle(const std::vector<nmea::GnssSystem>& systems);
 };
 
 Orbits::Orbits(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -201,30 +244,9 @@ std::shared_ptr<const Orbits> Orbits::from_rinex_nav(const std::string& path) {
   const std::scoped_lock lock(mutex);
   if (auto held = cache[path].lock()) return held;
   auto impl = std::make_unique<Impl>();
-  impl->kind = Impl::Kind::rinex;
   impl->description = "RINEX navigation " + path;
   if (!std::ifstream(path)) throw std::runtime_error("ephemeris " + path + ": cannot be read");
-  const auto first = first_record_time(path);
-  if (!first) throw std::runtime_error("ephemeris " + path + ": not a RINEX navigation file with records");
-  impl->start = *first;
-  impl->nav = std::calloc(1, kNavBufferBytes);
-  if (!impl->nav) throw std::bad_alloc();
-  if (readrnx(path.c_str(), 1, "", nullptr, impl->nav, nullptr) <= 0) {
-    throw std::runtime_error("ephemeris " + path + ": RTKLIB cannot read it as RINEX navigation data");
-  }
-  uniqnav(impl->nav);
-  std::vector<SatelliteId> ids;
-  std::vector<int> sats;
-  for (int sat = 1; sat < rtk::kSatNumberLimit; ++sat) {
-    int prn = 0;
-    const int sys = satsys(sat, &prn);
-    if (sys == 0) continue;
-    const auto system = our_system(sys);
-    if (!system) continue;
-    ids.push_back({*system, prn});
-    sats.push_back(sat);
-  }
-  impl->keep_satellites_with_orbits(std::move(ids), std::move(sats), {});
+  impl->read_rinex(path, "ephemeris " + path, {});
   if (impl->satellites.empty()) throw std::runtime_error("ephemeris " + path + ": no usable ephemeris in it");
   std::shared_ptr<const Orbits> orbits(new Orbits(std::move(impl)));
   cache[path] = orbits;
@@ -236,15 +258,12 @@ std::shared_ptr<const Orbits> Orbits::embedded_default() {
   return orbits;
 }
 
-std::shared_ptr<const Orbits> Orbits::read_embedded() {
-  auto impl = std::make_unique<Impl>();
-  impl->kind = Impl::Kind::tle;
-  impl->description = "embedded sky: GNSS two-line elements of 2020-12-01 (RTKLIB's data)";
-  impl->start = (18597.0 - 3657.0) * kDayS;  // 2020-12-01 is day 18597 of the Unix epoch
+void Orbits::Impl::read_tle(const std::vector<nmea::GnssSystem>& systems) {
+  tle_start = (18597.0 - 3657.0) * kDayS;  // 2020-12-01 is day 18597 of the Unix epoch
   {
     const TextFile elements(embedded_tle_text());
     const TextFile names(embedded_tle_names_text());
-    if (!tle_read(elements.path().c_str(), &impl->tle) || !tle_name_read(names.path().c_str(), &impl->tle)) {
+    if (!tle_read(elements.path().c_str(), &tle) || !tle_name_read(names.path().c_str(), &tle)) {
       throw std::runtime_error("sky: RTKLIB cannot read the embedded two-line elements");
     }
   }
@@ -256,7 +275,8 @@ std::shared_ptr<const Orbits> Orbits::read_embedded() {
     std::istringstream fields(line);
     std::string name;
     if (!(fields >> name) || name.front() == '#') continue;
-    if (const auto id = id_of_tle_name(name)) {
+    const auto id = id_of_tle_name(name);
+    if (id && std::find(systems.begin(), systems.end(), id->system) != systems.end()) {
       ids.push_back(*id);
       names.push_back(name);
     }
@@ -275,22 +295,55 @@ std::shared_ptr<const Orbits> Orbits::read_embedded() {
     sorted_ids.push_back(ids[i]);
     sorted_names.push_back(names[i]);
   }
-  impl->keep_satellites_with_orbits(std::move(sorted_ids), {}, std::move(sorted_names));
+  keep_satellites_with_orbits(sorted_ids, {}, sorted_names);
+}
+
+std::shared_ptr<const Orbits> Orbits::read_embedded() {
+  auto impl = std::make_unique<Impl>();
+  impl->description =
+      "embedded sky: RINEX navigation of IGS station ELKO, 2018-07-29 (GPS, GLONASS, Galileo, BeiDou), and "
+      "two-line elements of 2020-12-01 (QZSS, SBAS)";
+  {
+    const TextFile rinex(embedded_rinex_nav_text());
+    using S = nmea::GnssSystem;
+    impl->read_rinex(rinex.path(), "sky: the embedded navigation file", {S::gps, S::glonass, S::galileo, S::beidou});
+  }
+  // The file has no QZSS or SBAS records (a station in Nevada sees no QZSS; its receiver wrote no
+  // SBAS navigation): theirs come from the two-line elements. Their Earth-fixed tracks repeat
+  // every sidereal day (geostationary; QZSS inclined geosynchronous), so the elements' day gives
+  // the same geometry.
+  impl->read_tle({nmea::GnssSystem::qzss, nmea::GnssSystem::sbas});
+  // One list sorted by system then number.
+  std::vector<std::size_t> order(impl->satellites.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  const auto key = [&](std::size_t i) {
+    return std::pair{rtklib_system(impl->satellites[i].system), impl->satellites[i].sv_id};
+  };
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key(a) < key(b); });
+  std::vector<SatelliteId> satellites;
+  std::vector<int> rtklib_sat;
+  std::vector<std::string> tle_name;
+  for (const std::size_t i : order) {
+    satellites.push_back(impl->satellites[i]);
+    rtklib_sat.push_back(impl->rtklib_sat[i]);
+    tle_name.push_back(impl->tle_name[i]);
+  }
+  impl->satellites = std::move(satellites);
+  impl->rtklib_sat = std::move(rtklib_sat);
+  impl->tle_name = std::move(tle_name);
   return std::shared_ptr<const Orbits>(new Orbits(std::move(impl)));
 }
 
 const std::vector<SatelliteId>& Orbits::satellites() const { return impl_->satellites; }
-std::optional<Ecef> Orbits::position(std::size_t index, GpsSeconds t) const { return impl_->position(index, t); }
+std::optional<EcefMotion> Orbits::motion(std::size_t index, GpsSeconds t) const { return impl_->motion(index, t); }
+std::optional<Ecef> Orbits::position(std::size_t index, GpsSeconds t) const {
+  const auto m = impl_->motion(index, t);
+  return m ? std::optional<Ecef>(m->position) : std::nullopt;
+}
 GpsSeconds Orbits::coverage_start() const { return impl_->start; }
 const std::string& Orbits::description() const { return impl_->description; }
 
-GpsSeconds Orbits::map_time(GpsSeconds t) const {
-  const GpsSeconds start = impl_->start;
-  if (t >= start && t < start + kDayS) return t;
-  double offset = std::fmod(t - start, kSiderealDayS);
-  if (offset < 0.0) offset += kSiderealDayS;
-  return start + offset;
-}
+GpsSeconds Orbits::map_time(GpsSeconds t) const { return same_sidereal_time(t, impl_->start); }
 
 AzEl azimuth_elevation(const std::array<double, 3>& receiver_geodetic, const Ecef& receiver, const Ecef& satellite) {
   const double pos[3] = {receiver_geodetic[0] * kDeg, receiver_geodetic[1] * kDeg, receiver_geodetic[2]};

@@ -1,7 +1,8 @@
 // Satellite orbits from real data, computed by Debian's RTKLIB and wrapped once here: a RINEX 2/3
 // navigation file (broadcast ephemerides: RTKLIB's readrnx and satpos, i.e. eph2pos/geph2pos/
-// seph2pos) or the embedded default sky (real GNSS two-line elements of 2020-12-01, RTKLIB's
-// tle_pos, docs/sky.md). Also the geometry helpers the sky needs from RTKLIB: azimuth/elevation
+// seph2pos) or the embedded default sky (a real multi-GNSS RINEX 3 navigation file of 2018-07-29,
+// GPS/GLONASS/Galileo/BeiDou, plus GNSS two-line elements of 2020-12-01 for QZSS and SBAS through
+// RTKLIB's tle_pos; data/sky/README.md, docs/sky.md). Also the geometry helpers the sky needs from RTKLIB: azimuth/elevation
 // (satazel), single-clock DOP (dops) and the geoid (geoidh, its embedded EGM96 1x1 degree model).
 // No RTKLIB type appears in this header. Times are GPS time in seconds since 1980-01-06.
 #pragma once
@@ -29,6 +30,12 @@ struct Ecef {
   double x_m = 0.0, y_m = 0.0, z_m = 0.0;
 };
 
+/// A satellite's position (metres) and velocity (metres per second), ECEF.
+struct EcefMotion {
+  Ecef position;
+  double vx_mps = 0.0, vy_mps = 0.0, vz_mps = 0.0;
+};
+
 /// Seconds of GPS time since 1980-01-06T00:00:00 GPST.
 using GpsSeconds = double;
 inline constexpr double kSiderealDayS = 86164.0905;
@@ -51,6 +58,8 @@ class Orbits {
   /// Position of satellites()[index] at `t` (already mapped by map_time); nullopt when the data
   /// has no valid orbit for it then (no ephemeris close enough in time, or unhealthy).
   [[nodiscard]] std::optional<Ecef> position(std::size_t index, GpsSeconds t) const;
+  /// Position and velocity (RTKLIB's), for interpolating between positions far apart.
+  [[nodiscard]] std::optional<EcefMotion> motion(std::size_t index, GpsSeconds t) const;
   /// The data's day [start, start + 1 day) in GPS seconds.
   [[nodiscard]] GpsSeconds coverage_start() const;
   /// `t` itself when the data covers it; otherwise the moment of the data's day at the same

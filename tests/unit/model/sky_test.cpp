@@ -1,11 +1,14 @@
-// The sky: orbits from RTKLIB checked against independent computations written here (the
-// IS-GPS-200 ephemeris algorithm for a RINEX record; Kepler with J2 secular rates and a GMST
-// rotation for the embedded two-line elements, with GeographicLib for azimuth/elevation), the
+// The sky: orbits from RTKLIB checked against independent computations (the IS-GPS-200 ephemeris
+// algorithm of sky_kepler.hpp for a RINEX record, with GeographicLib for azimuth/elevation; the
+// embedded file's real records in sky_records_test.cpp; Kepler with J2 secular rates and a GMST
+// rotation for the embedded two-line elements), the
 // multi-clock DOP against RTKLIB's single-clock dops() on one system, and the per-model sky:
 // systems, elevation mask, obstruction, channels, C/N0 by elevation.
 #include <gtest/gtest.h>
 
 #include <GeographicLib/LocalCartesian.hpp>
+#include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -14,48 +17,23 @@
 #include <numbers>
 #include <sstream>
 #include <unistd.h>
+#include <vector>
 
 #include "emulator/model/sky.hpp"
 #include "emulator/model/sky/dop.hpp"
 #include "emulator/model/sky/embedded_data.hpp"
 #include "emulator/model/sky/orbits.hpp"
 #include "emulator/model/sky/profile.hpp"
+#include "tests/unit/model/sky_kepler.hpp"
 
 namespace gpsemu {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
-constexpr double kMu = 3.986005e14;          // WGS84 GM of IS-GPS-200 (m^3/s^2)
-constexpr double kOmegaE = 7.2921151467e-5;  // earth rotation (rad/s)
-const Geodetic kMadison{43.0725, -89.4125, 260.0 - 33.9};  // ellipsoidal height
+using namespace sky_test_support;
 
-double distance_m(const sky::Ecef& a, const sky::Ecef& b) {
-  return std::hypot(a.x_m - b.x_m, a.y_m - b.y_m, a.z_m - b.z_m);
-}
-
-sky::AzEl azel_by_geographiclib(const Geodetic& rx, const sky::Ecef& sat) {
-  const GeographicLib::LocalCartesian frame(rx.lat_deg, rx.lon_deg, rx.alt_m);
-  double e = 0, n = 0, u = 0;
-  // LocalCartesian::Forward takes geodetic; go through the Geocentric inverse.
-  double lat = 0, lon = 0, h = 0;
-  GeographicLib::Geocentric::WGS84().Reverse(sat.x_m, sat.y_m, sat.z_m, lat, lon, h);
-  frame.Forward(lat, lon, h, e, n, u);
-  double az = std::atan2(e, n) / kDeg;
-  if (az < 0) az += 360.0;
-  return {az, std::atan2(u, std::hypot(e, n)) / kDeg};
-}
 
 // --- A RINEX 3 GPS record, and IS-GPS-200's algorithm -----------------------------------------
 
-struct Kepler {
-  double af0 = 1.0e-5, af1 = 1.0e-12, af2 = 0.0;
-  double iode = 42, crs = 35.5, dn = 4.5e-9, m0 = 0.3;
-  double cuc = 1.8e-6, e = 0.0105, cus = 8.2e-6, sqrt_a = 5153.65;
-  double toe = 180000.0, cic = -1.1e-7, omega0 = 1.0, cis = 9.0e-8;
-  double i0 = 0.958, crc = 210.3, w = 0.52, omega_dot = -8.1e-9;
-  double idot = 1.2e-10, week = 2134;
-};
 
 std::string d19(double v) {
   char b[32];
@@ -85,23 +63,6 @@ std::string rinex3_gps_nav(const Kepler& k) {
   return o.str();
 }
 
-sky::Ecef is_gps_200(const Kepler& k, double tk) {
-  const double a = k.sqrt_a * k.sqrt_a;
-  const double n = std::sqrt(kMu / (a * a * a)) + k.dn;
-  const double m = k.m0 + n * tk;
-  double ecc_anomaly = m;
-  for (int i = 0; i < 30; ++i) ecc_anomaly = m + k.e * std::sin(ecc_anomaly);
-  const double nu = std::atan2(std::sqrt(1 - k.e * k.e) * std::sin(ecc_anomaly), std::cos(ecc_anomaly) - k.e);
-  const double phi = nu + k.w;
-  const double s2 = std::sin(2 * phi), c2 = std::cos(2 * phi);
-  const double u = phi + k.cus * s2 + k.cuc * c2;
-  const double r = a * (1 - k.e * std::cos(ecc_anomaly)) + k.crs * s2 + k.crc * c2;
-  const double inc = k.i0 + k.cis * s2 + k.cic * c2 + k.idot * tk;
-  const double omega = k.omega0 + (k.omega_dot - kOmegaE) * tk - kOmegaE * k.toe;
-  const double xp = r * std::cos(u), yp = r * std::sin(u);
-  return {xp * std::cos(omega) - yp * std::cos(inc) * std::sin(omega), xp * std::sin(omega) + yp * std::cos(inc) * std::cos(omega),
-          yp * std::sin(inc)};
-}
 
 TEST(SkyOrbits, RinexRecordGivesTheIsGps200PositionOfItsEphemeris) {
   const Kepler k;
@@ -188,53 +149,55 @@ sky::Ecef kepler_j2_ecef(const Tle& t, double unix_s) {
   return {std::cos(gmst) * x + std::sin(gmst) * y, -std::sin(gmst) * x + std::cos(gmst) * y, z};
 }
 
-TEST(SkyOrbits, EmbeddedSkyAgreesWithKeplerAndJ2FromTheSameElements) {
+TEST(SkyOrbits, EmbeddedSkyHasFourSystemsFromRinexAndQzssSbasFromElements) {
+  const auto orbits = sky::Orbits::embedded_default();
+  std::map<nmea::GnssSystem, int> per_system;
+  for (const auto& id : orbits->satellites()) ++per_system[id.system];
+  EXPECT_GE(per_system[nmea::GnssSystem::gps], 30);
+  EXPECT_GE(per_system[nmea::GnssSystem::glonass], 20);
+  EXPECT_GE(per_system[nmea::GnssSystem::galileo], 12);  // 14 healthy in 2018
+  EXPECT_GE(per_system[nmea::GnssSystem::beidou], 5);  // what a station in Nevada received in 2018
+  EXPECT_GE(per_system[nmea::GnssSystem::qzss], 3);
+  EXPECT_GE(per_system[nmea::GnssSystem::sbas], 5);
+  // The RINEX file's day (2018-07-29: most of its records; it starts the evening before).
+  EXPECT_EQ(orbits->coverage_start(), gps_seconds_of(parse_iso8601_utc("2018-07-28T23:59:42Z")))
+      << "00:00 GPS time (18 leap seconds ahead of UTC)";
+}
+
+// QZSS and SBAS come from the two-line elements of another day, at the same sidereal time: at the
+// elements' own moment, they are where Kepler + J2 from the same elements puts them.
+TEST(SkyOrbits, EmbeddedElementsAgreeWithKeplerAndJ2AtTheSameSiderealTime) {
   const auto orbits = sky::Orbits::embedded_default();
   const auto tles = embedded_tles_by_catalogue();
-  std::map<std::string, std::string> catalogue_of;  // "G07" -> "32711"
+  std::map<std::string, std::string> catalogue_of;  // "J02" -> "42738"
   std::istringstream names{std::string(sky::embedded_tle_names_text())};
   for (std::string line; std::getline(names, line);) {
     std::istringstream f(line);
     std::string name, cat;
     if (f >> name >> cat) catalogue_of[name] = cat.substr(0, 5);
   }
-  std::map<nmea::GnssSystem, int> per_system;
-  for (const auto& id : orbits->satellites()) ++per_system[id.system];
-  EXPECT_GE(per_system[nmea::GnssSystem::gps], 28);
-  EXPECT_GE(per_system[nmea::GnssSystem::glonass], 20);
-  EXPECT_GE(per_system[nmea::GnssSystem::galileo], 20);
-  EXPECT_GE(per_system[nmea::GnssSystem::beidou], 30);
-  EXPECT_GE(per_system[nmea::GnssSystem::qzss], 3);
-  EXPECT_GE(per_system[nmea::GnssSystem::sbas], 5);
-
   const double unix_s = 1606802400.0;  // 2020-12-01T06:00:00Z, within hours of the elements' epochs
   const double gps_s = unix_s - 315964800.0 + 18.0;
   int checked = 0;
   for (std::size_t i = 0; i < orbits->satellites().size(); ++i) {
     const auto& id = orbits->satellites()[i];
-    if (id.system != nmea::GnssSystem::gps && id.system != nmea::GnssSystem::galileo) continue;
+    if (id.system != nmea::GnssSystem::qzss) continue;
     char name[8];
-    std::snprintf(name, sizeof name, "%c%02d", id.system == nmea::GnssSystem::gps ? 'G' : 'E', id.sv_id);
+    std::snprintf(name, sizeof name, "J%02d", id.sv_id);
     const auto tle = tles.find(catalogue_of[name]);
     ASSERT_NE(tle, tles.end()) << name;
     if (std::fabs(tle->second.epoch_unix_s - unix_s) > 1.5 * 86400.0) continue;
-    const auto p = orbits->position(i, gps_s);
+    // The moment of the RINEX day with this sidereal time is 2020-12-01T06:00 for the elements.
+    const auto p = orbits->position(i, orbits->map_time(gps_s));
     ASSERT_TRUE(p) << name;
     const sky::Ecef k = kepler_j2_ecef(tle->second, unix_s);
-    // SGP4's deep-space terms (sun, moon) against none: tens of km at most, 0.1 degree seen from Earth.
-    EXPECT_LT(distance_m(*p, k), 60e3) << name;
-    const sky::AzEl by_rtklib = sky::azimuth_elevation({kMadison.lat_deg, kMadison.lon_deg, kMadison.alt_m},
-                                                       sky::to_ecef(kMadison.lat_deg, kMadison.lon_deg, kMadison.alt_m), *p);
-    const sky::AzEl by_geographiclib = azel_by_geographiclib(kMadison, k);
-    EXPECT_NEAR(by_rtklib.elevation_deg, by_geographiclib.elevation_deg, 0.3) << name;
-    if (by_geographiclib.elevation_deg < 85.0) {
-      const double daz = std::fabs(by_rtklib.azimuth_deg - by_geographiclib.azimuth_deg);
-      EXPECT_LT(std::min(daz, 360.0 - daz), 0.5) << name;
-    }
+    // SGP4's deep-space terms (sun, moon) against none: tens of km, 0.1 degree seen from Earth.
+    EXPECT_LT(distance_m(*p, k), 100e3) << name;
     ++checked;
   }
-  EXPECT_GE(checked, 40);
+  EXPECT_GE(checked, 3);
 }
+
 
 TEST(SkyOrbits, AnyDateMapsToTheDataDayAtTheSameSiderealTime) {
   const auto orbits = sky::Orbits::embedded_default();
@@ -304,7 +267,7 @@ TEST(SkyModels, EachModelListsTheSystemsItTracks) {
   f9.profile = sky::profile_of(ubx::ReceiverModel::ublox_f9p);
   const auto b = listed_by_system(sky_fix(f9));
   EXPECT_GE(b.at(nmea::GnssSystem::galileo), 4);
-  EXPECT_GE(b.at(nmea::GnssSystem::beidou), 3);
+  EXPECT_GE(b.at(nmea::GnssSystem::beidou), 1);  // the 2018 file's: few BeiDou over North America
   EXPECT_EQ(b.at(nmea::GnssSystem::gps), a.at(nmea::GnssSystem::gps)) << "the same sky";
 }
 
