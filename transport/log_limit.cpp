@@ -14,7 +14,7 @@ std::atomic<std::uint64_t> g_suppressed{0};
 std::uint64_t log_lines_suppressed() { return g_suppressed.load(std::memory_order_relaxed); }
 
 bool LogLimit::admit(Clock::time_point now) {
-  if (!started_ || now - window_start_ >= std::chrono::seconds(1) || now < window_start_) {
+  if (!started_ || now - window_start_ >= window_ || now < window_start_) {
     started_ = true;
     window_start_ = now;
     in_window_ = 0;

@@ -32,17 +32,11 @@ WriteStatus Output::write_epoch(std::string_view bytes) {
 }
 
 void Output::report(WriteStatus status, const std::string& error_text, std::uint64_t count) {
-  // Repeated failures are reported at most once a second, with how many were folded in.
-  unreported_ += count;
-  const auto now = std::chrono::steady_clock::now();
-  if (now - last_report_ >= std::chrono::seconds(1)) {
-    spdlog::warn("{}: {} ({}){}", describe(),
-                 count > 1 ? fmt::format("{} epochs not written", count)
-                           : (status == WriteStatus::dropped ? "epoch dropped" : "epoch not written"),
-                 error_text, unreported_ > count ? fmt::format(" [{} since last report]", unreported_) : "");
-    last_report_ = now;
-    unreported_ = 0;
-  }
+  // Repeated failures go through the shared limiter: a line a second, with how many were suppressed.
+  log_limited(report_log_, spdlog::level::warn, "{}: {} ({})", describe(),
+              count > 1 ? fmt::format("{} epochs not written", count)
+                        : (status == WriteStatus::dropped ? "epoch dropped" : "epoch not written"),
+              error_text);
 }
 
 ClientId new_client_id() {
@@ -94,12 +88,11 @@ void Output::answer_clients() {
 
 void Output::report_reply_drops() {
   if (stats_.replies_dropped == reply_drops_reported_) return;
-  const auto now = std::chrono::steady_clock::now();
-  if (now - last_reply_report_ < std::chrono::seconds(1)) return;
-  spdlog::warn("{}: {} batch(es) of answers to clients dropped whole, no room for them ({} bytes in all so far)",
-               describe(), stats_.replies_dropped - reply_drops_reported_, stats_.reply_bytes_dropped);
-  reply_drops_reported_ = stats_.replies_dropped;
-  last_reply_report_ = now;
+  if (log_limited(reply_drop_log_, spdlog::level::warn,
+                  "{}: {} batch(es) of answers to clients dropped whole, no room for them ({} bytes in all so far)",
+                  describe(), stats_.replies_dropped - reply_drops_reported_, stats_.reply_bytes_dropped)) {
+    reply_drops_reported_ = stats_.replies_dropped;
+  }
 }
 
 }  // namespace gpsemu::transport

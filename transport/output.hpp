@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "transport/log_limit.hpp"
 #include "transport/posix/fd.hpp"
 
 namespace gpsemu::transport {
@@ -161,10 +162,9 @@ class Output {
   std::vector<std::pair<ClientId, std::string>> replies_;
   std::size_t reply_bytes_ = 0;
   std::uint64_t reply_drops_reported_ = 0;
-  std::chrono::steady_clock::time_point last_reply_report_{};
+  LogLimit reply_drop_log_{1};  ///< "answers ... dropped whole" lines: at most one a second
   OutputStats stats_;
-  std::chrono::steady_clock::time_point last_report_{};
-  std::uint64_t unreported_ = 0;
+  LogLimit report_log_{1};  ///< dropped or failed epochs: at most one line a second
 };
 
 }  // namespace gpsemu::transport

@@ -19,14 +19,8 @@ bool PpsLine::set(bool pulse_on) {
     return true;
   }
   ++stats_.failures;
-  ++unreported_;
-  const auto now = std::chrono::steady_clock::now();
-  if (now - last_report_ >= std::chrono::seconds(1)) {
-    spdlog::warn("PPS {}: {} edge not driven ({}){}", describe(), pulse_on ? "leading" : "trailing", error_text,
-                 unreported_ > 1 ? fmt::format(" [{} since last report]", unreported_) : "");
-    last_report_ = now;
-    unreported_ = 0;
-  }
+  log_limited(failure_log_, spdlog::level::warn, "PPS {}: {} edge not driven ({})", describe(),
+              pulse_on ? "leading" : "trailing", error_text);
   return false;
 }
 

@@ -11,6 +11,8 @@
 #include <string>
 #include <string_view>
 
+#include "transport/log_limit.hpp"
+
 namespace gpsemu::transport {
 
 /// Wall-clock time (CLOCK_REALTIME, UTC), nanoseconds.
@@ -63,8 +65,7 @@ class PpsLine {
   PpsPolarity polarity_;
   bool pulse_on_ = false;
   PpsStats stats_;
-  std::chrono::steady_clock::time_point last_report_{};
-  std::uint64_t unreported_ = 0;
+  LogLimit failure_log_{1};  ///< "edge not driven" lines: at most one a second
 };
 
 /// One edge of the pulse train.

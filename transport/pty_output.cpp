@@ -348,11 +348,8 @@ void PtyOutput::service() {
   notice_clients();  // after the input above was read: it was the old client's
   send_waiting();
   if (input.end == posix::Drained::End::failed) {
-    const auto now = std::chrono::steady_clock::now();
-    if (now - last_service_error_ >= std::chrono::seconds(1)) {
-      spdlog::warn("{}: reading client input failed: {}", describe(), posix::errno_text(input.error));
-      last_service_error_ = now;
-    }
+    log_limited(read_error_log_, spdlog::level::warn, "{}: reading client input failed: {}", describe(),
+                posix::errno_text(input.error));
   }
   report_discards();
 }
@@ -361,16 +358,14 @@ void PtyOutput::report_discards() {
   const bool changed = pty_stats_.stale_bytes_discarded != reported_.stale_bytes_discarded ||
                        pty_stats_.input_bytes_discarded != reported_.input_bytes_discarded;
   if (!changed) return;
-  const auto now = std::chrono::steady_clock::now();
-  if (now - last_report_ < std::chrono::seconds(1)) return;
-  spdlog::debug(
-      "{}: discarded {} unread bytes of {} earlier epochs (no client reading) and {} bytes of "
-      "client input since the last report",
-      describe(), pty_stats_.stale_bytes_discarded - reported_.stale_bytes_discarded,
-      pty_stats_.stale_epochs_discarded - reported_.stale_epochs_discarded,
-      pty_stats_.input_bytes_discarded - reported_.input_bytes_discarded);
-  reported_ = pty_stats_;
-  last_report_ = now;
+  if (log_limited(discard_log_, spdlog::level::debug,
+                  "{}: discarded {} unread bytes of {} earlier epochs (no client reading) and {} bytes of "
+                  "client input since the last report",
+                  describe(), pty_stats_.stale_bytes_discarded - reported_.stale_bytes_discarded,
+                  pty_stats_.stale_epochs_discarded - reported_.stale_epochs_discarded,
+                  pty_stats_.input_bytes_discarded - reported_.input_bytes_discarded)) {
+    reported_ = pty_stats_;
+  }
 }
 
 }  // namespace gpsemu::transport

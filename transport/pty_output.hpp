@@ -112,8 +112,8 @@ class PtyOutput final : public Output {
   bool taken_unopened_ = false;       ///< the pty took bytes while nobody had it open, since then
   PtyStats pty_stats_;
   PtyStats reported_;  ///< counters at the last log line, to log differences at most once a second
-  std::chrono::steady_clock::time_point last_report_{};
-  std::chrono::steady_clock::time_point last_service_error_{};
+  LogLimit discard_log_{1};     ///< the discard lines (debug): at most one a second
+  LogLimit read_error_log_{1};  ///< "reading client input failed": at most one a second
   bool prepared_ = false;  ///< prepare_epoch() ran since the last write
 };
 

@@ -164,8 +164,8 @@ void SerialOutput::lose_device(const std::string& why) {
   lost_since_ = std::chrono::steady_clock::now();
   last_attempt_ = std::chrono::steady_clock::time_point{};  // look for it again at once
   last_problem_logged_.clear();
-  spdlog::warn("{}: device lost ({}); looking for it every {} ms to reopen it", spec_text_, why,
-               options_.rescan_interval.count());
+  log_limited(loss_log_, spdlog::level::warn, "{}: device lost ({}); looking for it every {} ms to reopen it", spec_text_,
+              why, options_.rescan_interval.count());
 }
 
 void SerialOutput::maybe_reopen() {

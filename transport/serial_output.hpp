@@ -116,7 +116,7 @@ class SerialOutput final : public Output {
   std::chrono::steady_clock::time_point last_attempt_{};
   std::string last_problem_logged_;
   SerialStats serial_stats_;
-  std::chrono::steady_clock::time_point last_service_error_{};
+  LogLimit loss_log_{1};  ///< "device lost" lines (a line that comes and goes): at most one a second
 };
 
 }  // namespace gpsemu::transport

@@ -111,14 +111,16 @@ void TcpOutput::handle(const posix::TcpServerEvent& event) {
   using Kind = posix::TcpServerEvent::Kind;
   if (event.kind == Kind::refused) {
     ++tcp_stats_.clients_refused;
-    spdlog::warn("{}: refused client {}: already {} clients", description_, event.peer, server_.client_count());
+    log_limited(refused_log_, spdlog::level::warn, "{}: refused client {}: already {} clients", description_, event.peer,
+                server_.client_count());
     return;
   }
   if (event.kind == Kind::connected) {
     pending_[event.slot].clear();
     ids_[event.slot] = new_client_id();
     ++tcp_stats_.clients_accepted;
-    spdlog::info("{}: client {} connected ({} now)", description_, event.peer, server_.client_count());
+    log_limited(connect_log_, spdlog::level::info, "{}: client {} connected ({} now)", description_, event.peer,
+                server_.client_count());
     return;
   }
   bool closed = false;
@@ -137,13 +139,12 @@ void TcpOutput::handle(const posix::TcpServerEvent& event) {
 
 void TcpOutput::report_drops() {
   if (tcp_stats_.clients_dropped_slow == reported_.clients_dropped_slow) return;
-  const auto now = std::chrono::steady_clock::now();
-  if (now - last_report_ < std::chrono::seconds(1)) return;
-  spdlog::warn("{}: disconnected {} client(s) too slow to keep up (more than {} bytes waiting); {} connected",
-               description_, tcp_stats_.clients_dropped_slow - reported_.clients_dropped_slow,
-               options_.client_buffer_bytes, server_.client_count());
-  reported_ = tcp_stats_;
-  last_report_ = now;
+  if (log_limited(drop_log_, spdlog::level::warn,
+                  "{}: disconnected {} client(s) too slow to keep up (more than {} bytes waiting); {} connected",
+                  description_, tcp_stats_.clients_dropped_slow - reported_.clients_dropped_slow,
+                  options_.client_buffer_bytes, server_.client_count())) {
+    reported_ = tcp_stats_;
+  }
 }
 
 }  // namespace gpsemu::transport

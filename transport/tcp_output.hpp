@@ -77,7 +77,9 @@ class TcpOutput final : public Output {
   std::vector<std::size_t> failed_, slow_;  ///< write_bytes' scratch lists (slots)
   TcpStats tcp_stats_;
   TcpStats reported_;
-  std::chrono::steady_clock::time_point last_report_{};
+  LogLimit drop_log_{1};     ///< "disconnected ... too slow" lines: at most one a second
+  LogLimit refused_log_{1};  ///< "refused client" lines: at most one a second
+  LogLimit connect_log_{5};  ///< "client ... connected" lines: at most 5 a second
 };
 
 }  // namespace gpsemu::transport

@@ -60,8 +60,7 @@ calibration::Calibration run_calibration(const CalibrationArgs& args, std::uint6
 
 calibration::ReceiverState learned_receiver_state(const std::string& log, const calibration::Calibration& c) {
   std::ifstream in(log, std::ios::binary);
-  const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  return calibration::with_uere(calibration::learn_receiver_state(bytes), std::hypot(c.real[0].sd_m, c.real[1].sd_m));
+  return calibration::with_uere(calibration::learn_receiver_state(in), std::hypot(c.real[0].sd_m, c.real[1].sd_m));
 }
 
 Subcommand add_calibrate_command(CLI::App& app) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <istream>
 #include <map>
 #include <set>
 #include <vector>
@@ -48,55 +49,87 @@ std::string_view system_of_gsa(const nmea::Sentence& s, int id) {
 
 }  // namespace
 
-ReceiverState learn_receiver_state(std::string_view bytes) {
-  nmea::StreamReader reader;
-  std::vector<nmea::Sentence> sentences = reader.feed(bytes);
-  if (auto last = reader.finish()) sentences.push_back(std::move(*last));
-  std::vector<double> used, hdop, pdop, cn0;
-  std::map<std::string, double> elevation;  // the latest GSV elevation of each satellite
-  std::set<std::string> used_ids;           // GSA's used satellites since the last GGA
-  std::optional<double> lowest_used;
-  bool pdop_taken = false;
-  for (const nmea::Sentence& s : sentences) {
+namespace {
+
+/// The state learned sentence by sentence: memory follows the epochs (a few numbers each), never
+/// the log's bytes.
+class Learner {
+ public:
+  void take(const nmea::Sentence& s) {
     if (s.type == "GGA") {
       const auto quality = number(s.fields, 5);
       if (quality && *quality > 0) {
-        if (const auto n = number(s.fields, 6)) used.push_back(*n);
-        if (const auto h = number(s.fields, 7); h && *h > 0 && *h < 99) hdop.push_back(*h);
+        if (const auto n = number(s.fields, 6)) used_.push_back(*n);
+        if (const auto h = number(s.fields, 7); h && *h > 0 && *h < 99) hdop_.push_back(*h);
       }
-      for (const std::string& k : used_ids) {
-        const auto e = elevation.find(k);
-        if (e != elevation.end() && e->second > 0.0) lowest_used = lowest_used ? std::min(*lowest_used, e->second) : e->second;
+      for (const std::string& k : used_ids_) {
+        const auto e = elevation_.find(k);
+        if (e != elevation_.end() && e->second > 0.0) lowest_used_ = lowest_used_ ? std::min(*lowest_used_, e->second) : e->second;
       }
-      used_ids.clear();
-      pdop_taken = false;
+      used_ids_.clear();
+      pdop_taken_ = false;
     } else if (s.type == "GSA" && s.fields.size() >= 17) {
       const auto mode = number(s.fields, 1);
-      if (!mode || *mode < 2) continue;
+      if (!mode || *mode < 2) return;
       for (std::size_t i = 2; i < 14; ++i) {
-        if (const auto id = number(s.fields, i)) used_ids.insert(key(system_of_gsa(s, static_cast<int>(*id)), static_cast<int>(*id)));
+        if (const auto id = number(s.fields, i)) used_ids_.insert(key(system_of_gsa(s, static_cast<int>(*id)), static_cast<int>(*id)));
       }
-      if (!pdop_taken) {
-        if (const auto p = number(s.fields, 14); p && *p > 0 && *p < 99) pdop.push_back(*p);
-        pdop_taken = true;
+      if (!pdop_taken_) {
+        if (const auto p = number(s.fields, 14); p && *p > 0 && *p < 99) pdop_.push_back(*p);
+        pdop_taken_ = true;
       }
     } else if (s.type == "GSV") {
       for (std::size_t i = 3; i + 2 < s.fields.size(); i += 4) {
         const auto id = number(s.fields, i);
         if (!id) continue;
         const auto el = number(s.fields, i + 1);
-        if (el) elevation[key(system_of_gsv(s.talker, static_cast<int>(*id)), static_cast<int>(*id))] = *el;
-        if (const auto c = number(s.fields, i + 3); c && *c > 0) cn0.push_back(*c);
+        if (el) elevation_[key(system_of_gsv(s.talker, static_cast<int>(*id)), static_cast<int>(*id))] = *el;
+        if (const auto c = number(s.fields, i + 3); c && *c > 0) cn0_.push_back(*c);
       }
     }
   }
-  ReceiverState st;
-  st.satellites_used = spread_of(used);
-  st.hdop = spread_of(hdop);
-  st.pdop = spread_of(pdop);
-  st.cn0_dbhz = spread_of(cn0);
-  st.lowest_used_elevation_deg = lowest_used;
-  return st;
+  void feed(nmea::StreamReader& reader, std::string_view bytes) {
+    for (const nmea::Sentence& s : reader.feed(bytes)) take(s);
+  }
+  ReceiverState finish(nmea::StreamReader& reader) {
+    if (auto last = reader.finish()) take(*last);
+    ReceiverState st;
+    st.satellites_used = spread_of(std::move(used_));
+    st.hdop = spread_of(std::move(hdop_));
+    st.pdop = spread_of(std::move(pdop_));
+    st.cn0_dbhz = spread_of(std::move(cn0_));
+    st.lowest_used_elevation_deg = lowest_used_;
+    return st;
+  }
+
+ private:
+  std::vector<double> used_, hdop_, pdop_, cn0_;
+  std::map<std::string, double> elevation_;  // the latest GSV elevation of each satellite
+  std::set<std::string> used_ids_;           // GSA's used satellites since the last GGA
+  std::optional<double> lowest_used_;
+  bool pdop_taken_ = false;
+};
+
+}  // namespace
+
+ReceiverState learn_receiver_state(std::string_view bytes) {
+  nmea::StreamReader reader;
+  Learner learner;
+  learner.feed(reader, bytes);
+  return learner.finish(reader);
+}
+
+ReceiverState learn_receiver_state(std::istream& log) {
+  nmea::StreamReader reader;
+  Learner learner;
+  std::string chunk(1 << 20, '\0');  // 1 MiB at a time, as the calibration reads the log
+  while (log) {
+    log.read(chunk.data(), static_cast<std::streamsize>(chunk.size()));
+    const auto n = static_cast<std::size_t>(log.gcount());
+    if (n == 0) break;
+    learner.feed(reader, std::string_view(chunk).substr(0, n));
+  }
+  return learner.finish(reader);
 }
 
 ReceiverState with_uere(ReceiverState state, double sigma_h_m) {

@@ -15,9 +15,6 @@
 namespace gpsemu {
 namespace {
 
-/// Dropped messages are logged once, then at most this often.
-constexpr std::chrono::seconds kDropReportEvery{10};
-
 double ms(std::chrono::nanoseconds d) { return std::chrono::duration<double, std::milli>(d).count(); }
 
 /// Warns when the widest epoch no longer fits the line in one epoch period.
@@ -125,14 +122,11 @@ void fit_epoch_to_line(Channel& channel, std::chrono::nanoseconds period, UbxLin
   if (drops.messages == 0) return;
   line.dropped.messages += drops.messages;
   line.dropped.bytes += drops.bytes;
-  const auto now = std::chrono::steady_clock::now();
-  if (line.reported_messages != 0 && now - line.last_report < kDropReportEvery) return;
-  spdlog::warn("{}u-blox TX buffer overflow: {} message(s) ({} bytes) dropped so far: {} baud carries {} bytes a {} ms "
-               "epoch",
-               who, line.dropped.messages, line.dropped.bytes, line.baud, ubx::line_bytes_per_period(line.baud, period),
-               ms(period));
-  line.reported_messages = line.dropped.messages;
-  line.last_report = now;
+  transport::log_limited(line.tx_drop_log, spdlog::level::warn,
+                             "{}u-blox TX buffer overflow: {} message(s) ({} bytes) dropped so far: {} baud carries {} "
+                             "bytes a {} ms epoch",
+                             who, line.dropped.messages, line.dropped.bytes, line.baud,
+                             ubx::line_bytes_per_period(line.baud, period), ms(period));
 }
 
 std::string client_input_summary(const Channel& channel) {

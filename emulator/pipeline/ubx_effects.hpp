@@ -47,8 +47,8 @@ namespace gpsemu {
 struct UbxLine {
   std::uint32_t baud = 0;  ///< the slowest serial output's (bits per second); 0: no serial output
   ubx::TxDrops dropped;    ///< messages (and bytes) the line could not carry
-  std::uint64_t reported_messages = 0;  ///< dropped messages already logged
-  std::chrono::steady_clock::time_point last_report{};
+  /// The TX-drop lines: the first at once, then at most one every 10 s (the totals so far).
+  transport::LogLimit tx_drop_log{1, std::chrono::seconds(10)};
   transport::LogLimit effect_log{5};  ///< the effect lines of this receiver: at most 5 a second
 };
 

@@ -36,12 +36,13 @@ void UbxEncoder::client_wrote(std::string_view bytes, transport::ClientId client
 void UbxEncoder::report_dropped_answers() {
   const ubx::SessionStats& stats = session_.stats();
   if (stats.answers_dropped == answers_dropped_reported_) return;
-  const auto now = std::chrono::steady_clock::now();
-  if (now - last_answer_report_ < std::chrono::seconds(1)) return;
-  spdlog::warn("u-blox: {} answer(s) dropped whole, more than {} bytes of answers waited for their client ({} in all)",
-               stats.answers_dropped - answers_dropped_reported_, ubx::Session::max_reply_bytes, stats.answers_dropped);
-  answers_dropped_reported_ = stats.answers_dropped;
-  last_answer_report_ = now;
+  if (transport::log_limited(answer_drop_log_, spdlog::level::warn,
+                             "u-blox: {} answer(s) dropped whole, more than {} bytes of answers waited for their client "
+                             "({} in all)",
+                             stats.answers_dropped - answers_dropped_reported_, ubx::Session::max_reply_bytes,
+                             stats.answers_dropped)) {
+    answers_dropped_reported_ = stats.answers_dropped;
+  }
 }
 
 }  // namespace gpsemu

@@ -55,7 +55,7 @@ class UbxEncoder final : public Encoder {
   std::uint64_t bad_frames_reported_ = 0;
   transport::LogLimit bad_frame_log_{1};
   std::uint64_t answers_dropped_reported_ = 0;
-  std::chrono::steady_clock::time_point last_answer_report_{};
+  transport::LogLimit answer_drop_log_{1};  ///< "answer(s) dropped whole" lines: at most one a second
 };
 
 }  // namespace gpsemu

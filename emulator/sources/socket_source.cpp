@@ -12,6 +12,13 @@ namespace {
 
 double seconds(std::chrono::nanoseconds d) { return std::chrono::duration<double>(d).count(); }
 
+/// An arrival time as the limiter's time (it looks only at differences): the limiter follows the
+/// messages' own times, which the tests feed.
+transport::LogLimit::Clock::time_point log_time(UtcNs arrival) {
+  return transport::LogLimit::Clock::time_point{
+      std::chrono::duration_cast<transport::LogLimit::Clock::duration>(arrival.time_since_epoch())};
+}
+
 /// The start of a refused message for the log: printable, at most 48 characters.
 std::string excerpt(std::string_view bytes) {
   std::string out;
@@ -82,13 +89,13 @@ void SocketPoseSource::reject(PoseReject reason, const transport::ReceivedMessag
   const auto i = static_cast<std::size_t>(reason);
   stats_.rejected[i] += count;
   unreported_[i] += count;
-  if (m.arrival - last_report_[i] < std::chrono::seconds(1)) return;
+  if (!reject_log_[i].admit(log_time(m.arrival))) return;
+  (void)reject_log_[i].take_suppressed();  // the line counts the messages themselves
   const bool show_bytes = reason != PoseReject::too_large && reason != PoseReject::kernel_overflow &&
                           reason != PoseReject::too_many_clients && !m.bytes.empty();
   spdlog::warn("pose input: dropped {} from {}: {} ({} in all){}", unreported_[i] == 1 ? "a message" :
                fmt::format("{} messages", unreported_[i]), m.sender_name.empty() ? "?" : m.sender_name,
                to_string(reason), stats_.rejected[i], show_bytes ? fmt::format(": '{}'", excerpt(m.bytes)) : "");
-  last_report_[i] = m.arrival;
   unreported_[i] = 0;
 }
 
@@ -97,7 +104,8 @@ void SocketPoseSource::note_connection(const transport::ReceivedMessage& m, std:
   ++total;
   const auto i = static_cast<std::size_t>(m.kind);
   ++unnoted_[i];
-  if (m.arrival - last_note_[i] < std::chrono::seconds(1)) return;
+  if (!note_log_[i].admit(log_time(m.arrival))) return;
+  (void)note_log_[i].take_suppressed();  // the line counts the connections themselves
   const char* what = m.kind == Kind::connected      ? "connected"
                      : m.kind == Kind::disconnected ? "disconnected"
                      : m.kind == Kind::idle_closed  ? "closed: no complete line within the idle timeout"
@@ -108,7 +116,6 @@ void SocketPoseSource::note_connection(const transport::ReceivedMessage& m, std:
     spdlog::info("pose sender {} {}, and {} more since the last such line ({} in all)", m.sender_name, what,
                  unnoted_[i] - 1, total);
   }
-  last_note_[i] = m.arrival;
   unnoted_[i] = 0;
 }
 

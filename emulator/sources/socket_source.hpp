@@ -29,6 +29,7 @@
 #include "emulator/sources/pose_message.hpp"
 #include "emulator/sources/pose_source.hpp"
 #include "transport/input/pose_socket.hpp"
+#include "transport/log_limit.hpp"
 
 namespace gpsemu::sources {
 
@@ -85,12 +86,20 @@ class SocketPoseSource final : public PoseSource {
   std::optional<std::uint64_t> owner_;  ///< sender of the history's poses
   std::string owner_name_;
   UtcNs owner_last_{};                  ///< arrival of the owner's newest accepted pose
-  std::array<UtcNs, kPoseRejectCount> last_report_{};
+  /// Refused messages, a line a second for each reason (the shared limiter, on arrival times).
+  std::array<transport::LogLimit, kPoseRejectCount> reject_log_ = one_a_second<kPoseRejectCount>();
   std::array<std::uint64_t, kPoseRejectCount> unreported_{};
   /// Connection notes, indexed by transport::ReceivedMessage::Kind (connected .. taken_over).
   static constexpr std::size_t kNoteKinds = 9;
-  std::array<UtcNs, kNoteKinds> last_note_{};
+  std::array<transport::LogLimit, kNoteKinds> note_log_ = one_a_second<kNoteKinds>();
   std::array<std::uint64_t, kNoteKinds> unnoted_{};
+
+  template <std::size_t N>
+  static std::array<transport::LogLimit, N> one_a_second() {
+    std::array<transport::LogLimit, N> limits;
+    limits.fill(transport::LogLimit(1));
+    return limits;
+  }
 };
 
 /// Builds a source listening on `endpoint`: a UDP receiver (`udp`) or a TCP server. Throws

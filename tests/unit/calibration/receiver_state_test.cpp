@@ -10,6 +10,7 @@
 #include <fstream>
 #include <iostream>
 #include <iterator>
+#include <sstream>
 #include <unistd.h>
 
 #include <fmt/format.h>
@@ -48,6 +49,29 @@ TEST(ReceiverStateLearning, SatellitesDopsCn0AndTheLowestElevationUsed) {
   EXPECT_NE(toml.find("uere = 1.364\n"), std::string::npos) << toml;
   EXPECT_NE(toml.find("satellites = 6\n"), std::string::npos) << toml;
   EXPECT_NE(receiver_state_summary(s).find("HDOP 1.10"), std::string::npos);
+}
+
+// Issue 22 point 9: calibrate learned the state from the whole log read into memory (14x the file
+// at its end); it now reads the log as a stream, 1 MiB at a time, and learns the same.
+TEST(ReceiverStateLearning, AStreamedLogTeachesWhatTheWholeTextDoes) {
+  const std::filesystem::path path = std::filesystem::path(GPSEMU_SOURCE_DIR) / "tests/data/real/ublox-zed-f9p_hpg1.11.log";
+  std::ifstream whole_in(path, std::ios::binary);
+  const std::string once{std::istreambuf_iterator<char>(whole_in), std::istreambuf_iterator<char>()};
+  ASSERT_FALSE(once.empty()) << path;
+  std::string whole;
+  for (int k = 0; k < 6; ++k) whole += once;  // 1.5 MB: read in two chunks, a sentence cut between them
+  const ReceiverState a = learn_receiver_state(std::string_view(whole));
+  std::istringstream in(whole);
+  const ReceiverState b = learn_receiver_state(in);
+  ASSERT_TRUE(a.satellites_used && b.satellites_used && a.hdop && b.hdop);
+  EXPECT_EQ(a.satellites_used->count, b.satellites_used->count);
+  EXPECT_EQ(a.satellites_used->median, b.satellites_used->median);
+  EXPECT_EQ(a.hdop->median, b.hdop->median);
+  ASSERT_EQ(a.cn0_dbhz.has_value(), b.cn0_dbhz.has_value());
+  if (a.cn0_dbhz) {
+    EXPECT_EQ(a.cn0_dbhz->count, b.cn0_dbhz->count);
+  }
+  EXPECT_EQ(a.lowest_used_elevation_deg, b.lowest_used_elevation_deg);
 }
 
 const std::string kDir = GPSEMU_SOURCE_DIR "/tests/data/real";
