@@ -27,6 +27,7 @@
 #include "emulator/model/noise/noise_model.hpp"
 #include "emulator/model/sky.hpp"
 #include "emulator/model/sky/profile.hpp"
+#include "emulator/model/static_hold.hpp"
 #include "emulator/sources/pose_source.hpp"
 #include "emulator/model/time.hpp"
 #include "nmea/fix.hpp"
@@ -77,6 +78,7 @@ struct ReceiverOptions {
   std::optional<double> uere_m;              ///< UERE of an autonomous fix (metres); empty: the model's
   bool noise_scales_with_dop = false;        ///< --noise-scales-with-dop
   std::shared_ptr<const sky::Orbits> orbits; ///< --ephemeris; empty: the embedded default sky
+  StaticHoldOptions hold;                    ///< --hold-radius, --hold-speed (static_hold.hpp); off by default
 };
 
 /// The most satellites a receiver lists and uses (the line budget's worst case) and a typical DOP.
@@ -116,6 +118,7 @@ class Receiver {
   void restart(UtcNs t) {
     first_epoch_ = t;
     last_course_deg_.reset();
+    hold_.reset();
   }
 
   /// The geometry at the first epoch: satellites listed and used, DOPs.
@@ -131,6 +134,7 @@ class Receiver {
   double geoid_sep_m_;
   double uere_m_;
   std::optional<double> last_course_deg_;
+  StaticHold hold_;
 };
 
 }  // namespace gpsemu
