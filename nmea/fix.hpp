@@ -102,6 +102,7 @@ struct FormatOptions {
   /// GSV also lists each satellite's second signal (a dual-band receiver: L2 C, L2 OF, E5b, B2I)
   /// as its own group with the NMEA 4.1 signal ID (4.1 only).
   bool gsv_second_signal = false;
+  int alt_decimals = 1;  ///< decimals of the GGA altitude (metres), 0..4 (u-blox: 1; some receivers 2-3)
 };
 
 }  // namespace gpsemu::nmea

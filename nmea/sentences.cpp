@@ -22,17 +22,17 @@ constexpr double max_geoid_sep_m = 1e4;
 constexpr double max_speed_knots = 1e6;
 constexpr double kmh_per_mps = 3.6;
 
-// Most bytes put_gga or put_rmc writes besides the talker (GGA: at most 119, with 8 decimals of
-// minutes, 3 of seconds, a 20-digit quality, "-1000000.0" altitudes and "999.9,4095" of
+// Most bytes put_gga or put_rmc writes besides the talker (GGA: at most 122, with 8 decimals of
+// minutes, 3 of seconds, a 20-digit quality, "-1000000.0000" altitudes and "999.9,4095" of
 // differential data; RMC fewer), plus the 16 bytes put_field may copy past the end of a field.
-constexpr std::size_t max_sentence_bytes = 122 + 16;
+constexpr std::size_t max_sentence_bytes = 126 + 16;
 
-// Writes ",value,unit" ("545.4,M") of a value with one decimal; two empty fields when the value
-// is left empty (a 2-D fix, or it does not fit below max_abs).
-char* put_with_unit(char* p, bool leave_empty, double value, double max_abs, char unit) {
+// Writes ",value,unit" ("545.4,M") of a value with `decimals` decimals; two empty fields when the
+// value is left empty (a 2-D fix, or it does not fit below max_abs).
+char* put_with_unit(char* p, bool leave_empty, double value, double max_abs, char unit, int decimals = 1) {
   *p++ = ',';
   char* const value_start = p;
-  if (!leave_empty) p = fields::put_fixed(p, value, 1, max_abs);
+  if (!leave_empty) p = fields::put_fixed(p, value, decimals, max_abs);
   const bool written = p != value_start;
   *p++ = ',';
   if (written) *p++ = unit;
@@ -75,7 +75,7 @@ char* put_gga(char* const begin, const Fix& fix, const FormatOptions& options, c
   p = text::put_uint(p, static_cast<std::uint64_t>(satellites), 2);
   *p++ = ',';
   p = fields::put_fixed(p, hdop, 2, 100.0);
-  p = put_with_unit(p, two_d, fix.alt_msl_m, max_alt_m, 'M');
+  p = put_with_unit(p, two_d, fix.alt_msl_m, max_alt_m, 'M', std::clamp(options.alt_decimals, 0, 4));
   p = put_with_unit(p, two_d, fix.geoid_sep_m, max_geoid_sep_m, 'M');
   *p++ = ',';  // age of differential data (seconds) and reference station, as a u-blox writes them
   if (fix.diff_age_s) p = fields::put_fixed(p, std::clamp(*fix.diff_age_s, 0.0, 999.9), 1, 1000.0);

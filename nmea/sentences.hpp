@@ -24,8 +24,8 @@ namespace gpsemu::nmea {
 
 /// GGA: time, position, quality, satellites, HDOP, MSL altitude, geoid separation (u-blox style):
 ///   $GPGGA,hhmmss.ss,ddmm.mmmmm,N,dddmm.mmmmm,E,q,ss,h.hh,a.a,M,g.g,M,,*hh
-/// satellites two digits (clamped 0..99), HDOP 2 decimals (clamped to 99.99), altitude and
-/// separation 1 decimal. No fix: $GPGGA,hhmmss.ss,,,,,0,00,99.99,,,,,,*hh (time still present).
+/// satellites two digits (clamped 0..99), HDOP 2 decimals (clamped to 99.99), altitude
+/// options.alt_decimals decimals (default 1), separation 1 decimal. No fix: $GPGGA,hhmmss.ss,,,,,0,00,99.99,,,,,,*hh (time still present).
 [[nodiscard]] std::string format_gga(const Fix& fix, const FormatOptions& options);
 
 /// GGA in a 2-D fix (fix.dimension == two_d): altitude and geoid separation are left empty, as

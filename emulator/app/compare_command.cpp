@@ -28,7 +28,8 @@ Subcommand add_compare_command(CLI::App& app) {
             std::string out = calibration::log_summary(c, args->log);
             out += calibration::receiver_state_summary(learned_receiver_state(args->log, c));
             out += fmt::format("{} runs per model, seeds {}..{}; models simulated at the log's rate, length, "
-                               "gaps and resolution\n",
+                               "gaps and resolution; each run is a window of the log's length: the columns are the "
+                               "median over the runs (what a typical run looks like), p10..p90 rows their spread\n",
                                args->runs, seed, seed + static_cast<std::uint64_t>(args->runs) - 1);
             out += calibration::comparison_table(c);
             std::fputs(out.c_str(), stdout);

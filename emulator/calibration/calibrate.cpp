@@ -47,7 +47,8 @@ std::string Calibration::CompositeChoice::describe() const {
 
 std::array<AxisStats, 3> simulated_stats(const noise::NoiseConfig& config, const EnuSeries& series,
                                          std::size_t window, std::uint64_t seed, int runs,
-                                         std::array<std::vector<double>, 3>* first_run) {
+                                         std::array<std::vector<double>, 3>* first_run,
+                                         std::array<std::vector<AxisStats>, 3>* per_run) {
   std::array<std::vector<AxisStats>, 3> per_axis;
   for (int r = 0; r < runs; ++r) {
     auto x = simulate(config, series, seed + static_cast<std::uint64_t>(r));
@@ -55,15 +56,19 @@ std::array<AxisStats, 3> simulated_stats(const noise::NoiseConfig& config, const
     for (std::size_t a = 0; a < 3; ++a) per_axis[a].push_back(s[a]);
     if (r == 0 && first_run) *first_run = std::move(x);
   }
-  return {mean_stats(per_axis[0]), mean_stats(per_axis[1]), mean_stats(per_axis[2])};
+  std::array<AxisStats, 3> mean{mean_stats(per_axis[0]), mean_stats(per_axis[1]), mean_stats(per_axis[2])};
+  if (per_run) *per_run = std::move(per_axis);
+  return mean;
 }
 
 std::array<std::vector<double>, 3> simulate(const noise::NoiseConfig& config, const EnuSeries& series,
-                                            std::uint64_t seed) {
+                                            std::uint64_t seed, const StaticHoldOptions& hold_options) {
   auto model = noise::make_noise_model(config, seed);
   const LocalFrame frame(series.centre);
   nmea::FormatOptions format;
   format.minute_decimals = std::clamp(series.minute_decimals, 1, 8);
+  format.alt_decimals = std::clamp(series.alt_decimals, 0, 4);
+  StaticHold hold(hold_options);
   nmea::Fix fix;
   fix.quality = nmea::FixQuality::gps;
   fix.dimension = nmea::FixDimension::three_d;
@@ -74,8 +79,11 @@ std::array<std::vector<double>, 3> simulate(const noise::NoiseConfig& config, co
   for (std::size_t k = 0; k < series.size(); ++k) {
     const auto t = std::chrono::nanoseconds(std::llround(static_cast<double>(k) * 1e9 / series.rate_hz));
     const Enu e = model->offset_at(t);  // every epoch, so gaps do not change the process
-    if (std::isnan(series.axis_m[0][k])) continue;
-    const Geodetic g = frame.to_geodetic(e);
+    if (std::isnan(series.axis_m[0][k])) {
+      hold.reset();
+      continue;
+    }
+    const Geodetic g = frame.to_geodetic(hold.apply(e, 0.0));
     fix.lat_deg = g.lat_deg;
     fix.lon_deg = wrap_lon_deg(g.lon_deg);
     fix.alt_msl_m = g.alt_m;
@@ -179,7 +187,11 @@ Calibration calibrate(ReceiverLog log, const CalibrateOptions& options) {
   for (const noise::NoiseConfig& config : configs) {
     ModelResult r;
     r.config = config;
-    r.stats = simulated_stats(config, s, c.window_samples, options.seed, options.runs, &r.first_run_m);
+    std::array<std::vector<AxisStats>, 3> runs;
+    (void)simulated_stats(config, s, c.window_samples, options.seed, options.runs, &r.first_run_m, &runs);
+    for (std::size_t a = 0; a < 3; ++a)
+      r.stats[a] = quantile_stats(runs[a], 0.5), r.low[a] = quantile_stats(runs[a], 0.1),
+      r.high[a] = quantile_stats(runs[a], 0.9);
     r.score = score(c.real, r.stats);
     c.models.push_back(std::move(r));
   }
@@ -195,6 +207,7 @@ Calibration calibrate(ReceiverLog log, const CalibrateOptions& options) {
   }
   for (std::size_t i = 1; i < c.models.size(); ++i)
     if (c.models[i].score < c.models[c.best].score) c.best = i;
+  c.hold = fit_hold(s, c.models[c.best].config, options.seed, options.runs);
   return c;
 }
 
@@ -219,6 +232,7 @@ std::string config_toml(const Calibration& c, const std::string& log_name) {
   line(fmt::format("noise = \"{}\"", noise::to_string(c.models[c.best].config.model)));
   line(fmt::format("rate = {}", s.rate_hz));
   line(fmt::format("resolution = {}", std::clamp(s.minute_decimals, 1, 8)));
+  out += hold_toml(c.hold);
   line(fmt::format("origin = \"{:.9f},{:.9f},{:.2f}\"", s.centre.lat_deg, s.centre.lon_deg, s.centre.alt_m));
   const ModelResult* best_gm = nullptr;  // the gauss-markov order whose keys are written
   for (const ModelResult& m : c.models)

@@ -11,12 +11,14 @@
 #include <string>
 #include <vector>
 
+#include "emulator/calibration/hold_fit.hpp"
 #include "emulator/calibration/model_fits.hpp"
 #include "emulator/calibration/motion.hpp"
 #include "emulator/calibration/receiver_log.hpp"
 #include "emulator/calibration/series_stats.hpp"
 #include "emulator/model/noise/cgrw_fit.hpp"
 #include "emulator/model/noise/noise_model.hpp"
+#include "emulator/model/static_hold.hpp"
 
 namespace gpsemu::calibration {
 
@@ -42,7 +44,10 @@ inline constexpr std::size_t kCalibrationBytesPerEpoch = 600;
 /// One model with its calibrated parameters and how it compares.
 struct ModelResult {
   noise::NoiseConfig config;              ///< model and parameters, ready for make_noise_model
-  std::array<AxisStats, 3> stats;         ///< mean over the runs, east north up
+  /// The median over the runs (each run a window of the log's length: what a typical run looks
+  /// like), east north up; the score is of these.
+  std::array<AxisStats, 3> stats;
+  std::array<AxisStats, 3> low, high;     ///< the 10th and 90th percentiles over the runs
   double score = 0.0;                     ///< calibration::score against the log (0 = perfect)
   std::array<std::vector<double>, 3> first_run_m;  ///< the first run's series (for plots)
 };
@@ -74,6 +79,7 @@ struct Calibration {
     [[nodiscard]] std::string describe() const;
   } composite;
   std::size_t best = 0;                   ///< index of the lowest score in models
+  HoldFit hold;                           ///< static hold and altitude decimals (hold_fit.hpp)
 };
 
 /// Reads nothing: works on a log already read. Throws std::invalid_argument when the log is
@@ -83,20 +89,24 @@ struct Calibration {
 
 /// `config` simulated at the series' epochs (rate, length, gaps as NaN), with the emulator's
 /// output resolution applied: each position is formatted as the emulator's GGA at
-/// `series.minute_decimals` (altitude 0.1 m) and parsed back, about `series.centre`.
+/// `series.minute_decimals` (altitude at `series.alt_decimals`, at most 4) and parsed back, about
+/// `series.centre`; with `hold` enabled, through the receiver's static hold (standing still).
 [[nodiscard]] std::array<std::vector<double>, 3> simulate(const noise::NoiseConfig& config,
                                                           const EnuSeries& series,
-                                                          std::uint64_t seed);
+                                                          std::uint64_t seed,
+                                                          const StaticHoldOptions& hold = {});
 
 /// The calibrated config file (TOML): noise (the best model), rate, resolution, origin, and the
 /// keys of every model, with a header of comments saying where it comes from.
 [[nodiscard]] std::string config_toml(const Calibration& c, const std::string& log_name);
 
 /// The statistics of `config` simulated `runs` times (seeds seed, seed + 1, ...) at the series'
-/// epochs and resolution (simulate), averaged; `first_run` (if given) gets the first run's series.
+/// epochs and resolution (simulate), averaged; `first_run` (if given) gets the first run's series,
+/// `per_run` (if given) each run's statistics.
 [[nodiscard]] std::array<AxisStats, 3> simulated_stats(const noise::NoiseConfig& config, const EnuSeries& series,
                                                        std::size_t window, std::uint64_t seed, int runs,
-                                                       std::array<std::vector<double>, 3>* first_run);
+                                                       std::array<std::vector<double>, 3>* first_run,
+                                                       std::array<std::vector<AxisStats>, 3>* per_run = nullptr);
 
 /// The name a model is shown under: its noise name, "gauss-markov-2" for the second order.
 [[nodiscard]] std::string model_label(const noise::NoiseConfig& config);

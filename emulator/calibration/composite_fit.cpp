@@ -127,12 +127,23 @@ struct SlowChoice {
   bool tau_at_bound = false, sigma_at_bound = false;
 };
 
+// The sample autocorrelation at `lag_s` of a second-order Gauss-Markov process of time constant
+// `tau_s` over n samples: (rho(L) - m) / (1 - m), m the share of its variance lost to the mean.
+double sample_acf_gm2(double lag_s, double tau_s, std::size_t n, double dt) {
+  const double m = mean_share(tau_s, n, dt);
+  return (noise::gauss_markov_autocorrelation(2, lag_s, tau_s) - m) / (1.0 - m);
+}
+
 // Slow parts of one axis, best first (at most `count`): the share w of the log's sample variance
 // (0.1 .. 0.8) and the time constant tau (5 s .. 4x the log's length) whose predicted sample
 // autocorrelation at 10 and 30 s, (1 - w) rho_fast(L) + w (rho_slow(L) - m) / (1 - m) with m the
 // share lost to the mean, is nearer the log's than the fast part's alone; none when none is.
+// rho_fast is the simulated fast part's, corrected for the refit that follows: a gauss-markov-2
+// smooth part (time constant `smooth_tau_s`, 0 = not one) left (1 - w) of the variance with the
+// same first differences gets a time constant sqrt(1 - w) as long, and so less correlation (the
+// prediction without that correction chose slow parts the refit then undid: issue 27).
 std::vector<SlowChoice> choose_slow(const AxisStats& real, const AxisStats& fast, std::size_t n, double rate_hz,
-                                    std::size_t count) {
+                                    std::size_t count, double smooth_tau_s) {
   std::vector<std::pair<double, SlowChoice>> ranked;
   if (!real.acf_s[0] || !real.acf_s[1] || !fast.acf_s[0] || !fast.acf_s[1] || !(real.sd_m > 0.0)) return {};
   const double dt = 1.0 / rate_hz, length_s = static_cast<double>(n) * dt;
@@ -140,9 +151,12 @@ std::vector<SlowChoice> choose_slow(const AxisStats& real, const AxisStats& fast
   const auto error = [&](double w, double tau, double m) {
     double e = 0.0;
     for (std::size_t i = 0; i < 2; ++i) {
-      double slow = 0.0;
+      double slow = 0.0, fast_acf = *fast.acf_s[i];
       if (w > 0.0) slow = (noise::gauss_markov_autocorrelation(2, kAcfTimes_s[i], tau) - m) / (1.0 - m);
-      const double predicted = (1.0 - w) * *fast.acf_s[i] + w * slow;
+      if (w > 0.0 && smooth_tau_s > 0.0)
+        fast_acf += sample_acf_gm2(kAcfTimes_s[i], smooth_tau_s * std::sqrt(1.0 - w), n, dt) -
+                    sample_acf_gm2(kAcfTimes_s[i], smooth_tau_s, n, dt);
+      const double predicted = (1.0 - w) * fast_acf + w * slow;
       e += (predicted - *real.acf_s[i]) * (predicted - *real.acf_s[i]);
     }
     return e;
@@ -191,7 +205,9 @@ noise::NoiseConfig with_slow_part(const noise::NoiseConfig& c, const EnuSeries& 
   const auto fast = simulated_stats(c, s, window, 0x736c6f77ULL, runs, nullptr);
   std::array<std::vector<SlowChoice>, 2> choices;
   for (std::size_t a = 0; a < 2; ++a)  // horizontal axes: the vertical keeps its fit
-    choices[a] = choose_slow(real[a], fast[a], s.size(), s.rate_hz, kCandidates);
+    choices[a] = choose_slow(real[a], fast[a], s.size(), s.rate_hz, kCandidates,
+                             c.composite.smooth == noise::CompositeSmooth::gauss_markov_2 ? c.composite.smooth_gm[a].tau_s
+                                                                                         : 0.0);
   const double without = score(real, fast);
   noise::NoiseConfig best = c;
   double best_score = without;

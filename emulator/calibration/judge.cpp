@@ -121,6 +121,36 @@ double stated_sigma_m(const ReceiverLog& log, const Calibration& c) {
   return hdop[hdop.size() / 2] * kUereM / std::sqrt(2.0);
 }
 
+namespace {
+
+// Each score's `q` quantile over runs, each on its own (nearest rank below).
+FilterScore quantile_score(std::vector<FilterScore> runs, double q) {
+  FilterScore out;
+  if (runs.empty()) return out;
+  const auto k = static_cast<std::size_t>(std::clamp(q, 0.0, 1.0) * static_cast<double>(runs.size() - 1));
+  const auto pick = [&](double FilterScore::*field) {
+    std::vector<double> v;
+    for (const FilterScore& r : runs) v.push_back(r.*field);
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+    out.*field = v[k];
+  };
+  pick(&FilterScore::nis_mean), pick(&FilterScore::nis_p95), pick(&FilterScore::innov_rho1), pick(&FilterScore::pos_err_m);
+  return out;
+}
+
+// The distance's four terms of a model's scores from the real log's.
+std::array<double, 4> distance_terms(const FilterScore& m, const FilterScore& real) {
+  return {log_ratio(m.nis_mean, real.nis_mean), log_ratio(m.nis_p95, real.nis_p95), std::abs(m.innov_rho1 - real.innov_rho1),
+          log_ratio(m.pos_err_m, real.pos_err_m)};
+}
+
+double distance_of(const FilterScore& m, const FilterScore& real) {
+  const auto t = distance_terms(m, real);
+  return t[0] + t[1] + t[2] + t[3];
+}
+
+}  // namespace
+
 Judgement judge(const Calibration& c, double sigma_m, int runs, std::uint64_t seed) {
   Judgement j;
   j.sigma_m = sigma_m;
@@ -129,17 +159,17 @@ Judgement judge(const Calibration& c, double sigma_m, int runs, std::uint64_t se
   double best = std::numeric_limits<double>::infinity();
   for (const ModelResult& m : c.models) {
     const std::string name = model_label(m.config);
-    FilterScore mean;
+    std::vector<FilterScore> all;
     for (int r = 0; r < runs; ++r) {
       const auto x = simulate(m.config, s, seed + static_cast<std::uint64_t>(r));
       FilterScore f = run_cv_filter(x[0], x[1], s.rate_hz, sigma_m);
-      const double w = 1.0 / runs;
-      mean.nis_mean += w * f.nis_mean, mean.nis_p95 += w * f.nis_p95, mean.innov_rho1 += w * f.innov_rho1,
-          mean.pos_err_m += w * f.pos_err_m;
       j.model_nis[name].push_back(std::move(f.nis));
+      f.nis.clear();
+      all.push_back(f);
     }
-    const double d = log_ratio(mean.nis_mean, j.real.nis_mean) + log_ratio(mean.nis_p95, j.real.nis_p95) +
-                     std::abs(mean.innov_rho1 - j.real.innov_rho1) + log_ratio(mean.pos_err_m, j.real.pos_err_m);
+    const FilterScore mean = quantile_score(all, 0.5);
+    j.spread[name] = {quantile_score(all, 0.1), quantile_score(all, 0.9)};
+    const double d = distance_of(mean, j.real);
     j.distance[name] = d;
     j.models[name] = mean;
     if (d < best) best = d, j.best = name;
@@ -159,9 +189,54 @@ std::string judgement_table(const Judgement& j) {
                        s.pos_err_m, d);
   };
   row("real", j.real, "");
-  for (const auto& [name, s] : j.models)
+  for (const auto& [name, s] : j.models) {
     row((name == j.best ? "*" : "") + name, s, fmt::format("{:.3f}", j.distance.at(name)));
+    const auto spread = j.spread.find(name);
+    if (spread == j.spread.end()) continue;
+    const FilterScore& lo = spread->second[0];
+    const FilterScore& hi = spread->second[1];
+    out += fmt::format("  {:<16} {:>9} {:>9} {:>11} {:>11}\n", "  p10..p90", fmt::format("{:.2f}..{:.2f}", lo.nis_mean, hi.nis_mean),
+                       fmt::format("{:.2f}..{:.2f}", lo.nis_p95, hi.nis_p95),
+                       fmt::format("{:.2f}..{:.2f}", lo.innov_rho1, hi.innov_rho1),
+                       fmt::format("{:.3f}..{:.3f}", lo.pos_err_m, hi.pos_err_m));
+  }
+  out += "  models: the median over the runs (windows of the log's length) and the 10th..90th percentile below it\n";
   out += "  distance = |ln NIS mean ratio| + |ln NIS p95 ratio| + |rho1 difference| + |ln pos err ratio|; * = best\n";
+  return out;
+}
+
+std::string disagreement(const Judgement& j, const Calibration& c) {
+  const std::string stats_best = model_label(c.models[c.best].config);
+  if (j.best.empty() || j.best == stats_best || !j.models.count(stats_best)) return "";
+  static const char* const kTerms[4] = {"NIS mean", "NIS p95", "innovation rho1", "position error"};
+  const auto t = distance_terms(j.models.at(stats_best), j.real);
+  const auto worst = static_cast<std::size_t>(std::max_element(t.begin(), t.end()) - t.begin());
+  const auto value = [&](const FilterScore& f) {
+    const double v[4] = {f.nis_mean, f.nis_p95, f.innov_rho1, f.pos_err_m};
+    return v[worst];
+  };
+  std::string out = fmt::format(
+      "the judge and the statistics disagree: the statistics' best, {} (score {:.3f}), is {:.3f} from the real filter, "
+      "most in its {} ({:.3g} against the real {:.3g}, {:.3g} for {});",
+      stats_best, c.models[c.best].score, j.distance.at(stats_best), kTerms[worst], value(j.models.at(stats_best)),
+      value(j.real), value(j.models.at(j.best)), j.best);
+  // What the judge's best misses in the statistics: the largest ratios of its medians to the log's.
+  for (const ModelResult& m : c.models) {
+    if (model_label(m.config) != j.best) continue;
+    std::vector<std::pair<double, std::string>> misses;
+    for (std::size_t a = 0; a < 2; ++a)
+      for (const StatDef& d : stat_defs()) {
+        const auto r = d.get(c.real[a]), v = d.get(m.stats[a]);
+        if (r && v && *r > 0.0 && *v > 0.0)
+          misses.emplace_back(std::abs(std::log(*v / *r)),
+                              fmt::format("{} {} x{:.2g}", a == 0 ? "east" : "north", d.name, *v / *r));
+      }
+    std::sort(misses.begin(), misses.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+    out += fmt::format(" the judge's best, {} (score {:.3f}), misses", j.best, m.score);
+    for (std::size_t i = 0; i < std::min<std::size_t>(3, misses.size()); ++i) out += (i ? ", " : " ") + misses[i].second;
+    out += ". The filter sees only what a constant-velocity filter with the receiver's stated sigma sees (its NIS, "
+           "innovation correlation and error); the score weighs every timescale of the position itself\n";
+  }
   return out;
 }
 

@@ -51,7 +51,9 @@ struct FilterScore {
 struct Judgement {
   double sigma_m = 0.0;                         ///< measurement sigma per axis used
   FilterScore real;                             ///< on the log
-  std::map<std::string, FilterScore> models;    ///< mean over the runs, by model label
+  /// The median over the runs (each a window of the log's length), by model label; the distance is of these.
+  std::map<std::string, FilterScore> models;
+  std::map<std::string, std::array<FilterScore, 2>> spread;  ///< 10th and 90th percentiles over the runs
   std::map<std::string, std::vector<std::vector<double>>> model_nis;  ///< each run's NIS
   std::map<std::string, double> distance;       ///< how far each model's filter behaviour is from real's
   std::string best;                             ///< the model with the least distance
@@ -64,6 +66,11 @@ struct Judgement {
 
 /// The table printed by `gpsemu judge`.
 [[nodiscard]] std::string judgement_table(const Judgement& j);
+
+/// When the judge's best model is not the statistics' (c.best), why: which term of the judge's
+/// distance the statistics' best loses on, and which statistics the judge's best misses. Empty
+/// when they agree.
+[[nodiscard]] std::string disagreement(const Judgement& j, const Calibration& c);
 /// {"real": {...}, "models": {NAME: {...}}, "best": NAME, "sigma_m": ...}.
 [[nodiscard]] std::string judgement_json(const Judgement& j);
 /// Writes DIR/judge_nis.csv (source,run,nis per scored epoch) and DIR/judge_summary.csv (one row

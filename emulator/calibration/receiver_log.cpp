@@ -74,6 +74,9 @@ void ReceiverLogReader::take(const nmea::Sentence& s) {
   prev_s_ = t;
   log_.fixes.push_back({t, {*gga->lat_deg, *gga->lon_deg, *gga->alt_msl_m}, gga->hdop});
   ++decimals_[static_cast<std::size_t>(std::clamp(gga->minute_decimals, 0, 9))];
+  const std::string& alt = s.fields[8];  // parse_gga read it, so the field exists
+  const auto dot = alt.find('.');
+  ++alt_decimals_[dot == std::string::npos ? 0 : std::min<std::size_t>(alt.size() - dot - 1, 9)];
 }
 
 ReceiverLog ReceiverLogReader::finish() {
@@ -84,6 +87,9 @@ ReceiverLog ReceiverLogReader::finish() {
   std::size_t best = 0;
   for (std::size_t d = 0; d < decimals_.size(); ++d)
     if (decimals_[d] > best) best = decimals_[d], log_.minute_decimals = static_cast<int>(d);
+  best = 0;
+  for (std::size_t d = 0; d < alt_decimals_.size(); ++d)
+    if (alt_decimals_[d] > best) best = alt_decimals_[d], log_.alt_decimals = static_cast<int>(d);
   log_.fixes.shrink_to_fit();
   return std::move(log_);
 }
@@ -135,6 +141,7 @@ EnuSeries to_enu_series(ReceiverLog& log, std::size_t max_epochs, std::string_vi
   EnuSeries out;
   out.rate_hz = snap_rate_hz(1.0 / intervals[intervals.size() / 2]);
   out.minute_decimals = log.minute_decimals;
+  out.alt_decimals = log.alt_decimals;
 
   // Mean position: latitude, longitude and altitude averaged (the spread is metres, so the
   // arithmetic mean of the angles is the centre to far better than a millimetre).

@@ -48,6 +48,7 @@ struct ReceiverLog {
   std::vector<SpeedReport> speeds;
   LogCounts counts;
   int minute_decimals = 0;    ///< most common decimals of minutes in the fixes' latitudes
+  int alt_decimals = 1;       ///< most common decimals of the fixes' GGA altitudes (0..9)
 };
 
 /// Reads a log incrementally: feed bytes in any chunks (a sentence may straddle two), then finish.
@@ -63,7 +64,8 @@ class ReceiverLogReader {
   nmea::StreamReader stream_;
   ReceiverLog log_;
   std::vector<SpeedReport> vtg_speeds_;
-  std::array<std::size_t, 10> decimals_{};  // fixes per minute decimals 0..9
+  std::array<std::size_t, 10> decimals_{};      // fixes per minute decimals 0..9
+  std::array<std::size_t, 10> alt_decimals_{};  // fixes per altitude decimals 0..9
   double first_tod_s_ = 0.0, prev_s_ = 0.0, day_offset_s_ = 0.0, prev_tod_s_ = 0.0;
 };
 
@@ -82,6 +84,7 @@ struct EnuSeries {
   Geodetic centre;            ///< mean position of the fixes (the frame's origin)
   double rate_hz = 1.0;       ///< the grid's rate (detected: median interval, snapped)
   int minute_decimals = 5;    ///< the log's coordinate resolution
+  int alt_decimals = 1;       ///< the log's altitude resolution (decimals of metres)
   [[nodiscard]] std::size_t size() const { return axis_m[0].size(); }
   [[nodiscard]] double duration_s() const { return static_cast<double>(size()) / rate_hz; }
 };

@@ -135,7 +135,7 @@ std::string calibration_summary(const Calibration& c) {
       out += composite_lines(c, m);
     }
   }
-  return out + scores_line(c);
+  return out + hold_summary(c.hold) + scores_line(c);
 }
 
 std::string comparison_table(const Calibration& c) {
@@ -147,6 +147,18 @@ std::string comparison_table(const Calibration& c) {
     for (const StatDef& d : stat_defs()) {
       out += fmt::format("  {:<13} {:>10}", d.name, cell(d.show(c.real[a])));
       for (const ModelResult& m : c.models) out += fmt::format(" {:>12}", cell(d.show(m.stats[a])));
+      out += "\n";
+    }
+    // The spread of the statistics the goal is stated in: 10th..90th percentile over the runs.
+    for (const StatDef& d : stat_defs()) {
+      if (d.name != "std (m)" && d.name != "d1 std (m)" && d.name != "d2 std (m)" && d.name != "acf 10 s" &&
+          d.name != "acf 30 s")
+        continue;
+      out += fmt::format("  p10..p90 {:<10} {:>7}", d.name.substr(0, d.name.find(" (m)")), "");
+      for (const ModelResult& m : c.models) {
+        const auto lo = d.show(m.low[a]), hi = d.show(m.high[a]);
+        out += fmt::format(" {:>12}", lo && hi ? fmt::format("{:.3g}..{:.3g}", *lo, *hi) : std::string("-"));
+      }
       out += "\n";
     }
   }
@@ -167,6 +179,7 @@ std::string comparison_table(const Calibration& c) {
                        misses.empty() ? " nothing" : misses);
   }
   out += "  (acf rows: the ratio is of 1 - autocorrelation)\n";
+  out += hold_summary(c.hold);
   for (const ModelResult& m : c.models)
     if (m.config.model == noise::Model::composite) out += composite_lines(c, m);
   return out;

@@ -162,6 +162,35 @@ AxisStats mean_stats(const std::vector<AxisStats>& runs) {
   return m;
 }
 
+AxisStats quantile_stats(const std::vector<AxisStats>& runs, double q) {
+  AxisStats m;
+  if (runs.empty()) return m;
+  const auto pick = [&](auto get) {
+    std::vector<double> v;
+    for (const AxisStats& r : runs) v.push_back(get(r));
+    const auto k = static_cast<std::size_t>(std::clamp(q, 0.0, 1.0) * static_cast<double>(v.size() - 1));
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+    return v[k];
+  };
+  m.range_m = pick([](const AxisStats& r) { return r.range_m; });
+  m.sd_m = pick([](const AxisStats& r) { return r.sd_m; });
+  m.d1_sd_m = pick([](const AxisStats& r) { return r.d1_sd_m; });
+  m.d2_sd_m = pick([](const AxisStats& r) { return r.d2_sd_m; });
+  for (std::size_t i = 0; i < m.acf.size(); ++i) m.acf[i] = pick([i](const AxisStats& r) { return r.acf[i]; });
+  const auto all = [&](auto has) { return std::all_of(runs.begin(), runs.end(), has); };
+  for (std::size_t i = 0; i < m.allan_m.size(); ++i)
+    if (all([i](const AxisStats& r) { return r.allan_m[i].has_value(); }))
+      m.allan_m[i] = pick([i](const AxisStats& r) { return *r.allan_m[i]; });
+  for (std::size_t i = 0; i < m.acf_s.size(); ++i)
+    if (all([i](const AxisStats& r) { return r.acf_s[i].has_value(); }))
+      m.acf_s[i] = pick([i](const AxisStats& r) { return *r.acf_s[i]; });
+  m.cgrw.width_m = pick([](const AxisStats& r) { return r.cgrw.width_m; });
+  m.cgrw.width_d1_m = pick([](const AxisStats& r) { return r.cgrw.width_d1_m; });
+  m.cgrw.width_d2_m = pick([](const AxisStats& r) { return r.cgrw.width_d2_m; });
+  m.cgrw.sigma_d2_m = pick([](const AxisStats& r) { return r.cgrw.sigma_d2_m; });
+  return m;
+}
+
 double score(const std::array<AxisStats, 3>& real, const std::array<AxisStats, 3>& model) {
   constexpr double kFloor = 1e-6;
   double sum = 0.0;

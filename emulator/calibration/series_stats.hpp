@@ -62,6 +62,11 @@ struct StatDef {
 /// Mean of each statistic over several runs (missing ones stay missing).
 [[nodiscard]] AxisStats mean_stats(const std::vector<AxisStats>& runs);
 
+/// The `q` quantile (0..1; 0.5 the median, by the nearest rank below) of each statistic over
+/// several runs, each statistic on its own (missing ones stay missing): what a typical run of the
+/// log's length looks like, and how far one can be.
+[[nodiscard]] AxisStats quantile_stats(const std::vector<AxisStats>& runs, double q);
+
 /// The comparison score of a model against the real receiver: the mean, over the three axes and
 /// every statistic of stat_defs() both have, of |ln(model / real)| (values floored at 1e-6).
 /// 0 is a perfect match; 0.1 is about 10% off on average, 0.69 a factor 2.

@@ -314,6 +314,12 @@ std::vector<OptionDef> make_option_table() {
   add("sky-mask", "SPEC", "obstructions: urban-canyon | open | FROM-TO:ELEV[,...] azimuth sectors (degrees true) "
       "and the elevation below which nothing is received there (default open)",
       [](ConfigDraft& d, V v) { d.receiver.settings.model.sky_mask = parse_sky_mask(v.back()); });
+  add("hold-radius", "M", "static hold: while slower than --hold-speed the receiver repeats its last position until its "
+      "own position wanders farther than this from it, 0..100 metres (default 0 = off; calibrate fits it from the "
+      "log's share of repeated positions)",
+      [](ConfigDraft& d, V v) { d.receiver.settings.model.hold.radius_m = parse_number("hold-radius", v.back(), 0.0, 100.0); });
+  add("hold-speed", "MPS", "static hold: speed over ground below which the position is held, 0..10 m/s (default 0.3)",
+      [](ConfigDraft& d, V v) { d.receiver.settings.model.hold.max_speed_mps = parse_number("hold-speed", v.back(), 0.0, 10.0); });
   add("uere", "M", "user equivalent range error of an autonomous fix, metres, 0.05..50: reported accuracy = "
       "DOP x UERE x the fix quality's scale (default: the model's; calibrate writes it)",
       [](ConfigDraft& d, V v) { d.receiver.settings.model.uere_m = parse_number("uere", v.back(), 0.05, 50.0); });
@@ -383,6 +389,8 @@ std::vector<OptionDef> make_option_table() {
       [](ConfigDraft& d, V v) { d.receiver.settings.format.minute_decimals = static_cast<int>(parse_number("resolution", v.back(), 1, 8)); });
   add("time-decimals", "N", "decimals of seconds in NMEA times, 0..3 (default 2)",
       [](ConfigDraft& d, V v) { d.receiver.settings.format.time_decimals = static_cast<int>(parse_number("time-decimals", v.back(), 0, 3)); });
+  add("alt-decimals", "N", "decimals of the GGA altitude, 0..4 (default 1, 0.1 m steps; calibrate learns it from the log)",
+      [](ConfigDraft& d, V v) { d.receiver.settings.format.alt_decimals = static_cast<int>(parse_number("alt-decimals", v.back(), 0, 4)); });
   // Outputs and logging
   scope = OptionScope::receiver;
   add("output", "SPEC", "where NMEA goes, repeatable: pty[:LINK] | file:PATH[?mode=append|new] (truncated unless append; new: must not exist) | stdout | serial:DEVICE[@BAUD] | "

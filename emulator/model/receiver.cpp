@@ -88,7 +88,8 @@ Receiver::Receiver(const LocalFrame& frame, const ReceiverOptions& options,
       geoid_sep_m_(geoid_at(frame, options)),
       uere_m_(options.uere_m.value_or(options.profile.uere_m)),
       configured_cold_start_s_(options.cold_start_s),
-      heading_rng_(options.sky_seed, kHeadingNoiseStream) {
+      heading_rng_(options.sky_seed, kHeadingNoiseStream),
+      hold_(options.hold) {
   nmea::Fix scratch;
   const SkyState s = sky_.fill(first_epoch, {}, scratch);
   geometry_.satellites_in_view = s.listed;
@@ -107,7 +108,10 @@ nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) 
   const Enu raw_error = noise_->offset_at(since);
   const double since_s = std::chrono::duration<double>(since).count();
   const ReceiverPhase phase = phase_at(options_, since_s);
-  if (phase == ReceiverPhase::outage) return fix;  // nothing in view
+  if (phase == ReceiverPhase::outage) {  // nothing in view
+    hold_.reset();
+    return fix;
+  }
 
   Sky::Tracking tracking;
   if (phase == ReceiverPhase::acquiring) tracking.acquired_fraction = since_s / options_.cold_start_s;
@@ -117,7 +121,10 @@ nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) 
   const SkyState sky = sky_.fill(t, tracking, fix);
   // A cold receiver learns the time from its first satellite.
   if (phase == ReceiverPhase::acquiring) fix.time_valid = sky.listed > 0;
-  if (!tracking.solving) return fix;
+  if (!tracking.solving) {
+    hold_.reset();
+    return fix;
+  }
   // A 3-D fix needs the geometry to determine position and clocks; a 2-D start holds the height.
   if (!two_d && !sky.dops.valid()) return fix;
   if (two_d && sky.used < kTwoDSatellites) return fix;
@@ -143,16 +150,18 @@ nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) 
   }
   const Enu error{h_scale * raw_error.east_m, h_scale * raw_error.north_m, v_scale * raw_error.up_m};
 
-  const Geodetic position = frame_.to_geodetic(truth->position_m + error);
+  // Static hold: the last reported position repeats while slow and within the radius.
+  const double ve = truth->velocity_mps.east_m;
+  const double vn = truth->velocity_mps.north_m;
+  const double speed_mps = std::sqrt(ve * ve + vn * vn);  // std::hypot's care for overflow costs 20 ns an epoch
+  const Geodetic position = frame_.to_geodetic(hold_.apply(truth->position_m + error, speed_mps));
   fix.quality = options_.quality;
   fix.dimension = two_d ? nmea::FixDimension::two_d : nmea::FixDimension::three_d;
   fix.lat_deg = position.lat_deg;
   fix.lon_deg = position.lon_deg;
   fix.alt_msl_m = position.alt_m;
   fix.geoid_sep_m = geoid_sep_m_;
-  const double ve = truth->velocity_mps.east_m;
-  const double vn = truth->velocity_mps.north_m;
-  fix.speed_mps = std::sqrt(ve * ve + vn * vn);  // std::hypot's care for overflow costs 20 ns an epoch
+  fix.speed_mps = speed_mps;
   if (fix.speed_mps >= options_.course_min_speed_mps) {
     double course = std::atan2(ve, vn) * 180.0 / std::numbers::pi;
     if (course < 0.0) course += 360.0;

@@ -28,6 +28,7 @@
 #include "emulator/model/noise/rng.hpp"
 #include "emulator/model/sky.hpp"
 #include "emulator/model/sky/profile.hpp"
+#include "emulator/model/static_hold.hpp"
 #include "emulator/sources/pose_source.hpp"
 #include "emulator/model/time.hpp"
 #include "nmea/fix.hpp"
@@ -81,6 +82,7 @@ struct ReceiverOptions {
   std::optional<double> uere_m;              ///< UERE of an autonomous fix (metres); empty: the model's
   bool noise_scales_with_dop = false;        ///< --noise-scales-with-dop
   std::shared_ptr<const sky::Orbits> orbits; ///< --ephemeris; empty: the embedded default sky
+  StaticHoldOptions hold;                    ///< --hold-radius, --hold-speed (static_hold.hpp); off by default
 };
 
 /// The most satellites a receiver lists and uses (the line budget's worst case) and a typical DOP.
@@ -124,6 +126,7 @@ class Receiver {
     first_epoch_ = t;
     options_.cold_start_s = cold_start_s;
     last_course_deg_.reset();
+    hold_.reset();
   }
 
   /// The geometry at the first epoch: satellites listed and used, DOPs.
@@ -141,6 +144,7 @@ class Receiver {
   std::optional<double> last_course_deg_;
   double configured_cold_start_s_ = 0.0;  ///< the options' (--cold-start)
   noise::Rng heading_rng_;  ///< the heading's noise, its own stream of the run's seed
+  StaticHold hold_;
 };
 
 }  // namespace gpsemu

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "nmea/parse.hpp"
 #include "nmea/sentences.hpp"
 #include "tests/support/nmea_values.hpp"
 
@@ -238,6 +239,24 @@ TEST(NmeaFormat, UnusableValuesGiveEmptyFieldsNotGarbage) {
   EXPECT_EQ(gga[4], "00833.91590");
   EXPECT_EQ(gga[9], "");
   EXPECT_EQ(gga[10], "");
+}
+
+TEST(NmeaFormat, GgaAltitudeWithTheConfiguredDecimals) {
+  // Issue 27: a receiver's centimetre vertical noise vanished in 0.1 m steps; --alt-decimals.
+  Fix fix = ublox_fix();
+  fix.alt_msl_m = 499.61237;
+  FormatOptions f;
+  EXPECT_EQ(parts(format_gga(fix, f))[9], "499.6");  // the default: u-blox's one decimal
+  f.alt_decimals = 3;
+  EXPECT_EQ(parts(format_gga(fix, f))[9], "499.612");
+  EXPECT_EQ(parts(format_gga(fix, f))[11], parts(format_gga(fix, FormatOptions{}))[11]);  // separation unchanged
+  f.alt_decimals = 0;
+  EXPECT_EQ(parts(format_gga(fix, f))[9], "500");
+  f.alt_decimals = 4;
+  fix.alt_msl_m = -999999.12345;  // the widest altitude written still parses back
+  const auto gga = parse_sentence(format_gga(fix, f));
+  ASSERT_TRUE(gga);
+  EXPECT_NEAR(*parse_gga(*gga)->alt_msl_m, -999999.1235, 1e-6);
 }
 
 }  // namespace
