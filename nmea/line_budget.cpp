@@ -25,6 +25,11 @@ LineBudget line_budget(std::size_t bytes_per_epoch, double rate_hz) {
 }
 
 Fix widest_fix(int satellites_in_view, int satellites_used) {
+  const SystemSatellites gps{GnssSystem::gps, satellites_in_view};
+  return widest_fix(std::span<const SystemSatellites>(&gps, 1), satellites_used);
+}
+
+Fix widest_fix(std::span<const SystemSatellites> systems, int satellites_used) {
   using namespace std::chrono;
   Fix fix;
   fix.time_utc = UtcTime{sys_days{year{2099} / December / 31}} + hours{23} + minutes{59} + seconds{59} +
@@ -40,17 +45,38 @@ Fix widest_fix(int satellites_in_view, int satellites_used) {
   fix.heading_deg_true = 359.99;
   fix.hdop = fix.vdop = fix.pdop = 99.99;
   fix.sigma_lat_m = fix.sigma_lon_m = fix.sigma_alt_m = fix.range_rms_m = 999.999;
-  fix.satellites_in_view = std::clamp(satellites_in_view, 0, static_cast<int>(max_satellites));
-  fix.satellites_used = std::clamp(satellites_used, 0, fix.satellites_in_view);
-  for (int i = 0; i < fix.satellites_in_view; ++i) {
-    fix.satellites[static_cast<std::size_t>(i)] = {32, 90, 359, 99, i < fix.satellites_used};
+  int total = 0;
+  for (const SystemSatellites& s : systems) total += std::max(s.in_view, 0);
+  total = std::min(total, static_cast<int>(max_satellites));
+  const int used = std::clamp(satellites_used, 0, total);
+  // The used satellites spread over the systems in proportion, as a receiver's solution uses them
+  // (each system's GSA lists its own).
+  int n = 0, marked = 0;
+  for (const SystemSatellites& s : systems) {
+    const int in_view = std::min(std::max(s.in_view, 0), total - n);
+    const int share = total == 0 ? 0 : std::min(in_view, (used * (n + in_view) + total - 1) / total - marked);
+    for (int k = 0; k < in_view; ++k, ++n) {
+      // Two-digit IDs, as every system's are in NMEA 4.1 (GLONASS 65..96).
+      const int id = s.system == GnssSystem::glonass ? 96 : 32;
+      fix.satellites[static_cast<std::size_t>(n)] = {id, 90, 359, 99, k < share, s.system, 32};
+    }
+    marked += share;
   }
+  fix.satellites_in_view = n;
+  fix.satellites_used = marked;
   return fix;
 }
 
 LineBudget line_budget(const FormatOptions& options, int satellites_in_view, int satellites_used, double rate_hz) {
   std::string epoch;
   append_epoch(widest_fix(satellites_in_view, satellites_used), options, epoch);
+  return line_budget(epoch.size(), rate_hz);
+}
+
+LineBudget line_budget(const FormatOptions& options, std::span<const SystemSatellites> systems, int satellites_used,
+                       double rate_hz) {
+  std::string epoch;
+  append_epoch(widest_fix(systems, satellites_used), options, epoch);
   return line_budget(epoch.size(), rate_hz);
 }
 

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstddef>
+#include <span>
 #include <string>
 
 #include "nmea/fix.hpp"
@@ -55,6 +56,21 @@ struct LineBudget {
 /// `satellites_in_view` satellites in view (PRN 32, elevation 90, azimuth 359, SNR 99), the first
 /// `satellites_used` used. Counts are clamped to 0..max_satellites and used <= in view.
 [[nodiscard]] Fix widest_fix(int satellites_in_view, int satellites_used);
+
+/// Satellites in view of one system: the widest epoch lists each system in its own GSV group and
+/// GSA (NMEA 4.1), as a multi-GNSS receiver writes them.
+struct SystemSatellites {
+  GnssSystem system = GnssSystem::gps;
+  int in_view = 0;
+};
+
+/// widest_fix() with the satellites of each of `systems` (in that order, at most max_satellites in
+/// all), the first `satellites_used` of them used.
+[[nodiscard]] Fix widest_fix(std::span<const SystemSatellites> systems, int satellites_used);
+
+/// The line budget of options.sentences at `rate_hz` for the satellites of `systems`.
+[[nodiscard]] LineBudget line_budget(const FormatOptions& options, std::span<const SystemSatellites> systems,
+                                     int satellites_used, double rate_hz);
 
 /// The line budget of options.sentences at `rate_hz`, measured by formatting
 /// widest_fix(satellites_in_view, satellites_used) with options' talker, decimals and version.

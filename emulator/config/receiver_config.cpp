@@ -29,7 +29,7 @@ std::unique_ptr<sources::PoseSource> make_receiver_source(const ReceiverSettings
 
 nmea::LineBudget line_budget(const ReceiverSettings& receiver, double rate_hz) {
   const Geometry g = resolve_geometry(receiver_options(receiver));
-  return nmea::line_budget(receiver.format, g.satellites_in_view, g.satellites_used, rate_hz);
+  return nmea::line_budget(receiver.format, g.in_view_by_system, g.satellites_used, rate_hz);
 }
 
 }  // namespace gpsemu

@@ -44,10 +44,15 @@ double noise_scale(nmea::FixQuality quality) {
 Geometry resolve_geometry(const ReceiverOptions& options) {
   using S = nmea::GnssSystem;
   const sky::SystemSet& sys = options.profile.systems;
-  int n = 14 * sys.contains(S::gps) + 12 * sys.contains(S::glonass) + 12 * sys.contains(S::galileo) +
-          18 * sys.contains(S::beidou) + 5 * sys.contains(S::qzss) + 4 * sys.contains(S::sbas);
-  if (options.profile.dual_band) n *= 2;
   Geometry g;
+  int n = 0;
+  for (const auto& [system, most] : {std::pair{S::gps, 14}, std::pair{S::glonass, 12}, std::pair{S::galileo, 12},
+                                    std::pair{S::beidou, 18}, std::pair{S::qzss, 5}, std::pair{S::sbas, 4}}) {
+    if (!sys.contains(system)) continue;
+    const int in_view = options.profile.dual_band ? 2 * most : most;
+    g.in_view_by_system.push_back({system, in_view});
+    n += in_view;
+  }
   g.satellites_in_view = std::min(n, static_cast<int>(nmea::max_satellites));
   g.satellites_used = options.satellites_used ? std::min(*options.satellites_used, g.satellites_in_view) : g.satellites_in_view;
   g.hdop = options.hdop.value_or(1.0);
@@ -97,6 +102,9 @@ Receiver::Receiver(const LocalFrame& frame, const ReceiverOptions& options,
   geometry_.hdop = s.dops.hdop;
   geometry_.vdop = s.dops.vdop;
   geometry_.pdop = s.dops.pdop;
+  // The widest epoch is sized on the model's worst case by system, not on this first sky: the
+  // satellites that rise later are in it.
+  geometry_.in_view_by_system = resolve_geometry(options).in_view_by_system;
 }
 
 nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) {

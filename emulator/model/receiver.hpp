@@ -32,6 +32,7 @@
 #include "emulator/sources/pose_source.hpp"
 #include "emulator/model/time.hpp"
 #include "nmea/fix.hpp"
+#include "nmea/line_budget.hpp"
 
 namespace gpsemu {
 
@@ -89,6 +90,9 @@ struct ReceiverOptions {
 struct Geometry {
   int satellites_used = 0;
   int satellites_in_view = 0;
+  /// The model's most satellites in view by system (GSV groups, GSA per system): what the widest
+  /// epoch is sized on (resolve_geometry's worst case, also in a receiver's first-epoch geometry).
+  std::vector<nmea::SystemSatellites> in_view_by_system;
   double hdop = 0.0, vdop = 0.0, pdop = 0.0;
 };
 /// Worst case of the model's systems: GPS 14, GLONASS 12, Galileo 12, BeiDou 18, QZSS 5, SBAS 4

@@ -137,7 +137,7 @@ void Runner::log_banner() const {
     // The widest epoch of what the receiver writes: its NMEA sentences, or a u-blox's NMEA and UBX.
     const std::size_t epoch_bytes =
         ch.ubx_encoder() ? widest_ubx_epoch_bytes(ch)
-                         : nmea::line_budget(s.format, g.satellites_in_view, g.satellites_used, loop_.rate_hz).bytes_per_epoch;
+                         : nmea::line_budget(s.format, g.in_view_by_system, g.satellites_used, loop_.rate_hz).bytes_per_epoch;
     spdlog::info("{}receiver: {}GGA quality {} (noise x{}), {} of {} satellites used, HDOP {:.2f}; {} bytes an epoch at most{}",
                  who, ch.ubx_encoder() ? fmt::format("u-blox {}, ", ubx::model_info(s.ubx->start.model).name) : "",
                  static_cast<int>(s.receiver.quality), noise_scale(s.receiver.quality), g.satellites_used,

@@ -318,10 +318,12 @@ TEST(ReceiverOptionsConfig, OutagesAndSentencesFromAConfigFileArray) {
 }
 
 TEST(ReceiverOptionsConfig, LineBudgetOfTheConfiguredRun) {
-  // Default: u-blox set, an M8N's worst case of 35 in view; 10 Hz needs 115200 baud.
+  // Default: u-blox set, an M8N's worst case of 35 in view by system (GPS 14 with SBAS 4 in the
+  // GP groups, GLONASS 12, QZSS 5): four GSV groups and GSAs; 10 Hz needs 230400 baud.
   const nmea::LineBudget b10 = line_budget_of({{"rate", {"10"}}});
-  EXPECT_EQ(nmea::smallest_standard_baud(b10), 115200);
-  EXPECT_FALSE(b10.fits(57600));
+  EXPECT_GT(b10.bytes_per_epoch, 1152u);  // more than 115200 baud carries in 100 ms
+  EXPECT_EQ(nmea::smallest_standard_baud(b10), 230400);
+  EXPECT_FALSE(b10.fits(115200));
   const nmea::LineBudget gga_rmc = line_budget_of({{"rate", {"10"}}, {"sentences", {"GGA,RMC"}}});
   EXPECT_EQ(gga_rmc.bytes_per_epoch, 159u);  // GGA's widest altitude -12345.6 m
   EXPECT_EQ(nmea::smallest_standard_baud(gga_rmc), 19200);

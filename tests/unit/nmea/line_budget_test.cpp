@@ -5,8 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 #include "nmea/sentence_set.hpp"
+#include "nmea/sentences.hpp"
 
 namespace gpsemu::nmea {
 namespace {
@@ -70,6 +72,32 @@ TEST(NmeaSentences, LineBudgetGrowsWithSatellitesInViewAndRate) {
   EXPECT_EQ(smallest_standard_baud(line_budget(o, 32, 32, 50.0)), 921600);
   // Counts beyond the limits are clamped, used to at most in view.
   EXPECT_EQ(line_budget(o, 99, 99, 1.0).bytes_per_epoch, line_budget(o, 64, 64, 1.0).bytes_per_epoch);
+}
+
+TEST(NmeaSentences, LineBudgetOfSeveralSystemsCoversAGsvGroupAndAGsaOfEach) {
+  const FormatOptions o = options("GN", NmeaVersion::v4_1);  // u-blox default set
+  const std::vector<SystemSatellites> two{{GnssSystem::gps, 13}, {GnssSystem::glonass, 10}};
+  const LineBudget split = line_budget(o, two, 19, 1.0);
+  // One GPS group of 23 (6 GSV) understates GPS 13 (4 GSV) + GLONASS 10 (3 GSV) and a second GSA.
+  EXPECT_GT(split.bytes_per_epoch, line_budget(o, 23, 19, 1.0).bytes_per_epoch);
+  // A real epoch of that sky, every field as wide as a receiver writes it, fits the budget.
+  Fix fix = widest_fix(two, 19);
+  ASSERT_EQ(fix.satellites_in_view, 23);
+  EXPECT_EQ(fix.satellites_used, 19);
+  int gps_used = 0, glonass_used = 0;
+  for (int i = 0; i < fix.satellites_in_view; ++i) {
+    const SatelliteInView& sat = fix.satellites[static_cast<std::size_t>(i)];
+    (sat.system == GnssSystem::gps ? gps_used : glonass_used) += sat.used ? 1 : 0;
+  }
+  EXPECT_EQ(gps_used, 11);  // in proportion: ceil(19 x 13 / 23)
+  EXPECT_EQ(glonass_used, 8);
+  std::string epoch;
+  append_epoch(fix, o, epoch);
+  EXPECT_EQ(epoch.size(), split.bytes_per_epoch);
+  EXPECT_NE(epoch.find("$GLGSV,3,3,"), std::string::npos) << epoch;
+  // One system given as a list is the single-group budget.
+  const std::vector<SystemSatellites> one{{GnssSystem::gps, 15}};
+  EXPECT_EQ(line_budget(o, one, 11, 1.0).bytes_per_epoch, line_budget(o, 15, 11, 1.0).bytes_per_epoch);
 }
 
 }  // namespace
