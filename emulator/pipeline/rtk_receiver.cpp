@@ -83,6 +83,8 @@ void RtkReceiver::service() {
 }
 
 void RtkReceiver::apply(UtcNs t, nmea::Fix& fix, const std::optional<Enu>& truth_m, const LocalFrame& frame) {
+  // No correction ever: nothing to do (the receiver's ECEF position costs ~100 ns an epoch).
+  if (counts_.messages == 0) return;
   std::optional<std::array<double, 3>> rover;
   if (fix.has_fix()) {
     std::array<double, 3> ecef{};
