@@ -54,7 +54,9 @@ TEST(DrainInput, AByteBudgetLeavesTheRestInTheKernelInOrder) {
       EXPECT_TRUE(d.limited) << "call " << calls;
     }
   }
-  EXPECT_EQ(calls, 4) << "200 KiB in 64 KiB calls";
+  // 200 KiB in 64 KiB calls: four, or more when a call's 2 ms time budget ran out first (a
+  // descheduled test on a loaded machine once took five).
+  EXPECT_GE(calls, 4) << "200 KiB in 64 KiB calls";
   EXPECT_EQ(got, sent);
   const Drained empty = drain_input(p.reader.get(), transport::client_input_budget, keep);
   EXPECT_EQ(empty.bytes, 0u);
