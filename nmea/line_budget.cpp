@@ -45,6 +45,9 @@ Fix widest_fix(std::span<const SystemSatellites> systems, int satellites_used) {
   fix.heading_deg_true = 359.99;
   fix.hdop = fix.vdop = fix.pdop = 99.99;
   fix.sigma_lat_m = fix.sigma_lon_m = fix.sigma_alt_m = fix.range_rms_m = 999.999;
+  // RTK adds GGA's differential fields (docs/rtk.md): the widest age and a 4-digit station id.
+  fix.diff_age_s = 999.9;
+  fix.diff_station_id = 4095;
   int total = 0;
   for (const SystemSatellites& s : systems) total += std::max(s.in_view, 0);
   total = std::min(total, static_cast<int>(max_satellites));

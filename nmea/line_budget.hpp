@@ -52,7 +52,8 @@ struct LineBudget {
 
 /// The widest epoch a receiver can write: every field at its widest realistic value (2099-12-31
 /// 23:59:59.999, 89°59.99999' S, 179°59.99999' W, -12345.6 m altitude, -106.9 m geoid separation,
-/// 500 m/s, course 359.99, HDOP/PDOP/VDOP 99.99, GST values 999.999 m, RTK float, 3-D) with
+/// 500 m/s, course 359.99, HDOP/PDOP/VDOP 99.99, GST values 999.999 m, RTK float, 3-D, GGA's
+/// differential age 999.9 s and station id 4095, as RTK corrections make them) with
 /// `satellites_in_view` satellites in view (PRN 32, elevation 90, azimuth 359, SNR 99), the first
 /// `satellites_used` used. Counts are clamped to 0..max_satellites and used <= in view.
 [[nodiscard]] Fix widest_fix(int satellites_in_view, int satellites_used);

@@ -433,7 +433,7 @@ std::vector<OptionDef> make_option_table() {
   // Many receivers in one process
   scope = OptionScope::fleet;
   add("receivers", "N", "number of independent receivers in this process, 1..1024, each with its own outputs, "
-      "source and seed: {i} in output, source and tee is the receiver's index (0..N-1), {B+i} is B plus it, "
+      "source and seed: {i} in output, source, tee and rtcm is the receiver's index (0..N-1), {B+i} is B plus it, "
       "and receiver i's seed is seed + i; or one [[receiver]] table each in the config file (default 1)",
       [](ConfigDraft& d, V v) {
         const double n = parse_number("receivers", v.back(), 1, kMaxReceivers);

@@ -38,6 +38,7 @@ struct ReceiverDraft {
   std::string source = "sim:stationary";     ///< --source, may hold {i} / {B+i}
   std::vector<std::string> outputs{"pty:/tmp/gpsemu"};  ///< --output, each may hold templates
   std::optional<std::string> tee;            ///< --tee, may hold templates
+  std::optional<std::string> rtcm;           ///< --rtcm, may hold templates (a port per receiver)
   double width_m = 1.0;                      ///< cgrw one knob: horizontal width (metres)
   std::optional<noise::CgrwAxis> cgrw_east, cgrw_north, cgrw_up;  ///< explicit cgrw axes (else from width_m)
   std::optional<double> cgrw_rate_hz;        ///< rate the explicit axes were measured at (Hz)

@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "transport/input/rtcm_socket.hpp"
 #include "transport/output_spec.hpp"
 #include "emulator/config/validate.hpp"
 
@@ -106,7 +107,7 @@ void check_claims(const ConfigDraft& shared, const std::vector<std::vector<Claim
       const auto [it, inserted] = owner.try_emplace(claim.resource, i, &claim);
       if (inserted) continue;
       const auto& [first, first_claim] = it->second;
-      const bool listens = claim.key == "source" || claim.resource.rfind("tcp port", 0) == 0;
+      const bool listens = claim.key == "source" || claim.key == "rtcm" || claim.resource.rfind("tcp port", 0) == 0;
       if (first == i) {  // one receiver: its bytes would go twice to one place (doubled or mangled)
         throw ConfigError(fmt::format(
             "{}{} '{}' and {} '{}' would both {} {}: give each output (and --tee) its own", n > 1 ? who(shared, i) + ": " : "",
@@ -240,6 +241,14 @@ std::vector<ReceiverSettings> resolve_receivers(const ConfigDraft& draft) {
         r.receiver_state = expand_receiver_template("receiver-state", raw, i);
         mine.push_back({"file " + resolved_path(*r.receiver_state), "receiver-state", raw, *r.receiver_state,
                         table_sets("receiver-state")});
+      }
+      if (d.rtcm) {  // a base station's stream: one listening port a receiver (docs/rtk.md)
+        const std::string rtcm = expand_receiver_template("rtcm", *d.rtcm, i);
+        r.rtcm = transport::parse_rtcm_input_spec(rtcm);
+        if (r.rtcm->endpoint.port != 0) {
+          mine.push_back({fmt::format("{} port {}", r.rtcm->tcp ? "tcp" : "udp", r.rtcm->endpoint.port), "rtcm", *d.rtcm,
+                          rtcm, table_sets("rtcm")});
+        }
       }
     } catch (const std::invalid_argument& e) {
       throw ConfigError(n > 1 ? fmt::format("{}: {}", who(draft, i), e.what()) : std::string(e.what()));

@@ -7,6 +7,7 @@
 
 #include "emulator/config/config_options.hpp"
 #include "emulator/config/config_values.hpp"
+#include "emulator/config/fleet_config.hpp"
 #include "emulator/heading/moving_base.hpp"
 #include "emulator/rtk/rtk_state.hpp"
 
@@ -20,8 +21,13 @@ void add_rtk_options(std::vector<OptionDef>& t) {
     t.push_back({std::move(name), std::move(value_name), std::move(help), OptionScope::receiver, false, std::move(apply)});
   };
   add("rtcm", "SPEC", "RTCM3 corrections from a base station: tcp:[HOST:]PORT (str2str or an NTRIP client connects) | "
-      "udp:[HOST:]PORT; RTCM3 written to a u-blox port is read as well (docs/rtk.md) (default none)",
-      [](ConfigDraft& d, V v) { d.receiver.settings.rtcm = transport::parse_rtcm_input_spec(v.back()); });
+      "udp:[HOST:]PORT; RTCM3 written to a u-blox port is read as well; in a fleet one port per receiver: "
+      "{i} / {B+i} as in output, or each [[receiver]] table its own (docs/rtk.md) (default none)",
+      [](ConfigDraft& d, V v) {
+        // Checked now with receiver 0's port; each receiver's is opened from its own expansion.
+        (void)transport::parse_rtcm_input_spec(expand_receiver_template("rtcm", v.back(), 0));
+        d.receiver.rtcm = v.back();
+      });
   add("rtk-convergence", "FLOAT,FIX[,PER_KM]", "RTK timeline from the first correction (MSM) of a base whose "
       "position is known: seconds to RTK float, seconds to RTK fixed at a zero baseline, seconds added to it per km "
       "of baseline, each 0..3600 (default 3,10,2)",

@@ -64,13 +64,20 @@ AntennaOffset parse_antenna_offset(const std::string& text) {
   return {values[0], values[1], values[2]};
 }
 
-Enu offset_enu(const AntennaOffset& a, double yaw_deg) {
-  const double c = std::cos(yaw_deg * kDegToRad), s = std::sin(yaw_deg * kDegToRad);
-  return {a.forward_m * s + a.right_m * c, a.forward_m * c - a.right_m * s, -a.down_m};
+Enu offset_enu(const AntennaOffset& a, double yaw_deg, double pitch_deg, double roll_deg) {
+  const double cy = std::cos(yaw_deg * kDegToRad), sy = std::sin(yaw_deg * kDegToRad);
+  const double cp = std::cos(pitch_deg * kDegToRad), sp = std::sin(pitch_deg * kDegToRad);
+  const double cr = std::cos(roll_deg * kDegToRad), sr = std::sin(roll_deg * kDegToRad);
+  const double f = a.forward_m, r = a.right_m, d = a.down_m;
+  const double north = cy * cp * f + (cy * sp * sr - sy * cr) * r + (cy * sp * cr + sy * sr) * d;
+  const double east = sy * cp * f + (sy * sp * sr + cy * cr) * r + (sy * sp * cr - cy * sr) * d;
+  const double down = -sp * f + cp * sr * r + cp * cr * d;
+  return {east, north, -down};
 }
 
-Ned baseline_ned(const AntennaOffset& base, const AntennaOffset& rover, double yaw_deg) {
-  const Enu d = offset_enu(rover, yaw_deg) - offset_enu(base, yaw_deg);
+Ned baseline_ned(const AntennaOffset& base, const AntennaOffset& rover, double yaw_deg, double pitch_deg,
+                 double roll_deg) {
+  const Enu d = offset_enu(rover, yaw_deg, pitch_deg, roll_deg) - offset_enu(base, yaw_deg, pitch_deg, roll_deg);
   return {d.north_m, d.east_m, -d.up_m};
 }
 
@@ -87,7 +94,8 @@ ubx::RelPosNed RoverRelPos::at(UtcNs t, const std::optional<sources::Truth>& tru
   const bool fresh = last_corrections && t >= *last_corrections &&
                      std::chrono::duration<double>(t - *last_corrections).count() <= options_.corrections_timeout_s;
   if (!truth || !truth->yaw_deg || !fresh) return rel;
-  const Ned b = baseline_ned(options_.base_antenna, options_.antenna, *truth->yaw_deg);
+  const Ned b = baseline_ned(options_.base_antenna, options_.antenna, *truth->yaw_deg, truth->tilt.pitch_deg,
+                             truth->tilt.roll_deg);
   rel.north_m = b.north_m + noise.north_m;
   rel.east_m = b.east_m + noise.east_m;
   rel.down_m = b.down_m + noise.down_m;

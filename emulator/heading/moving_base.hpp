@@ -5,9 +5,12 @@
 // the truth, the time of the last corrections and a seed in, the relative position out.
 //
 // Geometry: an antenna at (forward, right, down) metres of the body frame sits, for a vehicle of
-// yaw psi (degrees true; pitch and roll 0: a ground vehicle), at
-//   north = forward cos psi - right sin psi,  east = forward sin psi + right cos psi,  down = down
-// from the vehicle's reference point (the pose). The baseline is rover antenna - base antenna.
+// yaw psi (degrees true), pitch theta and roll phi (degrees; a pose's pitch_deg / roll_deg, 0 when
+// not sent), at R(psi) R(theta) R(phi) (forward, right, down) in north/east/down from the vehicle's
+// reference point (the pose): the aerospace yaw-pitch-roll rotation. Level (theta = phi = 0):
+//   north = forward cos psi - right sin psi,  east = forward sin psi + right cos psi,  down = down.
+// The baseline is rover antenna - base antenna: its length and down part follow the attitude, the
+// heading is that of its horizontal part.
 #pragma once
 
 #include <chrono>
@@ -52,14 +55,17 @@ struct MovingBaseOptions {
   double corrections_timeout_s = 1.5;
 };
 
-/// The NED offset (metres) of `antenna` from the vehicle's point at yaw `yaw_deg`.
-[[nodiscard]] Enu offset_enu(const AntennaOffset& antenna, double yaw_deg);
+/// The offset (metres, east/north/up) of `antenna` from the vehicle's point at yaw `yaw_deg`,
+/// pitch `pitch_deg` and roll `roll_deg`.
+[[nodiscard]] Enu offset_enu(const AntennaOffset& antenna, double yaw_deg, double pitch_deg = 0.0,
+                             double roll_deg = 0.0);
 
 /// Base antenna -> rover antenna in metres North/East/Down at yaw `yaw_deg`.
 struct Ned {
   double north_m = 0.0, east_m = 0.0, down_m = 0.0;
 };
-[[nodiscard]] Ned baseline_ned(const AntennaOffset& base, const AntennaOffset& rover, double yaw_deg);
+[[nodiscard]] Ned baseline_ned(const AntennaOffset& base, const AntennaOffset& rover, double yaw_deg,
+                               double pitch_deg = 0.0, double roll_deg = 0.0);
 
 /// The rover's NAV-RELPOSNED values, epoch by epoch, with its own noise (a seeded stream).
 class RoverRelPos {

@@ -150,7 +150,7 @@ Epoch Receiver::step() {
 }
 
 Epoch Receiver::step_enu(const Enu& position_m, const Enu& velocity_mps) {
-  return impl_->report(sources::Truth{to_internal(position_m), to_internal(velocity_mps), std::nullopt});
+  return impl_->report(sources::Truth{to_internal(position_m), to_internal(velocity_mps), std::nullopt, {}});
 }
 
 Epoch Receiver::step_geodetic(const LatLonAlt& position, const Enu& velocity_mps) {

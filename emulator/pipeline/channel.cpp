@@ -7,6 +7,7 @@
 #include "emulator/faults/garble.hpp"
 #include "emulator/heading/rtcm3_base.hpp"
 #include "emulator/pipeline/rtk_receiver.hpp"
+#include "emulator/rtk/static_base_relpos.hpp"
 #include "emulator/ubx/bytes.hpp"
 #include "emulator/ubx/frame.hpp"
 
@@ -39,7 +40,8 @@ nmea::Fix Channel::step(UtcNs t, const std::optional<sources::Truth>& vehicle) {
   // The antenna's place on the vehicle (docs/heading.md): where this receiver's truth is.
   std::optional<sources::Truth> truth = vehicle;
   if (truth && truth->yaw_deg) {
-    truth->position_m = truth->position_m + heading::offset_enu(settings_.moving_base.antenna, *truth->yaw_deg);
+    truth->position_m = truth->position_m + heading::offset_enu(settings_.moving_base.antenna, *truth->yaw_deg,
+                                                                truth->tilt.pitch_deg, truth->tilt.roll_deg);
   }
   last_step_ = t;
   nmea::Fix fix = receiver_->fix_at(t, truth);  // one fix a step, never copied
@@ -48,6 +50,10 @@ nmea::Fix Channel::step(UtcNs t, const std::optional<sources::Truth>& vehicle) {
   const std::optional<Enu> truth_m = truth ? std::optional<Enu>(truth->position_m) : std::nullopt;
   rtk_->service();
   rtk_->apply(t, fix, truth_m, frame_);  // corrections before faults: a forced quality or an outage wins
+  // A rover of a fixed base (not of a moving-base pair): NAV-RELPOSNED from the RTK state.
+  if (ubx_ && !rover_ && rtk_->counts().messages > 0) {
+    ubx_->relative_position() = rtk::static_base_relpos(rtk_->status(), rtk_->base(), fix);
+  }
   const faults::EpochEffect effect = faults_->apply(t, fix, truth_m, frame_, ubx_ ? &ubx_->rf() : nullptr);
   silent_ = effect.silent;
   if (effect.reboot_cold_start_s) reboot(t, *effect.reboot_cold_start_s);

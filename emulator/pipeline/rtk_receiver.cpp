@@ -94,6 +94,7 @@ void RtkReceiver::apply(UtcNs t, nmea::Fix& fix, const std::optional<Enu>& truth
   }
   const double t_s = std::chrono::duration<double>(t.time_since_epoch()).count();
   const rtk::RtkStatus s = state_.step(t_s, rover);
+  status_ = s;
   if (!fix.has_fix()) return;
   if (logged_ != s.quality) {
     if (logged_ || s.differential()) {

@@ -52,7 +52,13 @@ class RtkReceiver {
   /// Applies the state at `t` to `fix` (see above); `truth_m` in `frame`'s ENU metres.
   void apply(UtcNs t, nmea::Fix& fix, const std::optional<Enu>& truth_m, const LocalFrame& frame);
   /// A cold start: the corrections and the convergence are forgotten.
-  void restart() { state_.reset(); }
+  void restart() {
+    state_.reset();
+    status_ = {};
+  }
+  /// The state of the last apply() (default before any correction) and the base position known.
+  [[nodiscard]] const rtk::RtkStatus& status() const { return status_; }
+  [[nodiscard]] const std::optional<rtk::BasePosition>& base() const { return state_.base(); }
 
   [[nodiscard]] const RtkCounts& counts() const { return counts_; }
   /// "RTK: 120 RTCM3 messages (1005 x10, 1077 x60, ...), 2 bad CRC; epochs DGPS 3, float 9, fixed 88";
@@ -63,6 +69,7 @@ class RtkReceiver {
 
  private:
   rtk::RtkState state_;
+  rtk::RtkStatus status_;
   std::unique_ptr<transport::RtcmSocket> socket_;
   struct Stream {
     std::uint64_t source = 0;

@@ -139,11 +139,15 @@ std::string client_input_summary(const Channel& channel) {
   if (channel.settings().moving_base.role == heading::Role::rover) {
     rtcm3 = fmt::format("; {} of the RTCM3 frames the moving base's (4072.0)", channel.moving_base_frames());
   }
+  const std::string rtcm_ignored =
+      folded.rtcm_ignored == 0
+          ? std::string{}
+          : fmt::format(", {} ignored: the port's input protocols exclude RTCM3", folded.rtcm_ignored);
   return fmt::format("u-blox client input: {} UBX frames, {} bad ({} bad checksum, {} too long), {} NMEA sentences "
-                     "({} bad), {} RTCM3 frames ({} bad CRC), {} garbage bytes; {} ACK, {} NAK, {} ignored; {} NAV "
+                     "({} bad), {} RTCM3 frames ({} bad CRC{}), {} garbage bytes; {} ACK, {} NAK, {} ignored; {} NAV "
                      "polls folded into one answer, {} effects superseded by a newer one{}",
                      in.frames_ok, in.bad_checksum + in.too_long, in.bad_checksum, in.too_long, in.sentences_ok,
-                     in.bad_sentences, in.rtcm_ok, in.rtcm_bad_crc, in.garbage_bytes, answered.acks, answered.naks,
+                     in.bad_sentences, in.rtcm_ok, in.rtcm_bad_crc, rtcm_ignored, in.garbage_bytes, answered.acks, answered.naks,
                      answered.ignored, folded.polls_merged, folded.effects_superseded, rtcm3);
 }
 

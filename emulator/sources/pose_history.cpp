@@ -101,12 +101,13 @@ std::optional<Truth> PoseHistory::sample(UtcNs t) const {
     const double f = seconds(age) / seconds(b.time - a.time);
     const Enu velocity = (a.velocity_mps && b.velocity_mps) ? lerp(*a.velocity_mps, *b.velocity_mps, f)
                                                              : track_velocity(*n + 1);
-    return Truth{lerp(a.position_m, b.position_m, f), velocity, interpolate_yaw_deg(a.yaw_deg, b.yaw_deg, f)};
+    return Truth{lerp(a.position_m, b.position_m, f), velocity, interpolate_yaw_deg(a.yaw_deg, b.yaw_deg, f),
+                 lerp_tilt(a.tilt, b.tilt, f)};
   }
   // After the newest pose (or the last one before a gap): extrapolate, then hold.
   const Enu velocity = a.velocity_mps ? *a.velocity_mps : track_velocity(*n);
-  if (age > options_.horizon) return Truth{a.position_m + seconds(options_.horizon) * velocity, Enu{}, a.yaw_deg};
-  return Truth{a.position_m + seconds(age) * velocity, velocity, a.yaw_deg};
+  if (age > options_.horizon) return Truth{a.position_m + seconds(options_.horizon) * velocity, Enu{}, a.yaw_deg, a.tilt};
+  return Truth{a.position_m + seconds(age) * velocity, velocity, a.yaw_deg, a.tilt};
 }
 
 bool PoseHistory::fresh_at(UtcNs t) const {

@@ -30,6 +30,7 @@ struct TimedPose {
   Enu position_m;                       ///< East/North/Up position (metres)
   std::optional<Enu> velocity_mps;      ///< East/North/Up velocity (metres per second), when given
   std::optional<double> yaw_deg;        ///< true heading (degrees, [0, 360)), when given
+  Tilt tilt;                            ///< pitch and roll (degrees), 0 when not given
 };
 
 struct PoseHistoryOptions {

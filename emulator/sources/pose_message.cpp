@@ -9,8 +9,9 @@
 namespace gpsemu::sources {
 namespace {
 
-enum Key : int { k_t, k_lat, k_lon, k_alt, k_x, k_y, k_z, k_ve, k_vn, k_vu, k_yaw, k_count };
-constexpr std::array<std::string_view, k_count> kKeyNames{"t", "lat", "lon", "alt", "x", "y", "z", "ve", "vn", "vu", "yaw_deg"};
+enum Key : int { k_t, k_lat, k_lon, k_alt, k_x, k_y, k_z, k_ve, k_vn, k_vu, k_yaw, k_pitch, k_roll, k_count };
+constexpr std::array<std::string_view, k_count> kKeyNames{"t",  "lat", "lon", "alt",     "x",        "y",       "z",
+                                                          "ve", "vn",  "vu",  "yaw_deg", "pitch_deg", "roll_deg"};
 /// Largest |yaw_deg| accepted (degrees): one turn either way.
 constexpr double kMaxYawDeg = 360.0;
 
@@ -140,6 +141,14 @@ PoseDecodeResult decode(std::string_view bytes) {
   if (has(k_yaw)) {
     if (std::abs(v[k_yaw]) > kMaxYawDeg) return PoseReject::out_of_range;
     m.yaw_deg = wrap_360_deg(v[k_yaw]);
+  }
+  if (has(k_pitch)) {
+    if (std::abs(v[k_pitch]) > 90.0) return PoseReject::out_of_range;
+    m.pitch_deg = v[k_pitch];
+  }
+  if (has(k_roll)) {
+    if (std::abs(v[k_roll]) > 180.0) return PoseReject::out_of_range;
+    m.roll_deg = v[k_roll];
   }
   return m;
 }

@@ -17,6 +17,9 @@
 //   vu           optional  velocity Up (metres per second), only with ve/vn; absent: 0
 //   yaw_deg      optional  true heading of the vehicle body: degrees clockwise from north,
 //                          -360..360 (kept as [0, 360)); absent: no heading (HDT empty, THS V)
+//   pitch_deg    optional  pitch of the body, nose up positive, -90..90 degrees; absent: 0
+//   roll_deg     optional  roll of the body, right side down positive, -180..180 degrees; absent: 0
+//                          (pitch and roll place the antennas: a moving-base baseline's tilt)
 // Exactly one of the two position forms. Messages longer than kMaxPoseMessageBytes are refused.
 #pragma once
 
@@ -59,7 +62,7 @@ enum class PoseReject : std::uint8_t {
   mixed_position,    ///< both lat/lon/alt and x/y/z keys
   not_a_number,      ///< a value that is not a JSON number (string, bool, null, array, object)
   not_finite,        ///< NaN or infinity (Python's json.dumps writes NaN/Infinity) or out of double range
-  out_of_range,      ///< latitude outside ±90, longitude outside ±180, altitude, coordinate, speed, |yaw_deg| or |t| too large
+  out_of_range,      ///< latitude outside ±90, longitude outside ±180, altitude, coordinate, speed, |yaw_deg|, |pitch_deg|, |roll_deg| or |t| too large
   out_of_order,      ///< sender time `t` not after the previous pose's (a reordered or repeated datagram)
   too_fast,          ///< farther from the previous pose than kMaxSpeedMps allows (see kMaxJumpSlackM)
   flood,             ///< more than one pose per kMinPoseSpacing: the excess is dropped
@@ -84,6 +87,8 @@ struct PoseMessage {
   std::variant<GeodeticPose, Enu> position;       ///< lat/lon/alt, or x/y/z (metres ENU about the origin)
   std::optional<Enu> velocity_mps;                ///< ve/vn/vu (metres per second ENU), when sent
   std::optional<double> yaw_deg;                  ///< yaw_deg (degrees true, [0, 360)), when sent
+  double pitch_deg = 0.0;                         ///< pitch_deg (degrees, -90..90), 0 when not sent
+  double roll_deg = 0.0;                          ///< roll_deg (degrees, -180..180), 0 when not sent
 };
 
 /// `deg` wrapped into [0, 360).

@@ -11,6 +11,19 @@
 
 namespace gpsemu::sources {
 
+/// The vehicle body's pitch and roll (degrees; a pose's optional `pitch_deg` / `roll_deg`, 0 when
+/// not sent: a level vehicle). Pitch: nose up positive, -90..90; roll: right side down positive,
+/// -180..180 (the aerospace yaw-pitch-roll order; docs/heading.md).
+struct Tilt {
+  double pitch_deg = 0.0;
+  double roll_deg = 0.0;
+};
+
+/// `a` to `b` by a fraction `f` (0..1), each angle linearly.
+[[nodiscard]] inline Tilt lerp_tilt(const Tilt& a, const Tilt& b, double f) {
+  return {a.pitch_deg + f * (b.pitch_deg - a.pitch_deg), a.roll_deg + f * (b.roll_deg - a.roll_deg)};
+}
+
 /// The vehicle's true state at one instant, about the configured origin.
 struct Truth {
   Enu position_m;    ///< East/North/Up position (metres); Up is altitude above the origin's MSL altitude
@@ -18,6 +31,8 @@ struct Truth {
   /// True heading of the vehicle body (degrees from north, clockwise, [0, 360)), when the source
   /// knows it (a pose's `yaw_deg`, the simulator's direction of travel): HDT/THS, moving-base heading.
   std::optional<double> yaw_deg;
+  /// Pitch and roll of the body: where its antennas are (a moving-base baseline's down part).
+  Tilt tilt;
 };
 
 class PoseSource {

@@ -27,7 +27,7 @@ double seconds_since(UtcNs start, UtcNs t) {
 class Stationary final : public PoseSource {
  public:
   explicit Stationary(double heading_deg) : heading_deg_(heading_deg) {}
-  std::optional<Truth> truth_at(UtcNs) override { return Truth{{}, {}, heading_deg_}; }
+  std::optional<Truth> truth_at(UtcNs) override { return Truth{{}, {}, heading_deg_, {}}; }
   std::string describe() const override { return "sim:stationary (at the origin)"; }
 
  private:
@@ -44,7 +44,7 @@ class Line final : public PoseSource {
   std::optional<Truth> truth_at(UtcNs t) override {
     const double s = std::clamp(seconds_since(start_, t), 0.0, options_.drive_time_s);
     const bool moving = s < options_.drive_time_s && seconds_since(start_, t) >= 0.0;
-    return Truth{(options_.speed_mps * s) * dir_, moving ? options_.speed_mps * dir_ : Enu{}, yaw_deg_};
+    return Truth{(options_.speed_mps * s) * dir_, moving ? options_.speed_mps * dir_ : Enu{}, yaw_deg_, {}};
   }
   std::string describe() const override {
     return fmt::format("sim:line ({} m/s heading {} deg for {} s, then stopped)", options_.speed_mps,
@@ -69,7 +69,8 @@ class Circle final : public PoseSource {
     // Counter-clockwise: the car faces east at the start and turns left at w rad/s.
     return Truth{{r * std::sin(a), -r * std::cos(a), 0.0},
                  {options_.speed_mps * std::cos(a), options_.speed_mps * std::sin(a), 0.0},
-                 heading_of(std::cos(a), std::sin(a))};
+                 heading_of(std::cos(a), std::sin(a)),
+                 {}};
   }
   std::string describe() const override {
     return fmt::format("sim:circle (radius {} m at {} m/s)", options_.radius_m, options_.speed_mps);
@@ -100,7 +101,7 @@ class Waypoints final : public PoseSource {
     const double total = leg_start_s_.back();
     if (loop_ && total > 0.0) s = std::fmod(s, total);
     if (s >= total || points_.size() == 1) {
-      return Truth{points_.back().position_m, {}, leg_yaw_deg_.empty() ? std::nullopt : leg_yaw_deg_.back()};
+      return Truth{points_.back().position_m, {}, leg_yaw_deg_.empty() ? std::nullopt : leg_yaw_deg_.back(), {}};
     }
     std::size_t i = 0;
     while (i + 2 < leg_start_s_.size() && leg_start_s_[i + 1] <= s) ++i;
@@ -108,7 +109,7 @@ class Waypoints final : public PoseSource {
     const double len = length(i);
     const Enu dir = len > 0.0 ? (1.0 / len) * d : Enu{};
     const double travelled = (s - leg_start_s_[i]) * points_[i].speed_mps;
-    return Truth{points_[i].position_m + travelled * dir, points_[i].speed_mps * dir, leg_yaw_deg_[i]};
+    return Truth{points_[i].position_m + travelled * dir, points_[i].speed_mps * dir, leg_yaw_deg_[i], {}};
   }
   std::string describe() const override {
     return fmt::format("sim:waypoints:{} ({} waypoints, {:.1f} s{})", file_, points_.size(),

@@ -167,7 +167,8 @@ void SocketPoseSource::handle_message(const transport::ReceivedMessage& m) {
                          ? *options_.sender_time_base +
                                std::chrono::nanoseconds{std::llround(*pose.sender_time_s * 1e9)}
                          : m.arrival;
-  const TimedPose timed{time, pose.sender_time_s, to_local(pose), pose.velocity_mps, pose.yaw_deg};
+  const TimedPose timed{time, pose.sender_time_s, to_local(pose), pose.velocity_mps, pose.yaw_deg,
+                        Tilt{pose.pitch_deg, pose.roll_deg}};
   switch (history_.push(timed)) {
     case PushResult::out_of_order: return reject(PoseReject::out_of_order, m);
     case PushResult::flood: return reject(PoseReject::flood, m);

@@ -49,7 +49,7 @@ double to_number(const std::string& cell, const std::string& where, const char* 
 const std::set<std::string>& known_columns() {
   static const std::set<std::string> names{"time_s", "utc",  "lat_deg", "lon_deg", "alt_m",  "east_m", "north_m",
                                            "up_m",   "x_m",  "y_m",     "z_m",     "ve_mps", "vn_mps", "vu_mps",
-                                           "yaw_deg"};
+                                           "yaw_deg", "pitch_deg", "roll_deg"};
   return names;
 }
 
@@ -72,7 +72,7 @@ Columns read_header(const std::vector<std::string>& cells, const std::string& wh
     if (!known_columns().count(name)) {
       throw std::runtime_error(fmt::format(
           "{}: unknown column '{}' (accepted: time_s or utc; lat_deg,lon_deg[,alt_m] or east_m,north_m[,up_m] "
-          "(x_m,y_m,z_m); optional ve_mps,vn_mps[,vu_mps], yaw_deg)", where, name));
+          "(x_m,y_m,z_m); optional ve_mps,vn_mps[,vu_mps], yaw_deg, pitch_deg, roll_deg)", where, name));
     }
     if (name == "x_m") name = "east_m";
     if (name == "y_m") name = "north_m";
@@ -176,6 +176,7 @@ Trajectory read_trajectory_csv(std::istream& in, const std::string& name, const 
                            limited("vu_mps", kMaxSpeedMps, "m/s").value_or(0.0)};
     }
     if (const auto yaw = limited("yaw_deg", 360.0, "degrees")) p.yaw_deg = wrap_360_deg(*yaw);
+    p.tilt = {limited("pitch_deg", 90.0, "degrees").value_or(0.0), limited("roll_deg", 180.0, "degrees").value_or(0.0)};
     if (!trajectory.points.empty() && p.time <= trajectory.points.back().time) {
       throw std::runtime_error(fmt::format("{}: time {} is not after the previous row's: times must increase",
                                            where, cells[columns->index.at(columns->absolute_time ? "utc" : "time_s")]));
@@ -209,7 +210,7 @@ std::optional<Truth> TrajectorySource::truth_at(UtcNs t) {
   const Enu velocity = (a.velocity_mps && b.velocity_mps)
                            ? *a.velocity_mps + f * (*b.velocity_mps - *a.velocity_mps)
                            : (1.0 / span_s) * (b.position_m - a.position_m);
-  return Truth{position, velocity, interpolate_yaw_deg(a.yaw_deg, b.yaw_deg, f)};
+  return Truth{position, velocity, interpolate_yaw_deg(a.yaw_deg, b.yaw_deg, f), lerp_tilt(a.tilt, b.tilt, f)};
 }
 
 std::string TrajectorySource::describe() const {

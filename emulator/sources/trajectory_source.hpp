@@ -16,6 +16,8 @@
 //             the velocity is the track's: constant along each segment between two rows.
 //   yaw_deg   optional: true heading of the vehicle body, degrees clockwise from north, within
 //             +-360 (interpolated the shorter way round); without it no heading (HDT/THS empty).
+//   pitch_deg, roll_deg  optional: the body's pitch (within +-90) and roll (within +-180),
+//             degrees, interpolated linearly; without them 0 (level).
 // Values are limited as for socket poses (pose_message.hpp): local coordinates within 1e7 m,
 // altitude -1e4..1e6 m, velocity components within 1e4 m/s.
 // At least two rows. Between rows the position (and velocity) is interpolated linearly; before
@@ -40,6 +42,7 @@ struct TrajectoryPoint {
   Enu position_m;                   ///< East/North/Up about the origin (metres)
   std::optional<Enu> velocity_mps;  ///< when the file has velocity columns
   std::optional<double> yaw_deg;    ///< true heading (degrees, [0, 360)), when the file has yaw_deg
+  Tilt tilt;                        ///< pitch_deg, roll_deg columns (degrees), 0 without them
 };
 
 /// A trajectory in time order, with the file's description for the banner.

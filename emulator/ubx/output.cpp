@@ -3,6 +3,7 @@
 
 #include <algorithm>
 
+#include "emulator/ubx/model.hpp"
 #include "emulator/ubx/mon.hpp"
 
 namespace gpsemu::ubx {
@@ -60,6 +61,12 @@ std::size_t widest_solution_ubx_bytes(const Settings& s, Port port, ReceiverMode
   std::size_t bytes = 0;
   for (const MessageId id : due_messages(s, port, 0)) {
     bytes += frame_overhead_bytes + solution_payload(id, widest, extras)->size();
+  }
+  // RXM-RTCM (session.cpp): an 8-byte report for each RTCM3 message the port takes.
+  constexpr std::size_t kRxmRtcmPayloadBytes = 8;
+  if (outputs(s, port, proto_ubx) && (s.ports[static_cast<std::size_t>(port)].in_proto_mask & proto_rtcm3) != 0 &&
+      s.rate(msg::rxm_rtcm, port) != 0 && model_has_message(model, msg::rxm_rtcm)) {
+    bytes += rtcm_messages_per_solution_budget * (frame_overhead_bytes + kRxmRtcmPayloadBytes);
   }
   return bytes;
 }

@@ -32,9 +32,13 @@ namespace gpsemu::ubx {
 [[nodiscard]] std::vector<MessageId> due_messages(const Settings& s, Port port, std::uint64_t solution_index);
 /// NMEA sentences gpsemu writes that are due with solution `solution_index`.
 [[nodiscard]] nmea::SentenceSet due_sentences(const Settings& s, Port port, std::uint64_t solution_index);
+/// RTCM3 messages one base epoch can bring to a port within one solution (1005/1006, MSM of five
+/// systems, 1230, 4072.0 and 4072.1, one more): the RXM-RTCM reports the line budget counts.
+inline constexpr std::size_t rtcm_messages_per_solution_budget = 10;
 /// The most UBX bytes one solution can carry on `port` with these settings (every message that is
-/// on, NAV-SAT with max_satellites, NAV-SIG with each of their signals on `model`): the serial
-/// line budget's share of UBX.
+/// on, NAV-SAT with max_satellites, NAV-SIG with each of their signals on `model`, NAV-RELPOSNED
+/// when on, and RXM-RTCM's reports of rtcm_messages_per_solution_budget messages when it is on and
+/// the port takes RTCM3): the serial line budget's share of UBX.
 [[nodiscard]] std::size_t widest_solution_ubx_bytes(const Settings& s, Port port,
                                                     ReceiverModel model = ReceiverModel::generic);
 /// Appends the frames of the due UBX messages but NAV-EOE, then those of `polled` not already

@@ -62,8 +62,12 @@ void Session::client_wrote(std::string_view bytes, ClientId id) {
 }
 
 void Session::handle_rtcm(const rtk::Rtcm3Frame& frame, Client& c) {
-  rtk::Rtcm3Message message = rtk::decode_rtcm3(frame.payload);
   const Settings& s = machine_.settings();
+  if ((s.ports[static_cast<std::size_t>(machine_.port())].in_proto_mask & proto_rtcm3) == 0) {
+    ++stats_.rtcm_ignored;  // RTCM3 input off on this port: neither used nor reported
+    return;
+  }
+  rtk::Rtcm3Message message = rtk::decode_rtcm3(frame.payload);
   const bool ubx_out = (s.ports[static_cast<std::size_t>(machine_.port())].out_proto_mask & proto_ubx) != 0;
   if (ubx_out && s.rate(msg::rxm_rtcm, machine_.port()) != 0 && model_has_message(machine_.model(), msg::rxm_rtcm)) {
     // RXM-RTCM version 2: flags (crcFailed 0; msgUsed 2 used, 1 not used), subType, refStation, msgType.

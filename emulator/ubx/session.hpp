@@ -55,6 +55,9 @@ struct SessionStats {
   std::uint64_t answers_dropped = 0;     ///< answers (whole, with their ACK) past a client's reply limit
   std::uint64_t answer_bytes_dropped = 0;
   std::uint64_t rtcm_not_taken = 0;      ///< RTCM3 messages past max_pending_rtcm, dropped before anyone took them
+  /// RTCM3 frames (good CRC) ignored: the port's input protocols (CFG-PRT inProtoMask bit 5,
+  /// CFG-<port>INPROT-RTCM3X) exclude RTCM3, so the receiver does not use them.
+  std::uint64_t rtcm_ignored = 0;
 };
 
 class Session {

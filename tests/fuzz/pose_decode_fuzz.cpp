@@ -48,7 +48,7 @@ std::optional<TimedPose> decode_checked(std::string_view bytes, UtcNs arrival) {
           std::abs(position.north_m) <= kMaxLocalCoordinateM && std::abs(position.up_m) <= kMaxLocalCoordinateM);
   }
   if (m.velocity_mps) check(finite(*m.velocity_mps));
-  return TimedPose{arrival, m.sender_time_s, position, m.velocity_mps, m.yaw_deg};
+  return TimedPose{arrival, m.sender_time_s, position, m.velocity_mps, m.yaw_deg, Tilt{m.pitch_deg, m.roll_deg}};
 }
 
 }  // namespace

@@ -149,5 +149,47 @@ TEST(MovingBasePair, RelPosNedIsPollable) {
   EXPECT_EQ(rel->flags & 0x20u, 0x20u);
 }
 
+// A pose's pitch and roll tilt the baseline: relPosD and the length follow the attitude, the
+// heading stays the yaw (the baseline is fore-aft).
+TEST(MovingBasePair, PitchAndRollTiltTheBaselineNotTheHeading) {
+  Channel base(pair_member(heading::Role::moving_base, 4), kT0);
+  Channel rover(pair_member(heading::Role::rover, 5), kT0);
+  rover.client_wrote(valset_relposned_on(), 0);
+  (void)rover.take_reply(0);
+  sources::Truth truth;
+  truth.yaw_deg = 30.0;
+  truth.tilt = {10.0, 5.0};
+  const double p = 10.0 / kRadToDeg, r = 5.0 / kRadToDeg;
+  // Rover - base in the body: 1 m forward, 0 right, 0.05 m down; its down part turned by pitch and roll.
+  const double want_down_m = -std::sin(p) * 1.0 + std::cos(p) * std::cos(r) * 0.05;
+  // The heading of the horizontal part: the yaw, turned a little by the 5 cm down part rolled sideways.
+  const heading::Ned b = heading::baseline_ned({-0.45, 0.1, -0.05}, {0.55, 0.1, 0.0}, 30.0, 10.0, 5.0);
+  EXPECT_NEAR(b.down_m, want_down_m, 1e-12);
+  const double want_heading_deg = std::atan2(b.east_m, b.north_m) * kRadToDeg;
+  EXPECT_NEAR(want_heading_deg, 30.0, 0.3);
+  double sum_down_m = 0.0, sum_heading_deg = 0.0;
+  int n = 0;
+  for (int k = 0; k < 40; ++k) {
+    const UtcNs t = kT0 + k * 100ms;
+    (void)base.step(t, truth);
+    rover.client_wrote(base.bytes(), 0);
+    (void)rover.take_reply(0);
+    (void)rover.step(t, truth);
+    const auto rel = relposned_in(rover.bytes());
+    ASSERT_TRUE(rel);
+    if (k == 0) continue;
+    ASSERT_EQ(rel->flags & 0x107u, 0x107u) << "epoch " << k;
+    const double down_m = (rel->d_cm * 100.0 + rel->hp_d) * 1e-4;
+    const double length_m = (rel->length_cm * 100.0 + rel->hp_length) * 1e-4;
+    EXPECT_NEAR(down_m, want_down_m, 0.05);  // 5 sigma of the 1 cm noise
+    EXPECT_NEAR(length_m, std::hypot(1.0, 0.05), 0.05);
+    sum_down_m += down_m;
+    sum_heading_deg += std::remainder(rel->heading_1e5deg * 1e-5 - want_heading_deg, 360.0);
+    ++n;
+  }
+  EXPECT_NEAR(sum_down_m / n, want_down_m, 0.01);  // the mean of 39: within 6 sigma
+  EXPECT_NEAR(sum_heading_deg / n, 0.0, 0.6);      // 1 cm over 0.98 m: 0.6 degrees 1 sigma each, 0.1 the mean
+}
+
 }  // namespace
 }  // namespace gpsemu

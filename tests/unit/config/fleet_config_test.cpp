@@ -200,5 +200,46 @@ TEST(Fleet, ReceiverCountIsChecked) {
   EXPECT_TRUE(contains(error_of(std::nullopt, {{"receivers", {"2.5"}}}), "whole number"));
 }
 
+// --rtcm in a fleet: one base-station port a receiver, from a template or each table's own key.
+TEST(Fleet, EachReceiverTakesItsOwnRtcmPort) {
+  const auto fleet = build_config(std::nullopt, {{"receivers", {"3"}},
+                                                 {"output", {"pty:/tmp/gps{i}"}},
+                                                 {"rtcm", {"udp:{2101+i}"}}}).receivers;
+  ASSERT_EQ(fleet.size(), 3u);
+  for (std::size_t i = 0; i < fleet.size(); ++i) {
+    ASSERT_TRUE(fleet[i].rtcm.has_value());
+    EXPECT_FALSE(fleet[i].rtcm->tcp);
+    EXPECT_EQ(fleet[i].rtcm->endpoint.port, 2101 + i);
+  }
+  const auto file = write_temp("rtcm.toml",
+                               "output = \"pty:/tmp/gps{i}\"\n"
+                               "[[receiver]]\n"
+                               "rtcm = \"tcp:2201\"\n"
+                               "[[receiver]]\n"
+                               "[[receiver]]\n"
+                               "rtcm = \"udp:127.0.0.1:2202\"\n");
+  const auto tables = build_config(file, {}).receivers;
+  ASSERT_EQ(tables.size(), 3u);
+  ASSERT_TRUE(tables[0].rtcm.has_value());
+  EXPECT_TRUE(tables[0].rtcm->tcp);
+  EXPECT_EQ(tables[0].rtcm->endpoint.port, 2201);
+  EXPECT_FALSE(tables[1].rtcm.has_value());  // no corrections input: RTCM3 on its u-blox port only
+  ASSERT_TRUE(tables[2].rtcm.has_value());
+  EXPECT_EQ(tables[2].rtcm->endpoint.port, 2202);
+}
+
+TEST(Fleet, ASharedRtcmPortIsRefusedWithTheTemplateToUse) {
+  std::string e = error_of(std::nullopt, {{"receivers", {"2"}}, {"output", {"pty:/tmp/g{i}"}}, {"rtcm", {"tcp:2101"}}});
+  EXPECT_TRUE(contains(e, "rtcm 'tcp:2101' would be shared by all 2 receivers")) << e;
+  EXPECT_TRUE(contains(e, "listen on tcp port 2101")) << e;
+  EXPECT_TRUE(contains(e, "tcp:{2101+i}")) << e;
+  // A receiver's corrections port that is another's pose port.
+  e = error_of(std::nullopt, {{"receivers", {"2"}}, {"output", {"pty:/tmp/g{i}"}}, {"source", {"udp:{5600+i}"}},
+                              {"rtcm", {"udp:{5599+i}"}}});
+  EXPECT_TRUE(contains(e, "would both listen on udp port 5600")) << e;
+  e = error_of(std::nullopt, {{"rtcm", {"udp:{i+x}"}}});
+  EXPECT_TRUE(contains(e, "rtcm")) << e;
+}
+
 }  // namespace
 }  // namespace gpsemu

@@ -114,5 +114,39 @@ TEST(MovingBase, SettingsTextIsChecked) {
   }
 }
 
+// Pitch and roll tilt the baseline: its down part and length follow the attitude, the heading
+// stays that of its horizontal part.
+TEST(MovingBase, PitchAndRollTiltTheBaseline) {
+  const AntennaOffset base{-0.5, 0.0, 0.0}, rover{0.5, 0.0, 0.0};  // 1 m fore-aft
+  const double s10 = std::sin(10.0 * M_PI / 180.0), c10 = std::cos(10.0 * M_PI / 180.0);
+  const Ned nose_up = baseline_ned(base, rover, 90.0, 10.0, 0.0);  // facing east, nose 10 degrees up
+  EXPECT_NEAR(nose_up.east_m, c10, 1e-12);
+  EXPECT_NEAR(nose_up.north_m, 0.0, 1e-12);
+  EXPECT_NEAR(nose_up.down_m, -s10, 1e-12);  // the front antenna is higher
+  // Roll right side down: a left -> right baseline's right end goes down.
+  const Ned rolled = baseline_ned({0.0, -0.5, 0.0}, {0.0, 0.5, 0.0}, 0.0, 0.0, 10.0);
+  EXPECT_NEAR(rolled.east_m, c10, 1e-12);
+  EXPECT_NEAR(rolled.down_m, s10, 1e-12);
+  // Roll does not move a fore-aft baseline; an antenna above the point moves with pitch.
+  const Ned fore_aft = baseline_ned(base, rover, 0.0, 0.0, 30.0);
+  EXPECT_NEAR(fore_aft.north_m, 1.0, 1e-12);
+  EXPECT_NEAR(fore_aft.down_m, 0.0, 1e-12);
+  const Enu mast = offset_enu({0.0, 0.0, -1.0}, 0.0, 10.0, 0.0);  // 1 m up, nose 10 degrees up
+  EXPECT_NEAR(mast.north_m, -s10, 1e-12);  // leans back
+  EXPECT_NEAR(mast.up_m, c10, 1e-12);
+
+  RoverRelPos r(rover_options(), 3);  // 1.2 m fore-aft
+  sources::Truth truth;
+  truth.yaw_deg = 45.0;
+  truth.tilt = {20.0, 5.0};
+  const ubx::RelPosNed rel = r.at(kT0, truth, kT0);
+  ASSERT_TRUE(rel.rel_pos_valid);
+  ASSERT_TRUE(rel.heading_valid);
+  EXPECT_NEAR(rel.down_m, -1.2 * std::sin(20.0 * M_PI / 180.0), 0.05);
+  EXPECT_NEAR(rel.length_m, 1.2, 0.05);  // 3-D: the length of the baseline, whatever the tilt
+  EXPECT_NEAR(std::hypot(rel.north_m, rel.east_m), 1.2 * std::cos(20.0 * M_PI / 180.0), 0.05);
+  EXPECT_LT(std::abs(angle_diff_deg(rel.heading_deg, 45.0)), 4.0 * rel.acc_heading_deg);
+}
+
 }  // namespace
 }  // namespace gpsemu::heading

@@ -52,9 +52,10 @@ TEST(NmeaSentences, LineBudgetOfGgaRmcAt10HzNeedsMoreThan9600Baud) {
   o.sentences.insert(SentenceType::gga);
   o.sentences.insert(SentenceType::rmc);
   const LineBudget b = line_budget(o, 12, 10, 10.0);
-  EXPECT_EQ(b.bytes_per_epoch, 159u);  // the widest GGA (81: altitude -12345.6) and RMC (78)
-  EXPECT_DOUBLE_EQ(b.bytes_per_second, 1590.0);
-  EXPECT_DOUBLE_EQ(b.min_baud, 15900.0);
+  // The widest GGA (90: altitude -12345.6, RTK's differential age 999.9 and station 4095) and RMC (78).
+  EXPECT_EQ(b.bytes_per_epoch, 168u);
+  EXPECT_DOUBLE_EQ(b.bytes_per_second, 1680.0);
+  EXPECT_DOUBLE_EQ(b.min_baud, 16800.0);
   EXPECT_FALSE(b.fits(9600));
   EXPECT_TRUE(b.fits(19200));
   EXPECT_EQ(smallest_standard_baud(b), 19200);
@@ -98,6 +99,23 @@ TEST(NmeaSentences, LineBudgetOfSeveralSystemsCoversAGsvGroupAndAGsaOfEach) {
   // One system given as a list is the single-group budget.
   const std::vector<SystemSatellites> one{{GnssSystem::gps, 15}};
   EXPECT_EQ(line_budget(o, one, 11, 1.0).bytes_per_epoch, line_budget(o, 15, 11, 1.0).bytes_per_epoch);
+}
+
+TEST(NmeaSentences, LineBudgetCountsTheDifferentialFieldsRtkAddsToGga) {
+  FormatOptions o = options("GP", NmeaVersion::v4_1);
+  o.sentences = SentenceSet{};
+  o.sentences.insert(SentenceType::gga);
+  const Fix fix = widest_fix(12, 10);
+  std::string gga;
+  append_epoch(fix, o, gga);
+  EXPECT_NE(gga.find(",999.9,4095*"), std::string::npos) << gga;
+  // Without them the sentence is 9 characters shorter: the budget covers a receiver with corrections.
+  Fix plain = fix;
+  plain.diff_age_s.reset();
+  plain.diff_station_id.reset();
+  std::string without;
+  append_epoch(plain, o, without);
+  EXPECT_EQ(line_budget(o, 12, 10, 1.0).bytes_per_epoch, without.size() + 9);
 }
 
 }  // namespace

@@ -17,7 +17,7 @@ const UtcNs kT0 = UtcNs{std::chrono::seconds(1'700'000'000)};
 UtcNs at_s(double s) { return kT0 + std::chrono::nanoseconds{std::llround(s * 1e9)}; }
 
 TimedPose pose(double s, Enu p, std::optional<Enu> v = std::nullopt, std::optional<double> t = std::nullopt) {
-  return TimedPose{at_s(s), t, p, v, std::nullopt};
+  return TimedPose{at_s(s), t, p, v, std::nullopt, {}};
 }
 
 void expect_near(const Enu& a, const Enu& b, double tol = 1e-9) {

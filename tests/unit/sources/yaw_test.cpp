@@ -59,13 +59,13 @@ TEST(Yaw, PoseMessageYawIsCheckedAndWrapped) {
 
 TEST(Yaw, HistoryInterpolatesTheShorterWayAndHoldsAfterTheNewest) {
   PoseHistory h;
-  ASSERT_EQ(h.push(TimedPose{kT0, std::nullopt, {0, 0, 0}, std::nullopt, 350.0}), PushResult::accepted);
-  ASSERT_EQ(h.push(TimedPose{kT0 + 100ms, std::nullopt, {0, 1, 0}, std::nullopt, 10.0}), PushResult::accepted);
+  ASSERT_EQ(h.push(TimedPose{kT0, std::nullopt, {0, 0, 0}, std::nullopt, 350.0, {}}), PushResult::accepted);
+  ASSERT_EQ(h.push(TimedPose{kT0 + 100ms, std::nullopt, {0, 1, 0}, std::nullopt, 10.0, {}}), PushResult::accepted);
   EXPECT_NEAR(*h.sample(kT0 + 25ms)->yaw_deg, 355.0, 1e-9);
   EXPECT_NEAR(*h.sample(kT0 + 75ms)->yaw_deg, 5.0, 1e-9);
   EXPECT_NEAR(*h.sample(kT0 + 150ms)->yaw_deg, 10.0, 1e-9);
   PoseHistory without;
-  ASSERT_EQ(without.push(TimedPose{kT0, std::nullopt, {0, 0, 0}, std::nullopt, std::nullopt}), PushResult::accepted);
+  ASSERT_EQ(without.push(TimedPose{kT0, std::nullopt, {0, 0, 0}, std::nullopt, std::nullopt, {}}), PushResult::accepted);
   EXPECT_FALSE(without.sample(kT0)->yaw_deg.has_value());
 }
 
@@ -81,6 +81,33 @@ TEST(Yaw, ReplayedTrajectoryCarriesItsYawColumn) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("drive.csv:2: column yaw_deg"), std::string::npos) << e.what();
   }
+}
+
+// Pitch and roll (docs/heading.md): optional beside yaw_deg, 0 when absent, checked, interpolated.
+TEST(Tilt, PoseMessagePitchAndRollAreOptionalAndChecked) {
+  const auto msg = [](const char* json) { return std::get<PoseMessage>(decode_pose(json)); };
+  const PoseMessage m = msg(R"({"x": 1, "y": 2, "yaw_deg": 10, "pitch_deg": 5.5, "roll_deg": -20})");
+  EXPECT_EQ(m.pitch_deg, 5.5);
+  EXPECT_EQ(m.roll_deg, -20.0);
+  EXPECT_EQ(msg(R"({"x": 1, "y": 2})").pitch_deg, 0.0);
+  EXPECT_EQ(std::get<PoseReject>(decode_pose(R"({"x": 1, "y": 2, "pitch_deg": 91})")), PoseReject::out_of_range);
+  EXPECT_EQ(std::get<PoseReject>(decode_pose(R"({"x": 1, "y": 2, "roll_deg": -181})")), PoseReject::out_of_range);
+  EXPECT_EQ(std::get<PoseReject>(decode_pose(R"({"x": 1, "y": 2, "pitch": 3})")), PoseReject::extra_key);
+}
+
+TEST(Tilt, HistoryAndTrajectoryInterpolateIt) {
+  PoseHistory h;
+  ASSERT_EQ(h.push(TimedPose{kT0, std::nullopt, {0, 0, 0}, std::nullopt, 0.0, {0.0, 10.0}}), PushResult::accepted);
+  ASSERT_EQ(h.push(TimedPose{kT0 + 100ms, std::nullopt, {0, 1, 0}, std::nullopt, 0.0, {4.0, -10.0}}), PushResult::accepted);
+  EXPECT_NEAR(h.sample(kT0 + 25ms)->tilt.pitch_deg, 1.0, 1e-9);
+  EXPECT_NEAR(h.sample(kT0 + 25ms)->tilt.roll_deg, 5.0, 1e-9);
+  EXPECT_NEAR(h.sample(kT0 + 150ms)->tilt.pitch_deg, 4.0, 1e-9);  // held after the newest
+  std::istringstream csv("time_s,east_m,north_m,yaw_deg,pitch_deg,roll_deg\n0,0,0,0,2,0\n1,0,1,0,4,-6\n");
+  TrajectorySource s(read_trajectory_csv(csv, "drive.csv", kFrame, kT0));
+  EXPECT_NEAR(s.truth_at(kT0 + 500ms)->tilt.pitch_deg, 3.0, 1e-9);
+  EXPECT_NEAR(s.truth_at(kT0 + 500ms)->tilt.roll_deg, -3.0, 1e-9);
+  std::istringstream bad("time_s,east_m,north_m,pitch_deg\n0,0,0,95\n1,0,1,0\n");
+  EXPECT_THROW((void)read_trajectory_csv(bad, "drive.csv", kFrame, kT0), std::runtime_error);
 }
 
 }  // namespace

@@ -73,5 +73,23 @@ TEST(UbxOutput, WidestSolutionCountsEveryMessageOnWithAllSatellites) {
   EXPECT_EQ(widest_solution_ubx_bytes(m.settings(), Port::uart1), 0u);
 }
 
+// What RTK adds to an F9P's epoch: NAV-RELPOSNED (64 + 8) when on, and RXM-RTCM's reports of a
+// base epoch's RTCM3 (10 x (8 + 8)) when on and the port takes RTCM3.
+TEST(UbxOutput, WidestSolutionCountsNavRelposnedAndRxmRtcm) {
+  StartSettings start = nmea_and_pvt();
+  start.model = ReceiverModel::ublox_f9p;
+  ConfigMachine m(start);
+  const std::size_t pvt = widest_solution_ubx_bytes(m.settings(), Port::uart1, ReceiverModel::ublox_f9p);
+  (void)send(m, msg::cfg_msg, unhex("013C 01"));  // NAV-RELPOSNED
+  const std::size_t relpos = widest_solution_ubx_bytes(m.settings(), Port::uart1, ReceiverModel::ublox_f9p);
+  EXPECT_EQ(relpos, pvt + 72);
+  (void)send(m, msg::cfg_msg, unhex("0232 01"));  // RXM-RTCM
+  EXPECT_EQ(widest_solution_ubx_bytes(m.settings(), Port::uart1, ReceiverModel::ublox_f9p),
+            relpos + rtcm_messages_per_solution_budget * 16);
+  // RTCM3 input off on UART1 (CFG-UART1INPROT-RTCM3X): nothing to report.
+  (void)send(m, msg::cfg_valset, test::valset({{0x10730004, 0}}));
+  EXPECT_EQ(widest_solution_ubx_bytes(m.settings(), Port::uart1, ReceiverModel::ublox_f9p), relpos);
+}
+
 }  // namespace
 }  // namespace gpsemu::ubx

@@ -142,5 +142,47 @@ TEST(UbxRtcmInput, NavPvtCarriesCorrectionAgeAndCarrierSolution) {
   EXPECT_EQ((get_u2(pvt->payload, 78) >> 1) & 0x0Fu, 3u);  // lastCorrectionAge 2..5 s
 }
 
+// inProtoMask: a port whose input protocols exclude RTCM3 does not use the frames (no RTK, no
+// RXM-RTCM), counts them ignored; the default has RTCM3 on, as a receiver's does.
+TEST(UbxRtcmInput, RtcmInputOffOnThePortIgnoresTheFramesAndCountsThem) {
+  constexpr std::uint32_t kUart1InprotRtcm3x = 0x10730004, kUsbInprotRtcm3x = 0x10770004;
+  Session session(f9p());
+  session.client_wrote(frame_bytes(msg::cfg_msg, test::unhex("0232 01")));  // RXM-RTCM on
+  session.client_wrote(frame_bytes(msg::cfg_valset, test::valset({{kUart1InprotRtcm3x, 0}})));
+  const auto acks = test::frames_in(session.take_reply());
+  ASSERT_EQ(acks.size(), 2u);
+  EXPECT_EQ(acks[1].id, msg::ack_ack);
+  session.client_wrote(corrections());
+  EXPECT_TRUE(session.take_reply().empty());  // no RXM-RTCM
+  EXPECT_TRUE(session.take_rtcm().empty());
+  EXPECT_EQ(session.stats().rtcm_ignored, 4u);
+  EXPECT_EQ(session.reader_stats().rtcm_ok, 4u);  // whole frames, read and set aside
+  // Another port's key changes nothing here; turning UART1's back on restores the input.
+  session.client_wrote(frame_bytes(msg::cfg_valset, test::valset({{kUsbInprotRtcm3x, 1}})));
+  session.client_wrote(corrections());
+  EXPECT_TRUE(session.take_rtcm().empty());
+  session.client_wrote(frame_bytes(msg::cfg_valset, test::valset({{kUart1InprotRtcm3x, 1}})));
+  (void)session.take_reply();
+  session.client_wrote(corrections());
+  EXPECT_EQ(session.take_rtcm().size(), 4u);
+  EXPECT_EQ(session.stats().rtcm_ignored, 8u);
+}
+
+TEST(UbxRtcmInput, AnM8CfgPrtWithoutBit5IgnoresRtcm3) {
+  SessionSettings s;
+  s.start.model = ReceiverModel::ublox_m8n;
+  Session session(s);
+  session.client_wrote(corrections());
+  EXPECT_EQ(session.take_rtcm().size(), 4u);  // the default inProtoMask has RTCM3 (bit 5)
+  // CFG-PRT UART1: 9600 8N1, inProtoMask UBX+NMEA (0x0003), outProtoMask UBX+NMEA.
+  session.client_wrote(frame_bytes(msg::cfg_prt, test::unhex("01 00 0000 C0080000 80250000 0300 0300 0000 0000")));
+  const auto acks = test::frames_in(session.take_reply());
+  ASSERT_EQ(acks.size(), 1u);
+  EXPECT_EQ(acks[0].id, msg::ack_ack);
+  session.client_wrote(corrections());
+  EXPECT_TRUE(session.take_rtcm().empty());
+  EXPECT_EQ(session.stats().rtcm_ignored, 4u);
+}
+
 }  // namespace
 }  // namespace gpsemu::ubx
