@@ -325,7 +325,7 @@ TEST(ReceiverOptionsConfig, LineBudgetOfTheConfiguredRun) {
   EXPECT_EQ(nmea::smallest_standard_baud(b10), 230400);
   EXPECT_FALSE(b10.fits(115200));
   const nmea::LineBudget gga_rmc = line_budget_of({{"rate", {"10"}}, {"sentences", {"GGA,RMC"}}});
-  EXPECT_EQ(gga_rmc.bytes_per_epoch, 159u);  // GGA's widest altitude -12345.6 m
+  EXPECT_EQ(gga_rmc.bytes_per_epoch, 168u);  // GGA's widest altitude -12345.6 m, RTK age and station
   EXPECT_EQ(nmea::smallest_standard_baud(gga_rmc), 19200);
 }
 
