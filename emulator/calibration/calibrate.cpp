@@ -48,10 +48,11 @@ std::string Calibration::CompositeChoice::describe() const {
 std::array<AxisStats, 3> simulated_stats(const noise::NoiseConfig& config, const EnuSeries& series,
                                          std::size_t window, std::uint64_t seed, int runs,
                                          std::array<std::vector<double>, 3>* first_run,
-                                         std::array<std::vector<AxisStats>, 3>* per_run) {
+                                         std::array<std::vector<AxisStats>, 3>* per_run,
+                                         const StaticHoldOptions& hold) {
   std::array<std::vector<AxisStats>, 3> per_axis;
   for (int r = 0; r < runs; ++r) {
-    auto x = simulate(config, series, seed + static_cast<std::uint64_t>(r));
+    auto x = simulate(config, series, seed + static_cast<std::uint64_t>(r), hold);
     const auto s = measure_all(x, series.rate_hz, window);
     for (std::size_t a = 0; a < 3; ++a) per_axis[a].push_back(s[a]);
     if (r == 0 && first_run) *first_run = std::move(x);
@@ -184,15 +185,19 @@ Calibration calibrate(ReceiverLog log, const CalibrateOptions& options) {
       configs.pop_back();
     c.notes.push_back(fmt::format("composite with a cgrw smooth part not fitted: {}", e.what()));
   }
-  for (const noise::NoiseConfig& config : configs) {
-    ModelResult r;
-    r.config = config;
+  // Each model's median, 10th and 90th percentile over the runs and its score, simulated through `hold`.
+  const auto run_model = [&](ModelResult& r, const StaticHoldOptions& hold) {
     std::array<std::vector<AxisStats>, 3> runs;
-    (void)simulated_stats(config, s, c.window_samples, options.seed, options.runs, &r.first_run_m, &runs);
+    (void)simulated_stats(r.config, s, c.window_samples, options.seed, options.runs, &r.first_run_m, &runs, hold);
     for (std::size_t a = 0; a < 3; ++a)
       r.stats[a] = quantile_stats(runs[a], 0.5), r.low[a] = quantile_stats(runs[a], 0.1),
       r.high[a] = quantile_stats(runs[a], 0.9);
     r.score = score(c.real, r.stats);
+  };
+  for (const noise::NoiseConfig& config : configs) {
+    ModelResult r;
+    r.config = config;
+    run_model(r, {});
     c.models.push_back(std::move(r));
   }
   // Keep the better composite (the same score as every model), say which and both scores.
@@ -208,6 +213,43 @@ Calibration calibrate(ReceiverLog log, const CalibrateOptions& options) {
   for (std::size_t i = 1; i < c.models.size(); ++i)
     if (c.models[i].score < c.models[c.best].score) c.best = i;
   c.hold = fit_hold(s, c.models[c.best].config, options.seed, options.runs);
+  if (c.hold.hold.enabled()) {
+    // What the emulator runs with the calibrated config: the composite refitted through the hold
+    // (the one written: gauss-markov-2 smooth part), the hold fitted again if it is the best, and
+    // every model simulated through the hold and scored again (issue 27: compare and judge
+    // simulated without it, and a smooth wander through the hold has larger steps than without).
+    const auto composite = std::find_if(c.models.begin(), c.models.end(), [](const ModelResult& m) {
+      return m.config.model == noise::Model::composite;
+    });
+    ModelResult unheld_fit;  // the composite fitted without the hold, kept if it scores better through it
+    noise::NoiseConfig unheld_gm2;
+    if (composite != c.models.end()) {
+      unheld_fit = *composite, unheld_gm2 = c.composite.gm2;
+      std::vector<std::string> held_notes;
+      composite->config = c.composite.gm2 = fit_composite(s, c.real, c.window_samples, &held_notes, c.hold.hold);
+      for (const std::string& note : held_notes) c.notes.push_back("through the static hold: " + note);
+      if (composite - c.models.begin() == static_cast<std::ptrdiff_t>(c.best))
+        c.hold = fit_hold(s, composite->config, options.seed, options.runs);
+    }
+    const std::string fitted_for = model_label(c.models[c.best].config);
+    for (ModelResult& r : c.models) run_model(r, c.hold.hold);
+    if (composite != c.models.end()) {
+      run_model(unheld_fit, c.hold.hold);
+      const bool keep_unheld = unheld_fit.score < composite->score;
+      c.notes.push_back(fmt::format("composite through the static hold: fitted through it {:.3f}, fitted without it "
+                                    "{:.3f}: {} kept", composite->score, unheld_fit.score,
+                                    keep_unheld ? "the fit without it" : "the fit through it"));
+      if (keep_unheld)
+        *composite = std::move(unheld_fit), c.composite.gm2 = unheld_gm2;
+      else
+        c.composite.smooth = "gauss-markov-2";
+    }
+    c.best = 0;
+    for (std::size_t i = 1; i < c.models.size(); ++i)
+      if (c.models[i].score < c.models[c.best].score) c.best = i;
+    c.notes.push_back(fmt::format("every model simulated through the static hold (radius {:.4g} m, fitted for {}) "
+                                  "for its statistics and score", c.hold.hold.radius_m, fitted_for));
+  }
   return c;
 }
 

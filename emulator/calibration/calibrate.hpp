@@ -101,12 +101,13 @@ struct Calibration {
 [[nodiscard]] std::string config_toml(const Calibration& c, const std::string& log_name);
 
 /// The statistics of `config` simulated `runs` times (seeds seed, seed + 1, ...) at the series'
-/// epochs and resolution (simulate), averaged; `first_run` (if given) gets the first run's series,
-/// `per_run` (if given) each run's statistics.
+/// epochs and resolution (simulate, through `hold` when enabled), averaged; `first_run` (if given)
+/// gets the first run's series, `per_run` (if given) each run's statistics.
 [[nodiscard]] std::array<AxisStats, 3> simulated_stats(const noise::NoiseConfig& config, const EnuSeries& series,
                                                        std::size_t window, std::uint64_t seed, int runs,
                                                        std::array<std::vector<double>, 3>* first_run,
-                                                       std::array<std::vector<AxisStats>, 3>* per_run = nullptr);
+                                                       std::array<std::vector<AxisStats>, 3>* per_run = nullptr,
+                                                       const StaticHoldOptions& hold = {});
 
 /// The name a model is shown under: its noise name, "gauss-markov-2" for the second order.
 [[nodiscard]] std::string model_label(const noise::NoiseConfig& config);

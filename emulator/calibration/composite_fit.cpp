@@ -46,6 +46,16 @@ noise::CompositeAxis find_jumps(const std::vector<double>& x, double rate_hz, do
   return a;
 }
 
+// The mean over `runs` simulations of each statistic, each through `hold`. (Fitting the median over
+// the runs instead, what the score compares, was tried in issue 27: on the drift-dominated Telit
+// HE910 the bounded slow parameters could not raise the median of its seeds to the log's sd and the
+// compromise left the median over other seeds 34% low in east sd; fitted to the mean, the median
+// over seeds 1..32 is within 10%.)
+std::array<AxisStats, 3> fit_stats(const noise::NoiseConfig& c, const EnuSeries& s, std::size_t window,
+                                   std::uint64_t seed, int runs, const StaticHoldOptions& hold) {
+  return simulated_stats(c, s, window, seed, runs, nullptr, nullptr, hold);
+}
+
 double log_error(double model, double real) {
   return real > 0.0 && model > 0.0 ? std::abs(std::log(model / real)) : (real == model ? 0.0 : 1.0);
 }
@@ -72,6 +82,9 @@ noise::NoiseConfig composite_start(const EnuSeries& s, const std::array<AxisStat
   return c;
 }
 
+// The refit stops once the simulated sd, first- and second-difference sd are all this close (|ln ratio|).
+constexpr double kRefitClose = 0.015;
+
 double ratio_clamped(double want, double got) { return got > 0.0 ? std::clamp(want / got, 0.5, 2.0) : 2.0; }
 
 // Refits the smooth part and the jitter together against the rounded simulation (enough runs
@@ -83,18 +96,22 @@ double ratio_clamped(double want, double got) { return got > 0.0 ? std::clamp(wa
 // do not follow from those three as a gauss-markov's do).
 template <class Adjust>
 noise::NoiseConfig refit_composite(noise::NoiseConfig c, const EnuSeries& s, const std::array<AxisStats, 3>& real,
-                                   std::size_t window, int iterations, bool whole_score, Adjust adjust) {
+                                   std::size_t window, int iterations, bool whole_score, Adjust adjust,
+                                   const StaticHoldOptions& hold = {}) {
   const int runs = static_cast<int>(std::clamp<std::size_t>(400000 / std::max<std::size_t>(s.size(), 1), 8, 32));
   noise::NoiseConfig best = c;
   double best_error = std::numeric_limits<double>::infinity();
   for (int iteration = 0; iteration < iterations; ++iteration) {
-    const auto sim = simulated_stats(c, s, window, 0x636f6d70ULL, runs, nullptr);
-    double error = 0.0;
+    const auto sim = fit_stats(c, s, window, 0x636f6d70ULL, runs, hold);
+    double error = 0.0, worst = 0.0;
     for (std::size_t a = 0; a < 3; ++a)
-      error += log_error(sim[a].sd_m, real[a].sd_m) + log_error(sim[a].d1_sd_m, real[a].d1_sd_m) +
-               log_error(sim[a].d2_sd_m, real[a].d2_sd_m);
+      for (const double e : {log_error(sim[a].sd_m, real[a].sd_m), log_error(sim[a].d1_sd_m, real[a].d1_sd_m),
+                             log_error(sim[a].d2_sd_m, real[a].d2_sd_m)})
+        error += e, worst = std::max(worst, e);
     if (whole_score) error = score(real, sim);
     if (error < best_error) best_error = error, best = c;
+    // Close enough: the runs' own spread is wider than that (and each iteration costs `runs` simulations).
+    if (!whole_score && worst < kRefitClose) break;
     for (std::size_t a = 0; a < 3; ++a) {
       if (!(real[a].sd_m > 0.0)) continue;
       auto& jitter = c.composite.axes[a].jitter_sigma_m;
@@ -199,10 +216,11 @@ std::vector<SlowChoice> choose_slow(const AxisStats& real, const AxisStats& fast
 // `c` itself included. Notes what was fitted and what hit a bound.
 template <class Refit>
 noise::NoiseConfig with_slow_part(const noise::NoiseConfig& c, const EnuSeries& s, const std::array<AxisStats, 3>& real,
-                                  std::size_t window, std::vector<std::string>* notes, Refit refit) {
+                                  std::size_t window, std::vector<std::string>* notes, Refit refit,
+                                  const StaticHoldOptions& hold = {}) {
   constexpr std::size_t kCandidates = 3;
   const int runs = static_cast<int>(std::clamp<std::size_t>(400000 / std::max<std::size_t>(s.size(), 1), 8, 32));
-  const auto fast = simulated_stats(c, s, window, 0x736c6f77ULL, runs, nullptr);
+  const auto fast = fit_stats(c, s, window, 0x736c6f77ULL, runs, hold);
   std::array<std::vector<SlowChoice>, 2> choices;
   for (std::size_t a = 0; a < 2; ++a)  // horizontal axes: the vertical keeps its fit
     choices[a] = choose_slow(real[a], fast[a], s.size(), s.rate_hz, kCandidates,
@@ -228,7 +246,7 @@ noise::NoiseConfig with_slow_part(const noise::NoiseConfig& c, const EnuSeries& 
     }
     if (parts.empty()) break;
     slow = refit(slow, fast_share);
-    const auto sim_slow = simulated_stats(slow, s, window, 0x736c6f77ULL, runs, nullptr);
+    const auto sim_slow = fit_stats(slow, s, window, 0x736c6f77ULL, runs, hold);
     const double with = score(real, sim_slow);
     if (with < best_score) best_score = with, best = slow, best_parts = parts;
   }
@@ -264,7 +282,7 @@ void note_smooth_bounds(const noise::NoiseConfig& c, const EnuSeries& s, const s
 }  // namespace
 
 noise::NoiseConfig fit_composite(const EnuSeries& s, const std::array<AxisStats, 3>& real, std::size_t window,
-                                 std::vector<std::string>* notes) {
+                                 std::vector<std::string>* notes, const StaticHoldOptions& hold) {
   noise::NoiseConfig c = composite_start(s, real);
   std::array<double, 3> sd_target{}, d1_target{};
   const double max_tau_s = kCompositeMaxTauInLogs * s.duration_s();
@@ -285,14 +303,14 @@ noise::NoiseConfig fit_composite(const EnuSeries& s, const std::array<AxisStats,
   };
   for (std::size_t a = 0; a < 3; ++a)
     if (real[a].sd_m > 0.0) sd_target[a] = real[a].sd_m, d1_target[a] = real[a].d1_sd_m, smooth(a, c);
-  c = refit_composite(c, s, real, window, 8, false, adjust);
+  c = refit_composite(c, s, real, window, 8, false, adjust, hold);
   const std::array<double, 3> sd_fast = sd_target, d1_fast = d1_target;
   noise::NoiseConfig out = with_slow_part(c, s, real, window, notes, [&](noise::NoiseConfig k, const std::array<double, 3>& fast) {
     share = fast;
     for (std::size_t a = 0; a < 3; ++a)
       if (real[a].sd_m > 0.0) sd_target[a] = std::sqrt(fast[a]) * sd_fast[a], d1_target[a] = d1_fast[a], smooth(a, k);
-    return refit_composite(k, s, real, window, 8, false, adjust);
-  });
+    return refit_composite(k, s, real, window, 8, false, adjust, hold);
+  }, hold);
   note_smooth_bounds(out, s, real, notes);
   return out;
 }

@@ -161,7 +161,7 @@ Judgement judge(const Calibration& c, double sigma_m, int runs, std::uint64_t se
     const std::string name = model_label(m.config);
     std::vector<FilterScore> all;
     for (int r = 0; r < runs; ++r) {
-      const auto x = simulate(m.config, s, seed + static_cast<std::uint64_t>(r));
+      const auto x = simulate(m.config, s, seed + static_cast<std::uint64_t>(r), c.hold.hold);
       FilterScore f = run_cv_filter(x[0], x[1], s.rate_hz, sigma_m);
       j.model_nis[name].push_back(std::move(f.nis));
       f.nis.clear();

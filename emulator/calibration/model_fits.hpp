@@ -15,6 +15,7 @@
 #include "emulator/calibration/series_stats.hpp"
 #include "emulator/model/noise/cgrw_fit.hpp"
 #include "emulator/model/noise/noise_model.hpp"
+#include "emulator/model/static_hold.hpp"
 
 namespace gpsemu::calibration {
 
@@ -76,9 +77,13 @@ inline constexpr const char* kAxisNames[3] = {"east", "north", "up"};
 /// constant at most 4 times the log's length, every standard deviation at most 5 times the log's
 /// (a drift-dominated log shows only a small share of a slow process's variance: tighter bounds
 /// miss the Telit HE910's east sd by 31%). `notes` (if given)
-/// gets what was fitted and every parameter that hit a bound.
+/// gets what was fitted and every parameter that hit a bound. Every simulation of the fit goes
+/// through `hold` when it is enabled (a held log's noise is fitted to what the emulator writes
+/// through its static hold, which concentrates a smooth wander's steps into fewer, larger ones).
+/// The fit matches the mean over simulated runs of the log's length.
 [[nodiscard]] noise::NoiseConfig fit_composite(const EnuSeries& series, const std::array<AxisStats, 3>& real,
-                                               std::size_t window, std::vector<std::string>* notes = nullptr);
+                                               std::size_t window, std::vector<std::string>* notes = nullptr,
+                                               const StaticHoldOptions& hold = {});
 /// Composite time constants and standard deviations stay within these multiples of the log's
 /// length and standard deviation (bounded extrapolation).
 inline constexpr double kCompositeMaxTauInLogs = 4.0;

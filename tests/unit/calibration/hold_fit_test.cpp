@@ -3,6 +3,7 @@
 // radius; a log without hold gets none; the keys written load into the emulator's configuration.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -71,6 +72,28 @@ TEST(HoldFit, HeldLogGivesBackItsRepeatedShareAndRadius) {
   EXPECT_DOUBLE_EQ(config.receiver().model.hold.max_speed_mps, kCalibratedHoldSpeed_mps);
   EXPECT_EQ(config.receiver().format.alt_decimals, 2);
   EXPECT_NE(hold_summary(f).find("hold radius"), std::string::npos) << hold_summary(f);
+}
+
+// compare and judge simulate what the emulator runs with the calibrated config: every model through
+// the fitted hold, so the best model's runs repeat about as often as the log (without the hold they
+// hardly ever do at 6 decimals), and the composite is refitted through it.
+TEST(HoldFit, CalibrationSimulatesEveryModelThroughTheFittedHold) {
+  CalibrateOptions options;
+  options.runs = 8;
+  const Calibration c = calibrate(read_receiver_log(held_log(smooth_noise(), 0.15, 2, 150)), options);
+  ASSERT_TRUE(c.hold.hold.enabled());
+  EXPECT_LT(c.hold.model_share, 0.05);
+  for (const ModelResult& m : c.models) {
+    const double share = repeat_share(m.first_run_m);
+    if (&m == &c.models[c.best]) {
+      EXPECT_NEAR(share, c.hold.real_share, 0.2) << model_label(m.config);
+    }
+    EXPECT_GT(share, 0.1) << model_label(m.config);
+  }
+  const auto note = std::find_if(c.notes.begin(), c.notes.end(), [](const std::string& n) {
+    return n.find("every model simulated through the static hold") != std::string::npos;
+  });
+  EXPECT_NE(note, c.notes.end());
 }
 
 TEST(HoldFit, LogWithoutHoldGetsNone) {
