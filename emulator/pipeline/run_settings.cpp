@@ -62,9 +62,11 @@ std::optional<ubx::SessionSettings> ubx_settings(const ReceiverSettings& receive
 }
 
 // The widest epoch of a receiver's protocols: its NMEA sentences, or the u-blox port's at start.
-std::size_t widest_epoch_bytes(const nmea::FormatOptions& format, const std::optional<ubx::SessionSettings>& ubx) {
-  if (!ubx) return worst_case_epoch_bytes(format);
-  return widest_ubx_epoch_bytes(format, ubx::start_settings(ubx->start), ubx->start.port, ubx->start.model);
+// Sized on the model's worst case by system (each system its own GSV group and GSA).
+std::size_t widest_epoch_bytes(const nmea::FormatOptions& format, const Geometry& sky,
+                               const std::optional<ubx::SessionSettings>& ubx) {
+  if (!ubx) return worst_case_epoch_bytes(format, sky.in_view_by_system, sky.satellites_used);
+  return widest_ubx_epoch_bytes(format, ubx::start_settings(ubx->start), ubx->start.port, ubx->start.model, sky);
 }
 
 }  // namespace
@@ -111,7 +113,9 @@ ReceiverSetup receiver_setup(const ReceiverSettings& receiver, const TimelineSet
                .tee = receiver.tee,
                .realtime = !timeline.fast(),
                .rate_hz = timeline.rate_hz,
-               .widest_epoch_bytes = [format = receiver.format, ubx = r.channel.ubx] { return widest_epoch_bytes(format, ubx); }};
+               .widest_epoch_bytes = [format = receiver.format, sky = resolve_geometry(options), ubx = r.channel.ubx] {
+                   return widest_epoch_bytes(format, sky, ubx);
+                 }};
   r.sim_source = receiver.source.kind == sources::SourceKind::sim;
   r.source_text = receiver.source.text;
   r.make_source = [receiver, timeline](const LocalFrame& frame, UtcNs first_epoch) {

@@ -9,8 +9,9 @@
 
 namespace gpsemu {
 
-std::size_t worst_case_epoch_bytes(const nmea::FormatOptions& format, int satellites_in_view) {
-  return nmea::line_budget(format, satellites_in_view, 12, 1.0).bytes_per_epoch;
+std::size_t worst_case_epoch_bytes(const nmea::FormatOptions& format,
+                                   std::span<const nmea::SystemSatellites> in_view_by_system, int satellites_used) {
+  return nmea::line_budget(format, in_view_by_system, satellites_used, 1.0).bytes_per_epoch;
 }
 
 void check_serial_line_budget(const transport::OutputSpec& spec, std::size_t epoch_bytes, double rate_hz) {

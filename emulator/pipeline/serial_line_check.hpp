@@ -5,18 +5,20 @@
 #pragma once
 
 #include <cstddef>
+#include <span>
 
 #include "nmea/fix.hpp"
+#include "nmea/line_budget.hpp"
 #include "transport/output_spec.hpp"
 
 namespace gpsemu {
 
-/// Satellites in view assumed for the worst-case epoch (GSV lists them, four a sentence), 12 used.
-inline constexpr int kBudgetSatellitesInView = 20;
-
-/// Bytes of the widest epoch `format` produces with `satellites_in_view` satellites, 12 used.
+/// Bytes of the widest epoch `format` produces for the satellites `in_view_by_system` (each system
+/// in its own GSV group and GSA, as the writer lists them: the model's worst case of
+/// resolve_geometry, Geometry::in_view_by_system), the first `satellites_used` of them used.
 [[nodiscard]] std::size_t worst_case_epoch_bytes(const nmea::FormatOptions& format,
-                                                 int satellites_in_view = kBudgetSatellitesInView);
+                                                 std::span<const nmea::SystemSatellites> in_view_by_system,
+                                                 int satellites_used);
 
 /// For a serial output: throws std::runtime_error naming the spec, the bytes per second needed
 /// and available, a standard baud that fits and the highest rate that fits at this baud, when

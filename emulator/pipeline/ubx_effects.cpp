@@ -67,14 +67,14 @@ void change_period(const Channel& channel, ReceiverSchedule& schedule, std::chro
 }  // namespace
 
 std::size_t widest_ubx_epoch_bytes(const nmea::FormatOptions& format, const ubx::Settings& settings, ubx::Port port,
-                                   ubx::ReceiverModel model) {
+                                   ubx::ReceiverModel model, const Geometry& sky) {
   nmea::FormatOptions nmea_part = format;
   nmea_part.sentences = {};
   for (const nmea::SentenceType type : nmea::all_sentence_types) {
     const auto id = ubx::nmea_message(type);
     if (id && settings.rate(*id, port) > 0) nmea_part.sentences.insert(type);
   }
-  const std::size_t nmea_bytes = nmea_part.sentences.empty() ? 0 : worst_case_epoch_bytes(nmea_part);
+  const std::size_t nmea_bytes = nmea_part.sentences.empty() ? 0 : worst_case_epoch_bytes(nmea_part, sky.in_view_by_system, sky.satellites_used);
   return nmea_bytes + ubx::widest_solution_ubx_bytes(settings, port, model);
 }
 
@@ -82,7 +82,8 @@ std::size_t widest_ubx_epoch_bytes(const Channel& channel) {
   const UbxEncoder* ubx = channel.ubx_encoder();
   if (!ubx) return 0;
   const ubx::ConfigMachine& machine = ubx->session().machine();
-  return widest_ubx_epoch_bytes(channel.settings().format, machine.settings(), machine.port(), machine.model());
+  return widest_ubx_epoch_bytes(channel.settings().format, machine.settings(), machine.port(), machine.model(),
+                                resolve_geometry(channel.settings().receiver));
 }
 
 UbxLine ubx_line_of(const std::vector<std::unique_ptr<transport::Output>>& outputs) {

@@ -37,9 +37,10 @@
 namespace gpsemu {
 
 /// The widest epoch of a u-blox port with `settings`: the NMEA sentences on for `port` (written as
-/// `format` says), then the UBX messages on.
+/// `format` says, for the satellites of `sky`: resolve_geometry's worst case by system), then the
+/// UBX messages on.
 [[nodiscard]] std::size_t widest_ubx_epoch_bytes(const nmea::FormatOptions& format, const ubx::Settings& settings,
-                                                 ubx::Port port, ubx::ReceiverModel model);
+                                                 ubx::Port port, ubx::ReceiverModel model, const Geometry& sky);
 /// The widest epoch of `channel`'s u-blox port now (0 for an NMEA channel).
 [[nodiscard]] std::size_t widest_ubx_epoch_bytes(const Channel& channel);
 

@@ -162,7 +162,7 @@ TEST(UbxRate, ABaudTooSlowForTheEpochDropsWholeMessagesAndTheSummaryCountsThem) 
   test::SocatPair pair(dir / "A", dir / "B");
   const int fd = test::open_raw(pair.b());
   test::Process gpsemu({GPSEMU_BINARY, "--protocol", "nmea+ubx", "--receiver", "ublox-m8n", "--rate", "10",
-                        "--output", "serial:" + pair.a().string() + "@115200", "--duration", "5", "--log-level",
+                        "--output", "serial:" + pair.a().string() + "@230400", "--duration", "5", "--log-level",
                         "info"});
   ASSERT_TRUE(gpsemu.wait_for_stderr("NMEA+UBX on", seconds(20))) << gpsemu.stderr_text();
   const std::string banner = gpsemu.stderr_text();
