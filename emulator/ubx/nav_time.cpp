@@ -1,5 +1,7 @@
 // NAV-TIMELS (see nav.hpp). Layout: u-blox's interface descriptions (M8 protocol 18, F9 HPG 1.32).
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 
 #include "emulator/ubx/bytes.hpp"
 #include "emulator/ubx/nav.hpp"
@@ -34,7 +36,9 @@ std::string nav_timels(const nmea::Fix& fix, const NavExtras& extras) {
   put_i1(p, leap.gps_minus_utc_s);  // currLs: the firmware's default until it is known
   put_u1(p, known ? kSourceGps : 0);
   put_i1(p, known ? leap.change_s : 0);  // lsChange: +1 / -1 announced, 0 none
-  put_i4(p, known && leap.event_day ? static_cast<std::int32_t>(leap.time_to_event_s) : 0);  // timeToLsEvent (s)
+  // timeToLsEvent (s), held within its 32 bits for an event centuries away
+  const std::int64_t to_event_s = std::clamp<std::int64_t>(leap.time_to_event_s, INT32_MIN, INT32_MAX);
+  put_i4(p, known && leap.event_day ? static_cast<std::int32_t>(to_event_s) : 0);
   put_u2(p, known ? week : 0);
   put_u2(p, known ? day : 0);
   put_zeros(p, 3);

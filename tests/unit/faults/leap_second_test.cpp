@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -132,6 +133,10 @@ TEST(LeapSecondFault, UbxTimeMessagesCarrySecond60AndTheNewCount) {
   EXPECT_EQ(static_cast<std::int8_t>(ubx::get_u1(ls_default, 9)), 18);
   EXPECT_EQ(static_cast<std::int8_t>(ubx::get_u1(ls_default, 11)), 0);
   EXPECT_EQ(ubx::get_u2(ls_default, 16), 1929);
+  // An event centuries away: timeToLsEvent held at its 32-bit limit, not wrapped.
+  nmea::Fix far = before;
+  far.leap.time_to_event_s = 60'000'000'000;
+  EXPECT_EQ(ubx::get_i4(ubx::nav_timels(far, extras), 12), INT32_MAX);
   // A receiver that does not know UTC yet: nothing valid, nothing announced.
   ubx::NavExtras cold;
   cold.time.resolved = false;
