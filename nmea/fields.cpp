@@ -102,13 +102,13 @@ char* put_longitude(char* p, double lon_deg, int minute_decimals) {
   return put_coordinate(p, wrap_longitude(lon_deg), minute_decimals, 3, 'E', 'W');
 }
 
-char* put_time_of_day(char* p, UtcTime time_utc, int decimals) {
+char* put_time_of_day(char* p, UtcTime time_utc, int decimals, bool second_60) {
   constexpr std::int64_t ms_per_day = 86'400'000;
   std::int64_t ms = time_utc.time_since_epoch().count() % ms_per_day;  // of the day
   if (ms < 0) ms += ms_per_day;
   p = text::put_digits(p, static_cast<std::uint64_t>(ms / 3'600'000), 2);
   p = text::put_digits(p, static_cast<std::uint64_t>(ms / 60'000 % 60), 2);
-  p = text::put_digits(p, static_cast<std::uint64_t>(ms / 1000 % 60), 2);
+  p = text::put_digits(p, static_cast<std::uint64_t>(ms / 1000 % 60 + (second_60 ? 1 : 0)), 2);
   const int digits = std::clamp(decimals, 0, 3);
   if (digits > 0) {
     *p++ = '.';
@@ -117,9 +117,9 @@ char* put_time_of_day(char* p, UtcTime time_utc, int decimals) {
   return p;
 }
 
-std::string format_time_of_day(UtcTime time_utc, int decimals) {
+std::string format_time_of_day(UtcTime time_utc, int decimals, bool second_60) {
   char text[16];
-  return std::string(text, put_time_of_day(text, time_utc, decimals));
+  return std::string(text, put_time_of_day(text, time_utc, decimals, second_60));
 }
 
 char* put_date_ddmmyy(char* p, UtcTime time_utc) {

@@ -38,8 +38,9 @@ struct CoordinateFields {
 
 /// UTC time of day "hhmmss", plus "." and `decimals` (clamped to 0..3) digits of the second when
 /// `decimals` > 0. Digits are truncated from the milliseconds, never rounded: 23:59:59.999 with two
-/// decimals is "235959.99".
-[[nodiscard]] std::string format_time_of_day(UtcTime time_utc, int decimals);
+/// decimals is "235959.99". `second_60`: inside an inserted leap second, `time_utc` the second
+/// before it: 23:59:59.5 is written "235960.50".
+[[nodiscard]] std::string format_time_of_day(UtcTime time_utc, int decimals, bool second_60 = false);
 
 /// UTC date "ddmmyy" (two-digit year).
 [[nodiscard]] std::string format_date_ddmmyy(UtcTime time_utc);
@@ -55,8 +56,8 @@ inline constexpr std::size_t max_coordinate_chars = 16;
 char* put_latitude(char* p, double lat_deg, int minute_decimals);
 /// Writes format_longitude's value and hemisphere joined by a comma ("00833.91590,E"); "," when empty.
 char* put_longitude(char* p, double lon_deg, int minute_decimals);
-/// Writes format_time_of_day(time_utc, decimals): at most 10 characters.
-char* put_time_of_day(char* p, UtcTime time_utc, int decimals);
+/// Writes format_time_of_day(time_utc, decimals, second_60): at most 10 characters.
+char* put_time_of_day(char* p, UtcTime time_utc, int decimals, bool second_60 = false);
 /// Writes format_date_ddmmyy(time_utc): 6 characters.
 char* put_date_ddmmyy(char* p, UtcTime time_utc);
 /// Writes `value` (finite) rounded half away from zero to `digits` (0..8) decimals, as

@@ -48,6 +48,22 @@ struct SatelliteInView {
   int sv_id = 0;  ///< the system's own satellite number (GPS PRN 1..32, SBAS 120..158, Galileo 1..36, BeiDou 1..63, QZSS 1..10, GLONASS slot 1..32)
 };
 
+/// UTC's leap seconds as a receiver knows them (the GPS navigation message's UTC parameters).
+/// The NMEA time fields read only `in_second_60`; UBX's GPS times (iTOW, week), NAV-TIMEGPS leapS
+/// and NAV-TIMELS read the rest. The defaults: 18 s since 2017-01-01, no change announced.
+struct LeapSeconds {
+  int gps_minus_utc_s = 18;  ///< GPS time minus UTC (seconds)
+  /// Inside an inserted leap second: `Fix::time_utc` is the second before it (23:59:59.sss of the
+  /// old day) and every time field shows second 60 (23:59:60.sss), the date still the old day.
+  bool in_second_60 = false;
+  int change_s = 0;  ///< a change announced: +1 a second inserted, -1 one deleted, 0 none
+  /// The UTC day at whose end the announced (or, after it, the last) leap second is; empty: the
+  /// receiver's default (the end of 2016-12-31).
+  std::optional<std::chrono::sys_days> event_day;
+  /// Seconds to the event (> 0 to come, 0 now: during second 60, < 0 since); with `event_day`.
+  std::int64_t time_to_event_s = 0;
+};
+
 /// One epoch of receiver output. When `quality == FixQuality::none` only `time_utc` is
 /// meaningful and formatters leave every position, speed and accuracy field empty.
 struct Fix {
@@ -80,6 +96,9 @@ struct Fix {
   /// False while the receiver does not know the time (a cold start before its first satellite):
   /// time and date fields are written empty, as a u-blox does.
   bool time_valid = true;
+
+  /// The leap seconds it reports (a `time` fault's leap second sets these).
+  LeapSeconds leap{};
 
   /// Age of the differential corrections (seconds), GGA field 13; empty without corrections.
   std::optional<double> diff_age_s;

@@ -170,7 +170,9 @@ char mode_indicator(FixQuality quality) {
 EpochFields epoch_fields(const Fix& fix, const FormatOptions& options, bool with_date) {
   EpochFields out;
   if (!fix.time_valid) return out;  // no time, so no date and no position either
-  set_field(out.time, [&](char* p) { return fields::put_time_of_day(p, fix.time_utc, options.time_decimals); });
+  set_field(out.time, [&](char* p) {
+    return fields::put_time_of_day(p, fix.time_utc, options.time_decimals, fix.leap.in_second_60);
+  });
   if (with_date) set_field(out.date, [&](char* p) { return fields::put_date_ddmmyy(p, fix.time_utc); });
   if (fix.has_fix()) {
     set_field(out.latitude, [&](char* p) { return fields::put_latitude(p, fix.lat_deg, options.minute_decimals); });

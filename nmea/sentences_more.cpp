@@ -22,13 +22,14 @@ std::string format_zda(const Fix& fix, const FormatOptions& options) {
   if (!fix.time_valid) return frame(fmt::format("{}ZDA,,,,,00,00", options.talker));
   const year_month_day date{floor<days>(fix.time_utc)};
   return frame(fmt::format("{}ZDA,{},{:02},{:02},{:04},00,00", options.talker,
-                           fields::format_time_of_day(fix.time_utc, options.time_decimals),
+                           fields::format_time_of_day(fix.time_utc, options.time_decimals, fix.leap.in_second_60),
                            static_cast<unsigned>(date.day()), static_cast<unsigned>(date.month()),
                            static_cast<int>(date.year())));
 }
 
 std::string format_gst(const Fix& fix, const FormatOptions& options) {
-  const std::string time = fix.time_valid ? fields::format_time_of_day(fix.time_utc, options.time_decimals) : "";
+  const std::string time =
+      fix.time_valid ? fields::format_time_of_day(fix.time_utc, options.time_decimals, fix.leap.in_second_60) : "";
   if (!fix.has_fix()) return frame(fmt::format("{}GST,{},,,,,,,", options.talker, time));
   const double major_m = std::fmax(fix.sigma_lat_m, fix.sigma_lon_m);
   const double minor_m = std::fmin(fix.sigma_lat_m, fix.sigma_lon_m);

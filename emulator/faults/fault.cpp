@@ -39,7 +39,7 @@ std::set<std::string_view> parameters_of(FaultKind kind) {
     case FaultKind::sky_mask: return {"mask"};
     case FaultKind::spoof:
       return {"speed_mps", "bearing_deg", "east_m", "north_m", "up_m", "ramp_s", "time_drift_ms_per_s", "detected"};
-    case FaultKind::time: return {"mode", "jump_s"};
+    case FaultKind::time: return {"mode", "jump_s", "leap_utc"};
     case FaultKind::reset: return {"silent_s", "ttff_s"};
     case FaultKind::garble: return {"rate"};
     case FaultKind::latency: return {"delay_ms", "jitter_ms"};
@@ -113,6 +113,25 @@ std::vector<SkyMaskSector> parse_fault_mask(const std::string& text) {
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(fmt::format("mask: {} (presets: urban-canyon, tree-line, tunnel-entry)", e.what()));
   }
+}
+
+/// The day a leap second ends: `text` is the inserted second, "YYYY-MM-DDT23:59:60Z".
+std::chrono::sys_days parse_leap_second(const std::string& text) {
+  constexpr std::string_view kSecond60 = "T23:59:60Z";
+  const auto bad = [&text] {
+    return std::invalid_argument(fmt::format(
+        "leap_utc: expected the inserted second as YYYY-MM-DDT23:59:60Z (a leap second ends a UTC day), got '{}'", text));
+  };
+  if (text.size() != 10 + kSecond60.size() || text.substr(10) != kSecond60) throw bad();
+  try {
+    return std::chrono::floor<std::chrono::days>(parse_iso8601_utc(text.substr(0, 10) + "T23:59:59Z", UtcSuffix::required));
+  } catch (const std::invalid_argument&) {
+    throw bad();
+  }
+}
+
+std::string leap_second_text(std::chrono::sys_days day) {
+  return format_iso8601_utc(UtcNs{day.time_since_epoch()}).substr(0, 10) + "T23:59:60Z";
 }
 
 constexpr double kMaxSeconds = 1e9;
@@ -191,6 +210,8 @@ std::string Fault::parameters() const {
     case FaultKind::time:
       if (time_mode == TimeFaultMode::rollover) {
         s += " mode=rollover";
+      } else if (time_mode == TimeFaultMode::leap_second) {
+        s += fmt::format(" mode=leap-second leap_utc={}", leap_second_text(leap_day));
       } else {
         add("jump_s", jump_s);
       }
@@ -290,9 +311,13 @@ Fault make_fault(const FaultKeys& keys) {
         f.time_mode = TimeFaultMode::jump;
       } else if (mode == "rollover") {
         f.time_mode = TimeFaultMode::rollover;
+      } else if (mode == "leap-second") {
+        f.time_mode = TimeFaultMode::leap_second;
       } else {
-        throw std::invalid_argument(fmt::format("mode: expected jump or rollover, got '{}'", mode));
+        throw std::invalid_argument(fmt::format("mode: expected jump, rollover or leap-second, got '{}'", mode));
       }
+    } else if (key == "leap_utc") {
+      f.leap_day = parse_leap_second(text(key, value));
     } else if (key == "jump_s") {
       f.jump_s = number(key, value, -kMaxSeconds, kMaxSeconds);
       if (f.jump_s * 1000.0 != std::round(f.jump_s * 1000.0))
@@ -330,7 +355,14 @@ Fault make_fault(const FaultKeys& keys) {
   if (f.kind == FaultKind::spoof && f.speed_mps == 0.0 && f.offset_m.east_m == 0.0 && f.offset_m.north_m == 0.0 &&
       f.offset_m.up_m == 0.0 && f.time_drift_ms_per_s == 0.0)
     throw std::invalid_argument("spoof: give speed_mps (with bearing_deg), an offset (east_m, north_m, up_m) or time_drift_ms_per_s");
-  if (f.kind == FaultKind::time && !seen.count("mode")) throw std::invalid_argument("mode: missing (jump or rollover)");
+  if (f.kind == FaultKind::time && !seen.count("mode"))
+    throw std::invalid_argument("mode: missing (jump, rollover or leap-second)");
+  if (f.kind == FaultKind::time && (f.time_mode == TimeFaultMode::leap_second) != (seen.count("leap_utc") == 1))
+    throw std::invalid_argument(f.time_mode == TimeFaultMode::leap_second
+                                    ? "leap_utc: missing (the inserted second, e.g. \"2026-12-31T23:59:60Z\")"
+                                    : "leap_utc: a parameter of mode = \"leap-second\" only");
+  if (f.kind == FaultKind::time && f.time_mode == TimeFaultMode::leap_second && seen.count("jump_s"))
+    throw std::invalid_argument("jump_s: not a parameter of a leap second (it inserts one second at leap_utc)");
   if (f.kind == FaultKind::time && f.time_mode == TimeFaultMode::jump && !seen.count("jump_s"))
     throw std::invalid_argument("jump_s: missing (a time jump steps the reported time by jump_s seconds)");
   if (f.kind == FaultKind::time && f.time_mode == TimeFaultMode::rollover && seen.count("jump_s"))

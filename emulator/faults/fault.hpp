@@ -6,6 +6,7 @@
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -50,6 +51,7 @@ inline constexpr std::array<FaultKind, 14> kAllKinds{
 enum class TimeFaultMode {
   jump,      ///< the reported time steps by jump_s (and stays off while the fault lasts)
   rollover,  ///< GPS week-number rollover as buggy firmware does it: the date 1024 weeks early
+  leap_second,  ///< a leap second announced from the fault's start and inserted at the end of leap_day
 };
 /// Weeks a week-number rollover takes the date back (the 10-bit GPS week).
 inline constexpr int kRolloverWeeks = 1024;
@@ -87,6 +89,9 @@ struct Fault {
   bool detected = false;              ///< spoof: the receiver says so (NAV-STATUS spoofDetState 3, else 1)
   TimeFaultMode time_mode = TimeFaultMode::jump;  ///< time: `mode`
   double jump_s = 0.0;                ///< time: the step of a jump (seconds, whole milliseconds)
+  /// time, mode leap-second: the UTC day at whose end the second is inserted (`leap_utc`, the
+  /// inserted second itself: "2026-12-31T23:59:60Z")
+  std::chrono::sys_days leap_day{};
   double silent_s = 2.0;              ///< reset: the receiver boots this long, writing nothing (seconds)
   double ttff_s = 26.0;               ///< reset: then a cold start, no fix for this long (seconds)
   // Triggers and the ramp out (docs/faults.md#triggers).

@@ -84,8 +84,30 @@ void spoof(nmea::Fix& fix, const Fault& f, double since_s, const LocalFrame& fra
   }
 }
 
+void insert_leap_second(nmea::Fix& fix, std::chrono::sys_days day) {
+  using namespace std::chrono;
+  // The receiver's clock runs on (GPS time); UTC as it counted before the leap second reaches the
+  // event (the end of `day`) at its midnight: from there UTC counts 23:59:60 once, then one
+  // second behind, with one leap second more.
+  const nmea::UtcTime event{day + days{1}};
+  const nmea::UtcTime t = fix.time_utc;
+  fix.leap.event_day = day;
+  if (t < event) {
+    fix.leap.change_s = 1;
+    fix.leap.time_to_event_s = ceil<seconds>(event - t).count();
+    return;
+  }
+  fix.leap.change_s = 0;
+  fix.leap.time_to_event_s = -floor<seconds>(t - event).count();
+  fix.leap.gps_minus_utc_s += 1;
+  fix.leap.in_second_60 = t < event + seconds{1};
+  fix.time_utc -= seconds{1};
+}
+
 void shift_time(nmea::Fix& fix, const Fault& f) {
-  if (f.time_mode == TimeFaultMode::rollover) {
+  if (f.time_mode == TimeFaultMode::leap_second) {
+    insert_leap_second(fix, f.leap_day);
+  } else if (f.time_mode == TimeFaultMode::rollover) {
     fix.time_utc -= std::chrono::weeks(kRolloverWeeks);
   } else {
     fix.time_utc += std::chrono::milliseconds(std::llround(f.jump_s * 1000.0));

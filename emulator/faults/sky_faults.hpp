@@ -3,6 +3,7 @@
 // docs/faults.md is the catalogue.
 #pragma once
 
+#include <chrono>
 #include <optional>
 #include <vector>
 
@@ -30,8 +31,15 @@ void mask_sky(nmea::Fix& fix, const std::vector<SkyMaskSector>& mask, const std:
 /// trajectory a naive filter follows. Without a fix only the time moves.
 void spoof(nmea::Fix& fix, const Fault& f, double since_s, const LocalFrame& frame);
 
-/// time: the reported time stepped by jump_s, or the date 1024 weeks early (a rollover).
+/// time: the reported time stepped by jump_s, the date 1024 weeks early (a rollover), or a leap
+/// second inserted at the end of f.leap_day (insert_leap_second).
 void shift_time(nmea::Fix& fix, const Fault& f);
+
+/// A leap second inserted at the end of UTC day `day`, `fix.time_utc` on the receiver's running
+/// clock (UTC as counted before it): before the event the change is announced (fix.leap: +1, the
+/// seconds to it); from the event's first second the time reads 23:59:60 of `day` (fix.leap.
+/// in_second_60), then runs one second behind with GPS - UTC one more; GPS time stays continuous.
+void insert_leap_second(nmea::Fix& fix, std::chrono::sys_days day);
 
 /// NAV-STATUS spoofDetState (flags2 bits 3-4) a spoof reports: 3 (multiple spoofing indications)
 /// when detected, 1 (no spoofing indicated) when not; 0 (unknown) without a spoof.

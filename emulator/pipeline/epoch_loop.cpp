@@ -225,6 +225,10 @@ EpochWait EpochLoop::run_ahead(std::int64_t k, UtcNs t, UtcNs deadline, const st
   const auto lead = std::clamp(2 * compute_cost_ + kMinComputeLead, std::chrono::nanoseconds{0},
                                *options_.compute_ahead_within);
   const UtcNs compute_at = deadline - lead;
+  // A `latency`'s held-back bytes due before the computing, each at its own time, as a single
+  // receiver writes them (the helper writer is idle now; the rest leave with this epoch).
+  send_delayed(&io, compute_at, stop);
+  if (stop.load()) return EpochWait::stopped;
   if (pps_) pps_->run_until(compute_at, io, stop, &woken);
   if (stop.load()) return EpochWait::stopped;
   if (rescheduled(io)) return EpochWait::rescheduled;

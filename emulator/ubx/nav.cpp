@@ -98,7 +98,7 @@ VelocityNed velocity_of(const nmea::Fix& fix) {
   return {fix.speed_mps * std::cos(course_rad), fix.speed_mps * std::sin(course_rad), 0.0};
 }
 
-std::uint32_t tow_ms(const nmea::Fix& fix) { return gps_time(fix.time_utc).tow_ms; }
+std::uint32_t tow_ms(const nmea::Fix& fix) { return gps_time(fix).tow_ms; }
 
 /// NAV-STATUS / NAV-SOL flags: gpsFixOK, diffSoln, WKNSET, TOWSET (once the time is known).
 std::uint8_t status_flags(const Solution& s, const TimeValidity& time) {
@@ -110,13 +110,16 @@ struct UtcFields {
   unsigned month = 0, day = 0, hour = 0, minute = 0, second = 0;
   std::int32_t nano = 0;
 };
-UtcFields utc_fields(nmea::UtcTime t) {
+/// The fix's UTC date and time; inside an inserted leap second sec is 60 (the date the old day's).
+UtcFields utc_fields(const nmea::Fix& fix) {
+  const nmea::UtcTime t = fix.time_utc;
   const auto day_point = std::chrono::floor<std::chrono::days>(t);
   const std::chrono::year_month_day ymd{day_point};
   const std::chrono::hh_mm_ss<milliseconds> hms{t - day_point};
   return {static_cast<int>(ymd.year()),           static_cast<unsigned>(ymd.month()),
           static_cast<unsigned>(ymd.day()),       static_cast<unsigned>(hms.hours().count()),
-          static_cast<unsigned>(hms.minutes().count()), static_cast<unsigned>(hms.seconds().count()),
+          static_cast<unsigned>(hms.minutes().count()),
+          static_cast<unsigned>(hms.seconds().count()) + (fix.leap.in_second_60 ? 1u : 0u),
           static_cast<std::int32_t>(hms.subseconds().count() * 1'000'000)};
 }
 
@@ -162,10 +165,10 @@ AccuracyFloor accuracy_floor(nmea::FixQuality quality) {
   }
 }
 
-GpsTime gps_time(nmea::UtcTime utc) {
+GpsTime gps_time(nmea::UtcTime utc, int gps_minus_utc_s) {
   using namespace std::chrono;
   constexpr sys_days gps_epoch{year{1980} / January / 6};
-  const milliseconds since = utc - time_point_cast<milliseconds>(gps_epoch) + seconds{gps_leap_seconds};
+  const milliseconds since = utc - time_point_cast<milliseconds>(gps_epoch) + seconds{gps_minus_utc_s};
   constexpr milliseconds week = duration_cast<milliseconds>(weeks{1});
   const auto w = since / week;
   return {static_cast<int>(w), static_cast<std::uint32_t>((since - w * week).count())};
@@ -173,7 +176,7 @@ GpsTime gps_time(nmea::UtcTime utc) {
 
 std::string nav_pvt(const nmea::Fix& fix, const NavExtras& extras) {
   const Solution s = solution_of(fix);
-  const UtcFields utc = utc_fields(fix.time_utc);
+  const UtcFields utc = utc_fields(fix);
   const VelocityNed v = velocity_of(fix);
   std::string p;
   p.reserve(92);
@@ -269,7 +272,7 @@ void put_ecef_velocity(std::string& p, const nmea::Fix& fix, const NavExtras& ex
 
 std::string nav_sol(const nmea::Fix& fix, const NavExtras& extras) {
   const Solution s = solution_of(fix);
-  const GpsTime t = gps_time(fix.time_utc);
+  const GpsTime t = gps_time(fix);
   std::string p;
   put_u4(p, t.tow_ms);
   put_i4(p, 0);  // fTOW: epochs lie on whole milliseconds
@@ -317,7 +320,7 @@ std::string nav_dop(const nmea::Fix& fix) {
 }
 
 std::string nav_timeutc(const nmea::Fix& fix, const NavExtras& extras) {
-  const UtcFields utc = utc_fields(fix.time_utc);
+  const UtcFields utc = utc_fields(fix);
   std::string p;
   put_u4(p, tow_ms(fix));
   put_u4(p, fix.has_fix() ? kTimeAccuracyNs : kNoFixTimeAccuracyNs);
@@ -330,12 +333,12 @@ std::string nav_timeutc(const nmea::Fix& fix, const NavExtras& extras) {
 }
 
 std::string nav_timegps(const nmea::Fix& fix, const NavExtras& extras) {
-  const GpsTime t = gps_time(fix.time_utc);
+  const GpsTime t = gps_time(fix);
   std::string p;
   put_u4(p, t.tow_ms);
   put_i4(p, 0);  // fTOW
   put_i2(p, t.week);
-  put_i1(p, gps_leap_seconds);
+  put_i1(p, fix.leap.gps_minus_utc_s);
   // towValid, weekValid, leapSValid
   put_u1(p, (extras.time.valid ? 0x03u : 0u) | (extras.time.valid && extras.time.resolved ? 0x04u : 0u));
   put_u4(p, fix.has_fix() ? kTimeAccuracyNs : kNoFixTimeAccuracyNs);

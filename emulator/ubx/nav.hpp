@@ -32,7 +32,9 @@ struct GpsTime {
   int week = 0;               ///< weeks since 1980-01-06
   std::uint32_t tow_ms = 0;   ///< milliseconds into the week (NAV messages' iTOW)
 };
-[[nodiscard]] GpsTime gps_time(nmea::UtcTime utc);
+[[nodiscard]] GpsTime gps_time(nmea::UtcTime utc, int gps_minus_utc_s = gps_leap_seconds);
+/// GPS week and time of week of a fix's time, with the leap seconds it reports (fix.leap).
+[[nodiscard]] inline GpsTime gps_time(const nmea::Fix& fix) { return gps_time(fix.time_utc, fix.leap.gps_minus_utc_s); }
 
 /// Receiver values the NAV messages carry beside the fix.
 struct NavExtras {
@@ -77,8 +79,9 @@ inline constexpr std::uint32_t no_fix_speed_accuracy_mm_s = 20000;
 [[nodiscard]] std::string nav_timeutc(const nmea::Fix& fix, const NavExtras& extras);
 /// NAV-TIMEGPS, 16 bytes.
 [[nodiscard]] std::string nav_timegps(const nmea::Fix& fix, const NavExtras& extras);
-/// NAV-TIMELS, 24 bytes (nav_time.cpp): the current leap seconds (18, from GPS) once UTC is
-/// resolved, no change announced; the last event (end of 2016-12-31, GPS week 1929 day 7).
+/// NAV-TIMELS, 24 bytes (nav_time.cpp): the current leap seconds (the fix's, from GPS) once UTC
+/// is resolved; a change the fix announces (fix.leap: lsChange, timeToLsEvent, its GPS week and
+/// day), else none and the last event (end of 2016-12-31, GPS week 1929 day 7).
 [[nodiscard]] std::string nav_timels(const nmea::Fix& fix, const NavExtras& extras);
 /// NAV-CLOCK, 20 bytes (NavExtras::clock).
 [[nodiscard]] std::string nav_clock(const nmea::Fix& fix, const NavExtras& extras);

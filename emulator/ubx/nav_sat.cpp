@@ -109,7 +109,7 @@ std::string nav_sat(const nmea::Fix& fix) {
   const bool diff = differential(fix);
   std::string p;
   p.reserve(8 + 12 * static_cast<std::size_t>(count));
-  put_u4(p, gps_time(fix.time_utc).tow_ms);
+  put_u4(p, gps_time(fix).tow_ms);
   put_u1(p, 1);  // version
   put_u1(p, static_cast<std::uint32_t>(count));
   put_zeros(p, 2);
@@ -139,7 +139,7 @@ std::string nav_svinfo(const nmea::Fix& fix) {
   const bool diff = differential(fix);
   std::string p;
   p.reserve(8 + 12 * static_cast<std::size_t>(count));
-  put_u4(p, gps_time(fix.time_utc).tow_ms);
+  put_u4(p, gps_time(fix).tow_ms);
   put_u1(p, static_cast<std::uint32_t>(count));  // numCh
   put_u1(p, 4);                                  // globalFlags: chipGen 4, u-blox 8
   put_zeros(p, 2);
@@ -181,7 +181,7 @@ std::string nav_sig(const nmea::Fix& fix, ReceiverModel model) {
   const bool dual = dual_band(model);
   std::string p;
   p.reserve(8 + 16 * static_cast<std::size_t>(signals));
-  put_u4(p, gps_time(fix.time_utc).tow_ms);
+  put_u4(p, gps_time(fix).tow_ms);
   put_u1(p, 0);  // version
   put_u1(p, static_cast<std::uint32_t>(signals));
   put_zeros(p, 2);

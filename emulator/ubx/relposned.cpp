@@ -36,7 +36,7 @@ std::string nav_relposned(const nmea::Fix& fix, const RelPosNed& rel) {
   put_u1(p, 1);  // version
   put_u1(p, 0);
   put_u2(p, rel.ref_station_id);
-  put_u4(p, gps_time(fix.time_utc).tow_ms);
+  put_u4(p, gps_time(fix).tow_ms);
   const CmAndHp n = split_cm(valid ? rel.north_m : 0.0), e = split_cm(valid ? rel.east_m : 0.0),
                 d = split_cm(valid ? rel.down_m : 0.0), len = split_cm(valid ? rel.length_m : 0.0);
   const bool heading = valid && rel.heading_valid;

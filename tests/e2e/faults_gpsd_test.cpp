@@ -43,6 +43,7 @@ struct Report {
   int mode = 0;
   double eph_m = NAN, lat_deg = NAN, lon_deg = NAN, speed_mps = NAN;
   int sky_listed = -1, sky_used = -1;  ///< SKY: satellites listed, used
+  int status = 1;  ///< TPV: gpsd's fix status (2 DGPS, 3 RTK fixed, 4 RTK float; absent: 1)
 };
 
 /// gpsemu at 5 Hz on a pty from kStartTime with `scenario`, gpsd attached, for `duration_s`:
@@ -88,6 +89,7 @@ std::vector<Report> run_with_gpsd(const std::string& name, const std::string& sc
         r.lat_deg = tpv.lat_deg;
         r.lon_deg = tpv.lon_deg;
         r.speed_mps = j.value("speed", NAN);
+        r.status = j.value("status", 1);
         r.time = j.value("time", "");
         if (tpv.time_of_day_ms) r.since_ms = last_tpv_ms = *tpv.time_of_day_ms - kStartMsOfDay;
       } else if (j["class"] == "SKY" && j.contains("satellites")) {
@@ -129,6 +131,7 @@ std::vector<Report> skies_in(const std::vector<Report>& reports, std::int64_t fr
 }
 
 double east_m_of(const Report& r) { return (r.lon_deg - kOrigin.lon_deg) * 111320.0 * std::cos(kOrigin.lat_deg * M_PI / 180.0); }
+double north_m_of(const Report& r) { return (r.lat_deg - kOrigin.lat_deg) * 111320.0; }
 
 TEST(FaultsGpsd, SkyMaskListsFewerSatellitesRaisesEphAndATunnelEntryLosesTheFix) {
   const auto reports = run_with_gpsd("skymask",
@@ -177,6 +180,55 @@ TEST(FaultsGpsd, SpoofDragsGpsdsPositionAndSpeedAway) {
   const auto after = tpvs_in(reports, 6000, 7000);
   ASSERT_FALSE(after.empty());
   EXPECT_NEAR(east_m_of(after.back()), east_m_of(before.back()), 3.0) << "back on the truth";
+}
+
+// The position faults of the first stage: a jump (40 m east) and a wrong offset (60 m south) move
+// gpsd's position by their offsets at their epochs only; a fix-quality of rtk-fixed is gpsd's
+// status 3 (RTK fixed); a freeze repeats the last fix's position with new times (over a decaying
+// jump that would move it metres an epoch).
+TEST(FaultsGpsd, JumpWrongFixQualityAndFreezeShowInGpsdsFixAtTheirEpochs) {
+  const auto reports = run_with_gpsd("position",
+                                     "[[fault]]\nkind = \"jump\"\nat = 1.6\nduration = 1.4\neast_m = 40\n"
+                                     "[[fault]]\nkind = \"wrong\"\nat = 3.6\nduration = 1.4\nnorth_m = -60\n"
+                                     "[[fault]]\nkind = \"fix-quality\"\nat = 5.6\nduration = 1.4\nquality = \"rtk-fixed\"\n"
+                                     // The freeze after a decaying jump: it holds the fix from before both.
+                                     "[[fault]]\nkind = \"jump\"\nat = 7.6\nduration = 1.4\neast_m = 40\ndecay_s = 1\n"
+                                     "[[fault]]\nkind = \"freeze\"\nat = 7.6\nduration = 1.4\n",
+                                     9.4);
+  const auto before = tpvs_in(reports, 600, 1600), jumped = tpvs_in(reports, 1600, 3000);
+  const auto wrong = tpvs_in(reports, 3600, 5000), rtk = tpvs_in(reports, 5600, 7000);
+  const auto frozen = tpvs_in(reports, 7600, 9000), clean = tpvs_in(reports, 3000, 3600);
+  ASSERT_FALSE(before.empty());
+  ASSERT_GE(jumped.size(), 5u);
+  ASSERT_GE(wrong.size(), 5u);
+  ASSERT_GE(rtk.size(), 5u);
+  ASSERT_GE(frozen.size(), 5u);
+  ASSERT_FALSE(clean.empty());
+  const Report& ref = before.back();
+  for (const auto& r : jumped) {
+    EXPECT_EQ(r.mode, 3);
+    EXPECT_NEAR(east_m_of(r) - east_m_of(ref), 40.0, 5.0) << "jump at " << *r.since_ms;
+    EXPECT_NEAR(north_m_of(r) - north_m_of(ref), 0.0, 5.0);
+  }
+  for (const auto& r : clean) EXPECT_NEAR(east_m_of(r) - east_m_of(ref), 0.0, 5.0) << "back at " << *r.since_ms;
+  for (const auto& r : wrong) {
+    EXPECT_EQ(r.mode, 3);
+    EXPECT_NEAR(north_m_of(r) - north_m_of(ref), -60.0, 5.0) << "wrong at " << *r.since_ms;
+    EXPECT_NEAR(east_m_of(r) - east_m_of(ref), 0.0, 5.0);
+  }
+  for (const auto& r : before) EXPECT_EQ(r.status, 1);
+  for (const auto& r : rtk) {
+    EXPECT_EQ(r.mode, 3);
+    EXPECT_EQ(r.status, 3) << "RTK fixed at " << *r.since_ms;
+  }
+  const auto last_clean = tpvs_in(reports, 7400, 7600);
+  ASSERT_FALSE(last_clean.empty());
+  for (const auto& r : frozen) {
+    EXPECT_EQ(r.mode, 3);
+    EXPECT_EQ(r.lat_deg, last_clean.back().lat_deg) << "frozen at " << *r.since_ms;
+    EXPECT_EQ(r.lon_deg, last_clean.back().lon_deg) << "frozen at " << *r.since_ms;
+  }
+  EXPECT_NE(frozen.front().time, frozen.back().time) << "new times";
 }
 
 constexpr const char* kTimeScenario =

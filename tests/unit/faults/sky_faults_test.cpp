@@ -207,7 +207,7 @@ TEST(SecondStageFaults, BadKeysAreRefusedWithTheReason) {
   refused({{"kind", std::string("spoof")}, {"speed_mps", 3.0}, {"detected", std::string("maybe")}}, "detected: expected true or false");
   refused({{"kind", std::string("spoof")}, {"speed_mps", 3.0}, {"bearing_deg", 400.0}}, "bearing_deg: 400 is outside [0, 360]");
   refused({{"kind", std::string("time")}}, "mode: missing");
-  refused({{"kind", std::string("time")}, {"mode", std::string("leap")}}, "mode: expected jump or rollover");
+  refused({{"kind", std::string("time")}, {"mode", std::string("leap")}}, "mode: expected jump, rollover or leap-second");
   refused({{"kind", std::string("time")}, {"mode", std::string("jump")}}, "jump_s: missing");
   refused({{"kind", std::string("time")}, {"mode", std::string("jump")}, {"jump_s", 0.0001}}, "whole number of milliseconds");
   refused({{"kind", std::string("reset")}, {"duration", 5.0}}, "reset: an event");
