@@ -162,7 +162,7 @@ nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) 
   const double ve = truth->velocity_mps.east_m;
   const double vn = truth->velocity_mps.north_m;
   const double speed_mps = std::sqrt(ve * ve + vn * vn);  // std::hypot's care for overflow costs 20 ns an epoch
-  const Geodetic position = frame_.to_geodetic(hold_.apply(truth->position_m + error, speed_mps));
+  const Geodetic position = near_.to_geodetic(frame_, hold_.apply(truth->position_m + error, speed_mps));
   fix.quality = options_.quality;
   fix.dimension = two_d ? nmea::FixDimension::two_d : nmea::FixDimension::three_d;
   fix.lat_deg = position.lat_deg;

@@ -24,6 +24,7 @@
 
 #include "emulator/model/enu.hpp"
 #include "emulator/model/geo.hpp"
+#include "emulator/model/geo_near.hpp"
 #include "emulator/model/noise/noise_model.hpp"
 #include "emulator/model/noise/rng.hpp"
 #include "emulator/model/sky.hpp"
@@ -149,6 +150,7 @@ class Receiver {
   double configured_cold_start_s_ = 0.0;  ///< the options' (--cold-start)
   noise::Rng heading_rng_;  ///< the heading's noise, its own stream of the run's seed
   StaticHold hold_;
+  NearGeodetic near_;  ///< the reported positions about the last one converted exactly
 };
 
 }  // namespace gpsemu

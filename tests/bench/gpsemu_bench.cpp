@@ -12,6 +12,7 @@
 #include "emulator/pipeline/channel.hpp"
 #include "emulator/pipeline/epoch_text.hpp"
 #include "emulator/model/geo.hpp"
+#include "emulator/model/geo_near.hpp"
 #include "emulator/model/noise/noise_model.hpp"
 #include "emulator/model/receiver.hpp"
 #include "emulator/sources/sim.hpp"
@@ -46,6 +47,18 @@ void enu_to_geodetic(benchmark::State& state) {
   }
 }
 BENCHMARK(enu_to_geodetic);
+
+// The receiver's path: noisy positions within metres of one another (emulator/model/geo_near.hpp).
+void enu_to_geodetic_near(benchmark::State& state) {
+  const gpsemu::LocalFrame frame(kOrigin);
+  gpsemu::NearGeodetic near;
+  double e = 0.0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(near.to_geodetic(frame, {e, 12.5, 0.3}));
+    e = e > 3.0 ? -3.0 : e + 1e-3;
+  }
+}
+BENCHMARK(enu_to_geodetic_near);
 
 gpsemu::nmea::Fix sample_fix() {
   gpsemu::nmea::Fix fix;
