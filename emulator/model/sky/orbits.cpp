@@ -27,6 +27,9 @@ namespace {
 
 constexpr double kWeekS = 604800.0;
 constexpr double kDayS = 86400.0;
+// How finely the moments a satellite's records are valid at are searched (GLONASS records are
+// valid for 15 minutes either side of theirs, the shortest of the systems).
+constexpr double kRecordSearchStepS = 900.0;
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 // RTKLIB's nav_t is larger than a megabyte in this build; the buffer is zeroed pages that only
@@ -156,6 +159,9 @@ struct Orbits::Impl {
   std::vector<SatelliteId> satellites;
   std::vector<int> rtklib_sat;          // per satellite: RTKLIB satellite number, 0 for a TLE one
   std::vector<std::string> tle_name;    // per satellite: the name tle_pos finds it by ("" for RINEX)
+  // RINEX, per satellite: the moments of the data's day (every kRecordSearchStepS) at which one of
+  // its records is valid, sorted; where none is, the nearest one's record is extrapolated.
+  std::vector<std::vector<GpsSeconds>> valid_at;
   void* nav = nullptr;                  // RINEX: RTKLIB nav_t (opaque)
   TleTable tle;                         // TLE: RTKLIB tle_t
 
@@ -173,8 +179,20 @@ struct Orbits::Impl {
       const rtk::GTime time = to_gtime(t);
       double dts[2] = {0, 0}, var = 0.0;
       int svh = 0;
-      if (!satpos(time, time, rtklib_sat[i], 0 /* EPHOPT_BRDC */, nav, rs, dts, &var, &svh) || svh != 0) {
-        return std::nullopt;
+      const bool recorded = satpos(time, time, rtklib_sat[i], 0 /* EPHOPT_BRDC */, nav, rs, dts, &var, &svh) != 0;
+      if (recorded && svh != 0) return std::nullopt;  // unhealthy: left out
+      if (!recorded) {
+        // No record valid now (a station's file holds a satellite's records only while the station
+        // saw it): the orbit of the nearest moment that has one, extrapolated. Hours off, a
+        // broadcast orbit is kilometres off, hundredths of a degree seen from the ground: a
+        // plausible sky everywhere, which is what the file stands for.
+        if (i >= valid_at.size() || valid_at[i].empty()) return std::nullopt;
+        const std::vector<GpsSeconds>& moments = valid_at[i];
+        const auto after = std::lower_bound(moments.begin(), moments.end(), t);
+        GpsSeconds nearest = after == moments.end() ? moments.back() : *after;
+        if (after != moments.begin() && (after == moments.end() || t - *(after - 1) < *after - t)) nearest = *(after - 1);
+        svh = 0;
+        if (!satpos(time, to_gtime(nearest), rtklib_sat[i], 0, nav, rs, dts, &var, &svh) || svh != 0) return std::nullopt;
       }
     } else {
       // Elements of another day than the RINEX file's: the moment of their day with the same
@@ -195,11 +213,25 @@ struct Orbits::Impl {
       rtklib_sat.push_back(sats.empty() ? 0 : sats[i]);
       tle_name.push_back(names.empty() ? std::string() : names[i]);
       bool any = false;
-      for (int hour = 1; hour < 24 && !any; hour += 2) any = motion(satellites.size() - 1, start + hour * 3600.0).has_value();
+      if (!sats.empty()) {
+        // The moments its own records cover, before any extrapolation is asked of them.
+        std::vector<GpsSeconds> moments;
+        for (GpsSeconds t = start; t < start + kDayS; t += kRecordSearchStepS) {
+          double rs[6] = {0, 0, 0, 0, 0, 0}, dts[2] = {0, 0}, var = 0.0;
+          int svh = 0;
+          if (satpos(to_gtime(t), to_gtime(t), sats[i], 0, nav, rs, dts, &var, &svh) && svh == 0) moments.push_back(t);
+        }
+        any = !moments.empty();
+        valid_at.push_back(std::move(moments));
+      } else {
+        valid_at.emplace_back();
+        for (int hour = 1; hour < 24 && !any; hour += 2) any = motion(satellites.size() - 1, start + hour * 3600.0).has_value();
+      }
       if (!any) {
         satellites.pop_back();
         rtklib_sat.pop_back();
         tle_name.pop_back();
+        valid_at.pop_back();
       }
     }
   }
@@ -323,14 +355,17 @@ std::shared_ptr<const Orbits> Orbits::read_embedded() {
   std::vector<SatelliteId> satellites;
   std::vector<int> rtklib_sat;
   std::vector<std::string> tle_name;
+  std::vector<std::vector<GpsSeconds>> valid_at;
   for (const std::size_t i : order) {
     satellites.push_back(impl->satellites[i]);
     rtklib_sat.push_back(impl->rtklib_sat[i]);
     tle_name.push_back(impl->tle_name[i]);
+    valid_at.push_back(std::move(impl->valid_at[i]));
   }
   impl->satellites = std::move(satellites);
   impl->rtklib_sat = std::move(rtklib_sat);
   impl->tle_name = std::move(tle_name);
+  impl->valid_at = std::move(valid_at);
   return std::shared_ptr<const Orbits>(new Orbits(std::move(impl)));
 }
 

@@ -81,7 +81,13 @@ TEST(SkyOrbits, RinexRecordGivesTheIsGps200PositionOfItsEphemeris) {
     EXPECT_LT(distance_m(*p, expected), 0.01) << tk;
     EXPECT_NEAR(std::hypot(p->x_m, p->y_m, p->z_m), 26.56e6, 0.4e6);
   }
-  EXPECT_FALSE(orbits->position(0, toe_gps_s + 3 * 3600.0)) << "older than RTKLIB's 2 h limit: no orbit";
+  // Beyond RTKLIB's 2 h limit the nearest record (the only one) is extrapolated: the same
+  // IS-GPS-200 orbit, hours on.
+  for (const double tk : {3 * 3600.0, -10 * 3600.0}) {
+    const auto p = orbits->position(0, toe_gps_s + tk);
+    ASSERT_TRUE(p) << tk;
+    EXPECT_LT(distance_m(*p, is_gps_200(k, tk)), 0.01) << tk;
+  }
 }
 
 TEST(SkyOrbits, UnreadableEphemerisIsOneClearError) {
