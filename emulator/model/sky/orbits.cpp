@@ -27,9 +27,10 @@ namespace {
 
 constexpr double kWeekS = 604800.0;
 constexpr double kDayS = 86400.0;
-// How finely the moments a satellite's records are valid at are searched (GLONASS records are
-// valid for 15 minutes either side of theirs, the shortest of the systems).
-constexpr double kRecordSearchStepS = 900.0;
+// How finely the moments a satellite's records are valid at are searched: hourly (a received
+// satellite's records cover it continuously, GLONASS's every 30 minutes, so an hour of reception
+// is always found; finer searching cost start-up time, 30 ms at 15 minutes, for no other sky).
+constexpr double kRecordSearchStepS = 3600.0;
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 // RTKLIB's nav_t is larger than a megabyte in this build; the buffer is zeroed pages that only
