@@ -21,26 +21,14 @@
 
 #include "emulator/config/config.hpp"
 #include "emulator/pipeline/runner.hpp"
+#include "tests/support/udp_socket.hpp"
 
 namespace gpsemu {
 namespace {
 
-struct StampedSink {
-  StampedSink() {
-    fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    (void)::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-    socklen_t len = sizeof a;
-    ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-    port = ntohs(a.sin_port);
-    int on = 1;
-    ::setsockopt(fd, SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof on);
-  }
-  ~StampedSink() { ::close(fd); }
-  StampedSink(const StampedSink&) = delete;
-  StampedSink& operator=(const StampedSink&) = delete;
+/// A loopback UDP socket that reads each datagram with the kernel's receive time.
+struct StampedSink : test::LoopbackUdpSocket {
+  StampedSink() : LoopbackUdpSocket(SO_TIMESTAMPNS, 1) {}
 
   /// Every datagram waiting, with the kernel's receive time (seconds of the UTC day).
   std::vector<std::pair<std::string, double>> drain() const {
@@ -64,8 +52,6 @@ struct StampedSink {
                        static_cast<double>(stamp.tv_sec % 86400) + static_cast<double>(stamp.tv_nsec) * 1e-9);
     }
   }
-  int fd = -1;
-  std::uint16_t port = 0;
 };
 
 /// Seconds of the day of the GGA time "hhmmss.ss" in `datagram` (which holds one GGA).

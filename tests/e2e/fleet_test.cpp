@@ -26,6 +26,7 @@
 
 #include "emulator/config/config.hpp"
 #include "emulator/pipeline/runner.hpp"
+#include "tests/support/udp_socket.hpp"
 #include "tests/support/process.hpp"
 #include "tests/support/read_deadline.hpp"
 #include "tests/support/scratch.hpp"
@@ -138,22 +139,8 @@ seed = 99
 }
 
 /// A UDP socket on loopback, port chosen by the kernel.
-struct UdpSink {
-  UdpSink() {
-    fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    (void)::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-    socklen_t len = sizeof a;
-    ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-    port = ntohs(a.sin_port);
-    int big = 1 << 20;
-    ::setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &big, sizeof big);
-  }
-  ~UdpSink() { ::close(fd); }
-  UdpSink(const UdpSink&) = delete;
-  UdpSink& operator=(const UdpSink&) = delete;
+struct UdpSink : test::LoopbackUdpSocket {
+  UdpSink() : LoopbackUdpSocket(SO_RCVBUF, 1 << 20) {}
   /// Datagrams until `count` came or `timeout` passed, each with its wall-clock read time.
   std::vector<std::pair<std::string, double>> read(std::size_t count, std::chrono::milliseconds timeout) {
     std::vector<std::pair<std::string, double>> got;
@@ -164,8 +151,6 @@ struct UdpSink {
     });
     return got;
   }
-  int fd = -1;
-  std::uint16_t port = 0;
 };
 
 double seconds_of_day(const std::string& hhmmss) {
