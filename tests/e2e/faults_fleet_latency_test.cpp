@@ -26,34 +26,6 @@
 namespace gpsemu {
 namespace {
 
-/// A loopback UDP socket that reads each datagram with the kernel's receive time.
-struct StampedSink : test::LoopbackUdpSocket {
-  StampedSink() : LoopbackUdpSocket(SO_TIMESTAMPNS, 1) {}
-
-  /// Every datagram waiting, with the kernel's receive time (seconds of the UTC day).
-  std::vector<std::pair<std::string, double>> drain() const {
-    std::vector<std::pair<std::string, double>> got;
-    for (;;) {
-      char data[2048];
-      char control[256];
-      iovec iov{data, sizeof data};
-      msghdr msg{};
-      msg.msg_iov = &iov;
-      msg.msg_iovlen = 1;
-      msg.msg_control = control;
-      msg.msg_controllen = sizeof control;
-      const ssize_t n = ::recvmsg(fd, &msg, MSG_DONTWAIT);
-      if (n <= 0) return got;
-      timespec stamp{};
-      for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c; c = CMSG_NXTHDR(&msg, c)) {
-        if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPNS) std::memcpy(&stamp, CMSG_DATA(c), sizeof stamp);
-      }
-      got.emplace_back(std::string(data, static_cast<std::size_t>(n)),
-                       static_cast<double>(stamp.tv_sec % 86400) + static_cast<double>(stamp.tv_nsec) * 1e-9);
-    }
-  }
-};
-
 /// Seconds of the day of the GGA time "hhmmss.ss" in `datagram` (which holds one GGA).
 double gga_seconds_of_day(const std::string& datagram) {
   const std::size_t at = datagram.find("GGA,");
@@ -65,12 +37,12 @@ double gga_seconds_of_day(const std::string& datagram) {
 TEST(FaultsFleetLatency, EachDelayedEpochLeavesAtItsOwnTimeNotWithTheNextEpoch) {
   constexpr int kReceivers = 2;
   constexpr double kLatencyS = 0.05, kDelayS = 0.25, kPeriodS = 0.5;
-  std::vector<std::unique_ptr<StampedSink>> sinks;
+  std::vector<std::unique_ptr<test::LoopbackUdpSocket>> sinks;
   std::string toml = fmt::format("rate = 2\nduration = 3\nlatency = {}\nsentences = \"GGA\"\nlog-level = \"warn\"\n"
                                  "[[fault]]\nkind = \"latency\"\ndelay_ms = {}\n",
                                  kLatencyS, kDelayS * 1000);
   for (int i = 0; i < kReceivers; ++i) {
-    sinks.push_back(std::make_unique<StampedSink>());
+    sinks.push_back(std::make_unique<test::LoopbackUdpSocket>(SO_TIMESTAMPNS, 1));
     toml += fmt::format("[[receiver]]\noutput = \"udp:127.0.0.1:{}\"\n", sinks.back()->port);
   }
   Runner runner(build_config_from_text(toml, "fleet.toml", {}));
@@ -80,11 +52,13 @@ TEST(FaultsFleetLatency, EachDelayedEpochLeavesAtItsOwnTimeNotWithTheNextEpoch) 
   ASSERT_GE(emitted, 4u);  // a loaded machine may skip one: counted in epochs_late_skipped
   for (int i = 0; i < kReceivers; ++i) {
     EXPECT_EQ(runner.receiver_stats(static_cast<std::size_t>(i)).epochs_delayed, emitted) << "receiver " << i;
-    const auto got = sinks[static_cast<std::size_t>(i)]->drain();
+    const auto got = sinks[static_cast<std::size_t>(i)]->drain_stamped();
     ASSERT_EQ(got.size(), emitted) << "receiver " << i << ": one datagram an epoch, each written on its own";
     std::vector<double> lags_s;
     double last_epoch = -1.0;
-    for (const auto& [datagram, arrived] : got) {
+    for (const auto& d : got) {
+      const std::string& datagram = d.bytes;
+      const double arrived = d.seconds_of_day;
       ASSERT_EQ(std::count(datagram.begin(), datagram.end(), '$'), 1) << "one epoch a datagram: " << datagram;
       const double epoch = gga_seconds_of_day(datagram);
       EXPECT_GT(epoch, last_epoch) << "in order";

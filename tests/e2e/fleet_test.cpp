@@ -203,12 +203,10 @@ TEST(FleetEndToEnd, NoEpochLeavesBeforeItsTimePlusLatency) {
   // Computed ahead, written at the deadline: the kernel's receive time stamp of each datagram is
   // never earlier than the epoch's time + latency (an order check: lateness is not asserted).
   constexpr int kReceivers = 9;
-  std::vector<std::unique_ptr<UdpSink>> sinks;
+  std::vector<std::unique_ptr<test::LoopbackUdpSocket>> sinks;
   std::string toml = "rate = 10\nduration = 1.5\nlatency = 0.08\nsentences = \"GGA\"\nlog-level = \"warn\"\n";
   for (int i = 0; i < kReceivers; ++i) {
-    sinks.push_back(std::make_unique<UdpSink>());
-    int on = 1;
-    ::setsockopt(sinks.back()->fd, SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof on);
+    sinks.push_back(std::make_unique<test::LoopbackUdpSocket>(SO_TIMESTAMPNS, 1));
     toml += fmt::format("[[receiver]]\noutput = \"udp:127.0.0.1:{}\"\n", sinks.back()->port);
   }
   Runner runner(build_config_from_text(toml, "fleet.toml", {}));
@@ -216,28 +214,12 @@ TEST(FleetEndToEnd, NoEpochLeavesBeforeItsTimePlusLatency) {
   ASSERT_EQ(runner.run(stop), 0);
   std::size_t checked = 0;
   for (const auto& sink : sinks) {
-    for (;;) {
-      char data[512];
-      char control[256];
-      iovec iov{data, sizeof data};
-      msghdr msg{};
-      msg.msg_iov = &iov;
-      msg.msg_iovlen = 1;
-      msg.msg_control = control;
-      msg.msg_controllen = sizeof control;
-      const ssize_t n = ::recvmsg(sink->fd, &msg, MSG_DONTWAIT);
-      if (n <= 0) break;
-      timespec stamp{};
-      for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c; c = CMSG_NXTHDR(&msg, c)) {
-        if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPNS) std::memcpy(&stamp, CMSG_DATA(c), sizeof stamp);
-      }
-      ASSERT_NE(stamp.tv_sec, 0) << "no kernel time stamp";
-      const std::string gga(data, static_cast<std::size_t>(n));
-      const double epoch_of_day = seconds_of_day(field(gga, 1));
-      const double arrival_of_day = static_cast<double>(stamp.tv_sec % 86400) + static_cast<double>(stamp.tv_nsec) * 1e-9;
-      double early = (epoch_of_day + 0.08) - arrival_of_day;
+    for (const auto& d : sink->drain_stamped()) {
+      ASSERT_TRUE(d.stamped) << "no kernel time stamp";
+      const double epoch_of_day = seconds_of_day(field(d.bytes, 1));
+      double early = (epoch_of_day + 0.08) - d.seconds_of_day;
       if (early > 43200) early -= 86400;  // across midnight
-      EXPECT_LE(early, 0.0) << "sent " << early * 1000 << " ms before its time: " << gga;
+      EXPECT_LE(early, 0.0) << "sent " << early * 1000 << " ms before its time: " << d.bytes;
       ++checked;
     }
   }

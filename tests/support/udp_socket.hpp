@@ -1,5 +1,6 @@
 // A UDP socket bound on loopback at a port the kernel chose, for the tests that read gpsemu's UDP
-// outputs; one socket option (a receive buffer, kernel time stamps) may be set on it.
+// outputs; one socket option (a receive buffer, kernel time stamps) may be set on it, and the
+// datagrams waiting can be read with the kernel's receive time stamps (SO_TIMESTAMPNS).
 #pragma once
 
 #include <netinet/in.h>
@@ -7,6 +8,9 @@
 #include <unistd.h>
 
 #include <cstdint>
+#include <cstring>
+#include <string>
+#include <vector>
 
 namespace gpsemu::test {
 
@@ -26,6 +30,36 @@ struct LoopbackUdpSocket {
   ~LoopbackUdpSocket() { ::close(fd); }
   LoopbackUdpSocket(const LoopbackUdpSocket&) = delete;
   LoopbackUdpSocket& operator=(const LoopbackUdpSocket&) = delete;
+
+  /// A datagram and the kernel's receive time (seconds of the UTC day; `stamped` false when the
+  /// socket was not asked for SO_TIMESTAMPNS).
+  struct Stamped {
+    std::string bytes;
+    bool stamped = false;
+    double seconds_of_day = 0.0;
+  };
+  /// Every datagram waiting now, in order, without blocking.
+  std::vector<Stamped> drain_stamped() const {
+    std::vector<Stamped> got;
+    for (;;) {
+      char data[2048];
+      char control[256];
+      iovec iov{data, sizeof data};
+      msghdr msg{};
+      msg.msg_iov = &iov;
+      msg.msg_iovlen = 1;
+      msg.msg_control = control;
+      msg.msg_controllen = sizeof control;
+      const ssize_t n = ::recvmsg(fd, &msg, MSG_DONTWAIT);
+      if (n <= 0) return got;
+      timespec stamp{};
+      for (cmsghdr* c = CMSG_FIRSTHDR(&msg); c; c = CMSG_NXTHDR(&msg, c)) {
+        if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPNS) std::memcpy(&stamp, CMSG_DATA(c), sizeof stamp);
+      }
+      got.push_back({std::string(data, static_cast<std::size_t>(n)), stamp.tv_sec != 0,
+                     static_cast<double>(stamp.tv_sec % 86400) + static_cast<double>(stamp.tv_nsec) * 1e-9});
+    }
+  }
 
   int fd = -1;
   std::uint16_t port = 0;
