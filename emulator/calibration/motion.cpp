@@ -95,8 +95,9 @@ std::string MotionCheck::describe() const {
 std::string MotionCheck::describe_limits() const {
   if (reported_speed_mps)
     return fmt::format("limits read from the receiver: a reported speed of {:.2f} m/s with a track at least {:.0f}% "
-                       "as fast and {:.2f} m/s", kReportedSpeedLimit_mps, 100 * kTrackShareOfReported,
-                       kMinTrackSpeed_mps);
+                       "as fast and {:.2f} m/s, and at most {:.0f}x as fast (a faster track is position error, not "
+                       "motion)", kReportedSpeedLimit_mps, 100 * kTrackShareOfReported, kMinTrackSpeed_mps,
+                       kTrackMultipleOfReported);
   return fmt::format("limits for this log's noise ({:.2f} m about a straight line, {:.3f} m first differences): "
                      "{:.1f} m and {:.2f} m/s", noise_sd_m, noise_d1_sd_m, displacement_limit_m, speed_limit_mps);
 }
@@ -151,7 +152,8 @@ MotionCheck check_motion(const EnuSeries& s, std::span<const SpeedReport> report
   m.reported_speed_mps = sustained_reported_speed(reports, m.window_s);
   if (m.reported_speed_mps) {
     m.moving = *m.reported_speed_mps >= kReportedSpeedLimit_mps &&
-               m.speed_mps >= std::max(kMinTrackSpeed_mps, kTrackShareOfReported * *m.reported_speed_mps);
+               m.speed_mps >= std::max(kMinTrackSpeed_mps, kTrackShareOfReported * *m.reported_speed_mps) &&
+               m.speed_mps <= kTrackMultipleOfReported * *m.reported_speed_mps;
   } else {
     m.moving = m.displacement_m > m.displacement_limit_m || m.speed_mps > m.speed_limit_mps;
   }

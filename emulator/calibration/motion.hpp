@@ -38,6 +38,12 @@ inline constexpr double kSpeedWindow_s = 30.0;
 inline constexpr double kReportedSpeedLimit_mps = 0.05;
 inline constexpr double kTrackShareOfReported = 0.6;
 inline constexpr double kMinTrackSpeed_mps = 0.04;
+/// ...and at most this multiple of it: a receiver's Doppler velocity is good to centimetres a
+/// second, so a track much faster than the receiver says it moves is its position error moving
+/// (a receiver settling after its first fix: gpsd's ublox-8.log, a MAX-M8Q on a desk, goes 12.7 m
+/// north in 72 s, 0.14 m/s, while it reports 0.05 m/s; rx210.log's M8 jumps about at 0.37 m/s
+/// over 13 s while it reports 0.07 m/s). On a drifting boat or a creeping vehicle the two agree.
+inline constexpr double kTrackMultipleOfReported = 2.0;
 /// The detrending window (seconds): the trajectory is smooth over it, the noise's faster part is not.
 inline constexpr double kDetrendWindow_s = 10.0;
 
