@@ -175,7 +175,6 @@ Calibration calibrate(ReceiverLog log, const CalibrateOptions& options) {
   configs.push_back(gm1);
   configs.push_back(gm2);
   configs.push_back(fit_composite(s, c.real, c.window_samples, &c.notes));
-  c.composite.gm2 = configs.back();
   c.composite.cgrw_score = std::numeric_limits<double>::infinity();
   try {
     configs.push_back(fit_composite_cgrw(s, c.real, c.window_samples, &c.notes));
@@ -215,18 +214,17 @@ Calibration calibrate(ReceiverLog log, const CalibrateOptions& options) {
   c.hold = fit_hold(s, c.models[c.best].config, options.seed, options.runs);
   if (c.hold.hold.enabled()) {
     // What the emulator runs with the calibrated config: the composite refitted through the hold
-    // (the one written: gauss-markov-2 smooth part), the hold fitted again if it is the best, and
+    // (with a gauss-markov-2 smooth part), the hold fitted again if it is the best, and
     // every model simulated through the hold and scored again (issue 27: compare and judge
     // simulated without it, and a smooth wander through the hold has larger steps than without).
     const auto composite = std::find_if(c.models.begin(), c.models.end(), [](const ModelResult& m) {
       return m.config.model == noise::Model::composite;
     });
     ModelResult unheld_fit;  // the composite fitted without the hold, kept if it scores better through it
-    noise::NoiseConfig unheld_gm2;
     if (composite != c.models.end()) {
-      unheld_fit = *composite, unheld_gm2 = c.composite.gm2;
+      unheld_fit = *composite;
       std::vector<std::string> held_notes;
-      composite->config = c.composite.gm2 = fit_composite(s, c.real, c.window_samples, &held_notes, c.hold.hold);
+      composite->config = fit_composite(s, c.real, c.window_samples, &held_notes, c.hold.hold);
       for (const std::string& note : held_notes) c.notes.push_back("through the static hold: " + note);
       if (composite - c.models.begin() == static_cast<std::ptrdiff_t>(c.best))
         c.hold = fit_hold(s, composite->config, options.seed, options.runs);
@@ -240,7 +238,7 @@ Calibration calibrate(ReceiverLog log, const CalibrateOptions& options) {
                                     "{:.3f}: {} kept", composite->score, unheld_fit.score,
                                     keep_unheld ? "the fit without it" : "the fit through it"));
       if (keep_unheld)
-        *composite = std::move(unheld_fit), c.composite.gm2 = unheld_gm2;
+        *composite = std::move(unheld_fit);
       else
         c.composite.smooth = "gauss-markov-2";
     }
@@ -279,12 +277,9 @@ std::string config_toml(const Calibration& c, const std::string& log_name) {
   const ModelResult* best_gm = nullptr;  // the gauss-markov order whose keys are written
   for (const ModelResult& m : c.models)
     if (m.config.model == noise::Model::gauss_markov && (!best_gm || m.score < best_gm->score)) best_gm = &m;
-  const noise::NoiseConfig& best = c.models[c.best].config;
   // The cgrw-* keys are always cgrw's own fit, so `--noise cgrw` with this file runs it (issue 27);
-  // when the composite with a cgrw smooth part scored better, the gauss-markov-2 composite is
-  // written and a comment says so (the composite's walk has its own scale, and its slow part).
-  const bool composite_owns_cgrw = false;
-  (void)best;
+  // a composite with a cgrw smooth part writes its walk under composite-cgrw-* (it has its own
+  // scale beside the slow part and jitter; the rate and window are the same).
   for (const ModelResult& m : c.models) {
     const noise::NoiseConfig& k = m.config;
     switch (k.model) {
@@ -297,9 +292,7 @@ std::string config_toml(const Calibration& c, const std::string& log_name) {
                              w.width_m, w.width_d1_m, w.width_d2_m, w.sigma_d2_m, c.cgrw_fit[a].worst_ratio));
           }
         }
-        // The cgrw-* keys are also the composite's smooth part when that is cgrw: they go to the
-        // model `noise =` names; the other's are a comment.
-        out += cgrw_keys(k.cgrw, composite_owns_cgrw ? fmt::format("# cgrw alone (score {:.3f}): ", m.score) : "");
+        out += cgrw_keys(k.cgrw, "");
         break;
       }
       case noise::Model::chrono:
@@ -327,16 +320,15 @@ std::string config_toml(const Calibration& c, const std::string& log_name) {
       }
       case noise::Model::composite: {
         line(fmt::format("# composite: {}", c.composite.describe()));
-        const bool cgrw_smooth = k.composite.smooth == noise::CompositeSmooth::cgrw;
-        if (cgrw_smooth && !composite_owns_cgrw)
-          line("# the cgrw-* keys belong to noise = \"cgrw\" here: the gauss-markov-2 composite is written");
-        const noise::NoiseConfig& w = cgrw_smooth && !composite_owns_cgrw ? c.composite.gm2 : k;
-        const auto& g = w.composite.smooth_gm;
-        const auto& x = w.composite.axes;
+        const auto& g = k.composite.smooth_gm;
+        const auto& x = k.composite.axes;
         const auto three = [](double a, double b, double c) { return fmt::format("\"{:.6g},{:.6g},{:.6g}\"", a, b, c); };
-        if (composite_owns_cgrw) {
+        if (k.composite.smooth == noise::CompositeSmooth::cgrw) {
           line("composite-smooth = \"cgrw\"");
-          out += cgrw_keys(w.cgrw, "");
+          const std::array<const noise::CgrwAxis*, 3> walk{&k.cgrw.east, &k.cgrw.north, &k.cgrw.up};
+          for (std::size_t a = 0; a < 3; ++a)
+            line(fmt::format("composite-cgrw-{} = \"{:.6g},{:.6g},{:.6g},{:.6g}\"", kAxisNames[a], walk[a]->width_m,
+                             walk[a]->width_d1_m, walk[a]->width_d2_m, walk[a]->sigma_d2_m));
         } else {
           line("composite-smooth = \"gauss-markov-2\"");
           line("composite-sigma = " + three(g[0].sigma_m, g[1].sigma_m, g[2].sigma_m));

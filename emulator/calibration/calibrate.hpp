@@ -74,8 +74,6 @@ struct Calibration {
   struct CompositeChoice {
     std::string smooth = "gauss-markov-2";
     double gm2_score = 0.0, cgrw_score = 0.0;
-    noise::NoiseConfig gm2;               ///< the gauss-markov-2 candidate (written when the cgrw
-                                          ///< one won but the cgrw-* keys belong to noise = cgrw)
     [[nodiscard]] std::string describe() const;
   } composite;
   std::size_t best = 0;                   ///< index of the lowest score in models

@@ -255,6 +255,15 @@ std::vector<OptionDef> make_option_table() {
                                                          ? noise::CompositeSmooth::cgrw
                                                          : noise::CompositeSmooth::gauss_markov_2;
       });
+  for (std::size_t i = 0; i < 3; ++i) {
+    const std::string axis = i == 0 ? "east" : i == 1 ? "north" : "up";
+    add("composite-cgrw-" + axis, "W,W1,W2,S2",
+        fmt::format("composite model with composite-smooth cgrw: its walk's {} axis, as cgrw-{} (at cgrw-rate, "
+                    "over cgrw-window); all three axes or none (default: the cgrw-* keys)", axis, axis),
+        [i, axis](ConfigDraft& d, V v) {
+          d.receiver.composite_cgrw[i] = parse_cgrw_axis("composite-cgrw-" + axis, v.back());
+        });
+  }
   add("composite-sigma", "S[,SN,SU]", "composite model: smooth second-order Gauss-Markov standard deviation "
       "east,north,up, metres (default 0.5,0.5,1)",
       [](ConfigDraft& d, V v) {

@@ -42,6 +42,8 @@ struct ReceiverDraft {
   double width_m = 1.0;                      ///< cgrw one knob: horizontal width (metres)
   std::optional<noise::CgrwAxis> cgrw_east, cgrw_north, cgrw_up;  ///< explicit cgrw axes (else from width_m)
   std::optional<double> cgrw_rate_hz;        ///< rate the explicit axes were measured at (Hz)
+  /// The composite's own cgrw smooth axes (composite-cgrw-*): all three or none.
+  std::array<std::optional<noise::CgrwAxis>, 3> composite_cgrw;
 };
 
 /// Every option's raw value while a configuration loads.

@@ -89,6 +89,11 @@ ReceiverSettings resolve_receiver(const ReceiverDraft& draft, const TimelineSett
     throw ConfigError("cgrw-rate applies to parameters measured at that rate: give cgrw-east, cgrw-north "
                       "and cgrw-up too (gpsemu calibrate writes all four keys)");
   }
+  const auto& own = draft.composite_cgrw;
+  if ((own[0] || own[1] || own[2]) && !(own[0] && own[1] && own[2]))
+    throw ConfigError("composite-cgrw-east, composite-cgrw-north and composite-cgrw-up go together "
+                      "(gpsemu calibrate writes all three)");
+  if (own[0]) r.noise.composite.smooth_cgrw = std::array<noise::CgrwAxis, 3>{*own[0], *own[1], *own[2]};
   r.noise.cgrw = noise::cgrw_preset(draft.width_m);
   r.noise.cgrw.window_s = draft.settings.noise.cgrw.window_s;
   if (draft.cgrw_rate_hz) r.noise.cgrw.rate_hz = *draft.cgrw_rate_hz;

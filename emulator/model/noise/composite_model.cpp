@@ -14,7 +14,11 @@ namespace {
 constexpr double kNever = std::numeric_limits<double>::infinity();
 
 std::unique_ptr<NoiseModel> make_smooth(const NoiseConfig& config, std::uint64_t seed) {
-  if (config.composite.smooth == CompositeSmooth::cgrw) return std::make_unique<CgrwNoise>(config.cgrw, seed);
+  if (config.composite.smooth == CompositeSmooth::cgrw) {
+    CgrwParams walk = config.cgrw;
+    if (const auto& axes = config.composite.smooth_cgrw) walk.east = (*axes)[0], walk.north = (*axes)[1], walk.up = (*axes)[2];
+    return std::make_unique<CgrwNoise>(walk, seed);
+  }
   return std::make_unique<GaussMarkovNoise>(config.composite.smooth_gm, seed, 2);
 }
 

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "emulator/model/enu.hpp"
@@ -73,8 +74,12 @@ enum class CompositeSmooth { gauss_markov_2, cgrw };
 /// `composite`: a smooth component + a slow component + white jitter + a jump process, per axis.
 struct CompositeParams {
   CompositeSmooth smooth = CompositeSmooth::gauss_markov_2;
-  /// The smooth component when gauss_markov_2 (second-order Gauss-Markov); cgrw uses NoiseConfig::cgrw.
+  /// The smooth component when gauss_markov_2 (second-order Gauss-Markov).
   std::array<GaussMarkovAxis, 3> smooth_gm{{{0.5, 20.0}, {0.5, 20.0}, {1.0, 20.0}}};
+  /// The smooth component's walk axes when cgrw (`composite-cgrw-*`; its rate and window are
+  /// NoiseConfig::cgrw's); empty: NoiseConfig::cgrw itself. A calibrated composite's walk has its
+  /// own scale (it shares the variance with the slow part and jitter), so it has its own keys.
+  std::optional<std::array<CgrwAxis, 3>> smooth_cgrw;
   std::array<CompositeAxis, 3> axes{};  ///< east, north, up
 };
 
@@ -87,7 +92,7 @@ struct NoiseConfig {
   std::array<GaussianAxis, 3> gaussian{};   ///< east, north, up; used when model == gaussian
   std::array<GaussMarkovAxis, 3> gauss_markov{};  ///< east, north, up; model == gauss_markov
   int gauss_markov_order = 1;  ///< 1: first order; 2: second order, critically damped (smooth)
-  CompositeParams composite;   ///< used when model == composite (its cgrw smooth part: `cgrw`)
+  CompositeParams composite;   ///< used when model == composite
 };
 
 /// The report's "one knob": cgrw parameters for a receiver whose horizontal position wanders over

@@ -56,21 +56,68 @@ TEST(CompositeSmooth, BothSmoothPartsAreScoredAndTheLowerKept) {
   // gauss-markov-2 does (measured: 0.060 vs 0.140 here), and the score decides.
 }
 
+// What calibrate writes is what it scored: the chosen composite, whichever its smooth part, and
+// cgrw's own fit under the cgrw-* keys (issue 27: `--noise cgrw` with a composite config ran the
+// composite's walk; then the gauss-markov-2 composite was written even where the cgrw one scored
+// better: a u-blox M9N's east first differences came out 68% low).
+void expect_written_as_scored(const Calibration& c, const std::string& log_name) {
+  const std::string toml = config_toml(c, log_name);
+  EXPECT_NE(toml.find("# composite: smooth part " + c.composite.smooth), std::string::npos) << toml;
+  EXPECT_NE(toml.find("composite-smooth = \"" + c.composite.smooth + "\""), std::string::npos) << toml;
+  const ModelResult& m = composite_of(c);
+  const Config composite = build_config_from_text(toml, "calibrated.toml", {{"noise", {"composite"}}});
+  const noise::NoiseConfig& run = composite.receiver().noise;
+  EXPECT_EQ(run.composite.smooth, m.config.composite.smooth);
+  EXPECT_NO_THROW((void)noise::make_noise_model(run, 7)) << toml;
+  const Config cgrw = build_config_from_text(toml, "calibrated.toml", {{"noise", {"cgrw"}}});
+  const ModelResult* cgrw_fit = nullptr;
+  for (const ModelResult& r : c.models)
+    if (r.config.model == noise::Model::cgrw) cgrw_fit = &r;
+  ASSERT_NE(cgrw_fit, nullptr);
+  EXPECT_NEAR(cgrw.receiver().noise.cgrw.east.width_m, cgrw_fit->config.cgrw.east.width_m,
+              1e-5 * cgrw_fit->config.cgrw.east.width_m) << "the cgrw-* keys are cgrw's own fit";
+  if (c.composite.smooth == "cgrw") {
+    ASSERT_TRUE(run.composite.smooth_cgrw.has_value()) << toml;
+    const std::array<const noise::CgrwAxis*, 3> fitted{&m.config.cgrw.east, &m.config.cgrw.north, &m.config.cgrw.up};
+    for (std::size_t a = 0; a < 3; ++a) {
+      EXPECT_NEAR((*run.composite.smooth_cgrw)[a].width_m, fitted[a]->width_m, 1e-5 * fitted[a]->width_m) << a;
+      EXPECT_NEAR((*run.composite.smooth_cgrw)[a].sigma_d2_m, fitted[a]->sigma_d2_m, 1e-5 * fitted[a]->sigma_d2_m) << a;
+    }
+    EXPECT_NE(m.config.cgrw.east.width_m, cgrw_fit->config.cgrw.east.width_m) << "the composite's walk has its own scale";
+  } else {
+    EXPECT_FALSE(run.composite.smooth_cgrw.has_value()) << toml;
+  }
+}
+
 TEST(CompositeSmooth, TheWrittenConfigLoadsWithTheChosenSmoothPart) {
   const std::string log = test::model_log(cgrw_composite(), 4, 1.0, 1200.0, 6);
-  const Calibration c = calibrate(read_receiver_log(log), CalibrateOptions{1, 8});
-  const std::string toml = config_toml(c, "made.log");
-  EXPECT_NE(toml.find("# composite: smooth part " + c.composite.smooth), std::string::npos) << toml;
-  // The cgrw-* keys are cgrw's own fit (issue 27: `--noise cgrw` with a composite config ran the
-  // composite's walk): the composite written is always the gauss-markov-2 one.
-  const std::string written = "gauss-markov-2";
-  if (c.composite.smooth == "cgrw") {
-    EXPECT_NE(toml.find("the cgrw-* keys belong to noise = \"cgrw\""), std::string::npos) << toml;
+  expect_written_as_scored(calibrate(read_receiver_log(log), CalibrateOptions{1, 8}), "made.log");
+}
+
+// The Telit HE910 (tests/data/real) is one where the cgrw smooth part scores better.
+TEST(CompositeSmooth, AWinningCgrwSmoothPartIsWrittenUnderItsOwnKeys) {
+  const Calibration c = calibrate(read_receiver_log_file(GPSEMU_SOURCE_DIR "/tests/data/real/telit-he910.log"),
+                                  CalibrateOptions{1, 8});
+  ASSERT_EQ(c.composite.smooth, "cgrw") << c.composite.describe();
+  expect_written_as_scored(c, "telit-he910.log");
+}
+
+// The composite's walk keys go together, and without them the composite's cgrw smooth part is cgrw-*'s.
+TEST(CompositeSmooth, CompositeCgrwKeysAreAllThreeOrNone) {
+  const std::string base = "noise = \"composite\"\ncomposite-smooth = \"cgrw\"\n";
+  EXPECT_FALSE(build_config_from_text(base, "c.toml", {}).receiver().noise.composite.smooth_cgrw.has_value());
+  try {
+    (void)build_config_from_text(base + "composite-cgrw-east = \"1,0.1,0.1,0.02\"\n", "c.toml", {});
+    ADD_FAILURE() << "one composite-cgrw axis was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("composite-cgrw-east, composite-cgrw-north and composite-cgrw-up go together"),
+              std::string::npos) << e.what();
   }
-  EXPECT_NE(toml.find("composite-smooth = \"" + written + "\""), std::string::npos) << toml;
-  const Config config = build_config_from_text(toml, "calibrated.toml", {{"noise", {"composite"}}});
-  EXPECT_EQ(config.receiver().noise.composite.smooth == noise::CompositeSmooth::cgrw, written == "cgrw");
-  EXPECT_NO_THROW((void)noise::make_noise_model(config.receiver().noise, 7)) << toml;
+  const Config all = build_config_from_text(base + "composite-cgrw-east = \"1,0.1,0.1,0.02\"\n"
+                                                   "composite-cgrw-north = \"2,0.1,0.1,0.02\"\n"
+                                                   "composite-cgrw-up = \"3,0.2,0.2,0.04\"\n", "c.toml", {});
+  ASSERT_TRUE(all.receiver().noise.composite.smooth_cgrw.has_value());
+  EXPECT_EQ((*all.receiver().noise.composite.smooth_cgrw)[1].width_m, 2.0);
 }
 
 }  // namespace
