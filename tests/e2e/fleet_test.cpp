@@ -26,6 +26,7 @@
 
 #include "emulator/config/config.hpp"
 #include "emulator/pipeline/runner.hpp"
+#include "tests/support/nmea_check.hpp"
 #include "tests/support/udp_socket.hpp"
 #include "tests/support/process.hpp"
 #include "tests/support/read_deadline.hpp"
@@ -35,6 +36,7 @@ namespace gpsemu {
 namespace {
 
 using namespace std::chrono_literals;
+using test::seconds_of_day;
 namespace fs = std::filesystem;
 
 fs::path scratch_dir(const std::string& name) { return test::scratch_dir("fleet", name); }
@@ -153,10 +155,6 @@ struct UdpSink : test::LoopbackUdpSocket {
   }
 };
 
-double seconds_of_day(const std::string& hhmmss) {
-  return std::stoi(hhmmss.substr(0, 2)) * 3600.0 + std::stoi(hhmmss.substr(2, 2)) * 60.0 + std::stod(hhmmss.substr(4));
-}
-
 TEST(FleetEndToEnd, InRealTimeEveryReceiverGetsEveryEpochOnceInOrderAndNoneEarly) {
   // 12 receivers (a second writer thread from 8 on), 10 Hz for 2 s, each on its own UDP port.
   constexpr int kReceivers = 12;
@@ -246,9 +244,9 @@ TEST(FleetEndToEnd, LockstepFollowsTheSlowestSimulator) {
                         "--pose-timeout", "5"});
   std::vector<int> sim;
   for (int i = 0; i < 2; ++i) {
-    const auto line = gpsemu.wait_for_stderr("waiting for poses on", 20s);
-    ASSERT_TRUE(line) << gpsemu.stderr_text();
-    sim.push_back(udp_to(static_cast<std::uint16_t>(std::stoi(line->substr(line->rfind(':') + 1)))));
+    const auto port = test::wait_for_port(gpsemu, "waiting for poses on", 20s);
+    ASSERT_TRUE(port) << gpsemu.stderr_text();
+    sim.push_back(udp_to(*port));
     ASSERT_GE(sim.back(), 0);
   }
   // Simulator 0 runs ahead to t = 1.2 s; simulator 1 has not started: nothing leaves.
