@@ -161,10 +161,8 @@ TEST(FleetEndToEnd, InRealTimeEveryReceiverGetsEveryEpochOnceInOrderAndNoneEarly
   std::vector<std::unique_ptr<UdpSink>> sinks;
   std::string toml = "rate = 10\nduration = 2\nlatency = 0.05\nnoise = \"cgrw\"\nseed = 5\nsentences = \"GGA,RMC\"\n"
                      "log-level = \"warn\"\n";
-  for (int i = 0; i < kReceivers; ++i) {
-    sinks.push_back(std::make_unique<UdpSink>());
-    toml += fmt::format("[[receiver]]\noutput = \"udp:127.0.0.1:{}\"\n", sinks.back()->port);
-  }
+  for (int i = 0; i < kReceivers; ++i) sinks.push_back(std::make_unique<UdpSink>());
+  toml += test::receivers_writing_to(sinks);
   Runner runner(build_config_from_text(toml, "fleet.toml", {}));
   std::atomic<bool> stop{false};
   ASSERT_EQ(runner.run(stop), 0);
@@ -201,12 +199,9 @@ TEST(FleetEndToEnd, NoEpochLeavesBeforeItsTimePlusLatency) {
   // Computed ahead, written at the deadline: the kernel's receive time stamp of each datagram is
   // never earlier than the epoch's time + latency (an order check: lateness is not asserted).
   constexpr int kReceivers = 9;
-  std::vector<std::unique_ptr<test::LoopbackUdpSocket>> sinks;
+  const auto sinks = test::stamped_sinks(kReceivers);
   std::string toml = "rate = 10\nduration = 1.5\nlatency = 0.08\nsentences = \"GGA\"\nlog-level = \"warn\"\n";
-  for (int i = 0; i < kReceivers; ++i) {
-    sinks.push_back(std::make_unique<test::LoopbackUdpSocket>(SO_TIMESTAMPNS, 1));
-    toml += fmt::format("[[receiver]]\noutput = \"udp:127.0.0.1:{}\"\n", sinks.back()->port);
-  }
+  toml += test::receivers_writing_to(sinks);
   Runner runner(build_config_from_text(toml, "fleet.toml", {}));
   std::atomic<bool> stop{false};
   ASSERT_EQ(runner.run(stop), 0);
