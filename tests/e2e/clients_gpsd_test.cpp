@@ -29,7 +29,6 @@
 #include "nmea/parse.hpp"
 #include "tests/support/gpsd.hpp"
 #include "tests/support/process.hpp"
-#include "tests/support/read_deadline.hpp"
 
 namespace gpsemu {
 namespace {
@@ -38,9 +37,6 @@ namespace fs = std::filesystem;
 using namespace std::chrono;
 using nlohmann::json;
 
-using test::connect_gpsd;
-using test::free_tcp_port;
-using test::kGpsd;
 using Report = test::Tpv;
 const Geodetic kOrigin{43.0725, -89.4125, 260.0};  // gpsemu's default origin (sim:stationary truth)
 
@@ -64,10 +60,6 @@ struct GpsdRun {
 /// Runs gpsemu for `duration_s` on a pty with gpsd attached; returns gpsd's TPVs and the NMEA.
 GpsdRun run_with_gpsd(const std::string& name, std::vector<std::string> args, double duration_s) {
   GpsdRun run;
-  if (::access(kGpsd, X_OK) != 0) {
-    ADD_FAILURE() << kGpsd << " is missing: tools/setup --with-test-deps installs gpsd (Debian package gpsd)";
-    return run;
-  }
   const fs::path dir = fs::temp_directory_path() / fmt::format("gpsemu_gpsd_{}_{}", ::getpid(), name);
   fs::create_directories(dir);
   const fs::path link = dir / "gps", file = dir / "out.nmea";
@@ -75,38 +67,22 @@ GpsdRun run_with_gpsd(const std::string& name, std::vector<std::string> args, do
                                 "--duration", fmt::format("{}", duration_s), "--log-level", "info"};
   argv.insert(argv.end(), args.begin(), args.end());
   test::Process gpsemu(argv);
-  if (!gpsemu.wait_for_stderr("on /dev/pts", seconds(20))) {
-    ADD_FAILURE() << "gpsemu did not start: " << gpsemu.stderr_text();
+  test::GpsdWatch gpsd(gpsemu, link, test::GpsdAccess::read_only);
+  if (!gpsd.ok()) {
+    ADD_FAILURE() << gpsd.error();
     return run;
   }
-  const std::string device = fs::read_symlink(link).string();
-  const int port = free_tcp_port();
-  test::Process gpsd({kGpsd, "-N", "-n", "-b", "-S", std::to_string(port), device});
-  const int sock = connect_gpsd(port, seconds(10));
-  if (sock < 0) {
-    gpsd.signal(SIGTERM);
-    gpsd.wait(seconds(5));
-    ADD_FAILURE() << "gpsd does not listen on port " << port << ": " << gpsd.stderr_text();
-    return run;
-  }
-  EXPECT_TRUE(test::watch_json(sock));
   // Read reports until gpsemu has had time to finish (it stops after duration_s of epochs).
-  test::ReportLines lines;
-  const milliseconds reading{std::llround(duration_s * 1000.0) + 1500};
-  test::read_with_deadline(sock, {reading}, [&](std::string_view chunk) {
-    lines.feed(chunk, [&](const json& j) {
-      if (j["class"] == "SKY") {
-        ++run.sky_reports;
-        if (j.contains("satellites") && !j["satellites"].empty()) run.last_sky = j;
-      }
-      if (j["class"] == "TPV") run.tpv.push_back(test::tpv_of(j));
-    });
-    return false;
+  gpsd.read_reports(milliseconds{std::llround(duration_s * 1000.0) + 1500}, [&](const json& j) {
+    if (j["class"] == "SKY") {
+      ++run.sky_reports;
+      if (j.contains("satellites") && !j["satellites"].empty()) run.last_sky = j;
+    }
+    if (j["class"] == "TPV") run.tpv.push_back(test::tpv_of(j));
   });
-  ::close(sock);
+  gpsd.close_client();
   EXPECT_EQ(gpsemu.wait(seconds(20)), 0) << gpsemu.stderr_text();
-  gpsd.signal(SIGTERM);
-  gpsd.wait(seconds(10));
+  gpsd.stop();
 
   std::ifstream in(file, std::ios::binary);
   std::stringstream text;

@@ -185,9 +185,9 @@ TEST(LockstepEndToEnd, SimTimeAtHalfRealSpeedGivesEpochsThatFollowSimTimeExactly
   test::Process gpsemu({GPSEMU_BINARY, "--clock", "lockstep", "--source", "udp:127.0.0.1:0", "--rate", "5",
                         "--start-time", "2024-05-01T12:00:00Z", "--duration", fmt::format("{}", epochs / 5.0),
                         "--noise", "none", "--sentences", "GGA", "--output", "stdout", "--pose-timeout", "1"});
-  const auto line = gpsemu.wait_for_stderr("waiting for poses on", seconds(20));
-  ASSERT_TRUE(line) << gpsemu.stderr_text();
-  const int fd = udp_to(static_cast<std::uint16_t>(std::stoi(line->substr(line->rfind(':') + 1))));
+  const auto port = test::wait_for_port(gpsemu, "waiting for poses on", seconds(20));
+  ASSERT_TRUE(port) << gpsemu.stderr_text();
+  const int fd = udp_to(*port);
   ASSERT_GE(fd, 0);
   // Sim time t = 0, 0.01, 0.02 ... sent every 20 ms of wall time: half real speed. The vehicle
   // drives east at 1 m/s of sim time: x = t.

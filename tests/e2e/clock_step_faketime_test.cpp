@@ -34,20 +34,14 @@ namespace gpsemu {
 namespace {
 
 using namespace std::chrono_literals;
+using test::pump_for;
+using test::seconds_of_day;
 
 const char* const kLibFaketime = "/usr/lib/x86_64-linux-gnu/faketime/libfaketime.so.1";
-
-double seconds_of_day(const std::string& hhmmss) {
-  return std::stoi(hhmmss.substr(0, 2)) * 3600.0 + std::stoi(hhmmss.substr(2, 2)) * 60.0 + std::stod(hhmmss.substr(4));
-}
 
 /// `b - a` in seconds of the day, across midnight.
 double day_diff_s(double a, double b) { return std::fmod(b - a + 86400.0 + 43200.0, 86400.0) - 43200.0; }
 
-void pump_for(test::Process& p, std::chrono::milliseconds how_long) {
-  const auto until = std::chrono::steady_clock::now() + how_long;
-  while (std::chrono::steady_clock::now() < until) p.pump(20ms);
-}
 
 /// Replaces the offset file in one rename (libfaketime never reads half a file).
 void set_offset(const std::filesystem::path& rc, const std::string& offset) {
@@ -95,14 +89,8 @@ TEST(ClockStepFaketime, BackTheOutputGoesOnWithinAPeriodAheadTheLateEpochsAreSki
   const std::string err = gpsemu.stderr_text();
 
   std::vector<Rmc> rmcs;
-  std::string pending;
-  for (const test::Chunk& chunk : gpsemu.chunks()) {
-    pending += chunk.bytes;
-    const auto split = test::split_sentences(pending);
-    pending = split.rest;
-    for (const std::string& s : split.sentences) {
-      if (test::sentence_type(s) == "RMC") rmcs.push_back({chunk.read_s, seconds_of_day(test::time_field(s))});
-    }
+  for (const test::ReadSentence& s : test::sentences_as_read(gpsemu.chunks())) {
+    if (test::sentence_type(s.text) == "RMC") rmcs.push_back({s.read_s, seconds_of_day(test::time_field(s.text))});
   }
   ASSERT_GE(rmcs.size(), 20u) << err;
 

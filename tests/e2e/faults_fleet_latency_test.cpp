@@ -21,6 +21,7 @@
 
 #include "emulator/config/config.hpp"
 #include "emulator/pipeline/runner.hpp"
+#include "tests/support/nmea_check.hpp"
 #include "tests/support/udp_socket.hpp"
 
 namespace gpsemu {
@@ -30,21 +31,17 @@ namespace {
 double gga_seconds_of_day(const std::string& datagram) {
   const std::size_t at = datagram.find("GGA,");
   if (at == std::string::npos) return -1.0;
-  const std::string t = datagram.substr(at + 4, 9);
-  return std::stoi(t.substr(0, 2)) * 3600.0 + std::stoi(t.substr(2, 2)) * 60.0 + std::stod(t.substr(4));
+  return test::seconds_of_day(datagram.substr(at + 4, 9));
 }
 
 TEST(FaultsFleetLatency, EachDelayedEpochLeavesAtItsOwnTimeNotWithTheNextEpoch) {
   constexpr int kReceivers = 2;
   constexpr double kLatencyS = 0.05, kDelayS = 0.25, kPeriodS = 0.5;
-  std::vector<std::unique_ptr<test::LoopbackUdpSocket>> sinks;
+  const auto sinks = test::stamped_sinks(kReceivers);
   std::string toml = fmt::format("rate = 2\nduration = 3\nlatency = {}\nsentences = \"GGA\"\nlog-level = \"warn\"\n"
                                  "[[fault]]\nkind = \"latency\"\ndelay_ms = {}\n",
                                  kLatencyS, kDelayS * 1000);
-  for (int i = 0; i < kReceivers; ++i) {
-    sinks.push_back(std::make_unique<test::LoopbackUdpSocket>(SO_TIMESTAMPNS, 1));
-    toml += fmt::format("[[receiver]]\noutput = \"udp:127.0.0.1:{}\"\n", sinks.back()->port);
-  }
+  toml += test::receivers_writing_to(sinks);
   Runner runner(build_config_from_text(toml, "fleet.toml", {}));
   std::atomic<bool> stop{false};
   ASSERT_EQ(runner.run(stop), 0);

@@ -50,31 +50,20 @@ std::int64_t now_ms_of_day() {
 /// gpsemu at 5 Hz with `scenario` for `duration_s` on a pty read by gpsd.
 GpsdRun run_with_gpsd(const std::string& name, const std::string& scenario, double duration_s) {
   GpsdRun run;
-  if (::access(test::kGpsd, X_OK) != 0) {
-    ADD_FAILURE() << test::kGpsd << " is missing: tools/setup --with-test-deps installs gpsd (Debian package gpsd)";
-    return run;
-  }
   const fs::path dir = test::scratch_dir("faults_gpsd", name);
   const fs::path link = dir / "gps", file = dir / "out.nmea";
   const fs::path toml = test::write_file(dir / "scenario.toml", scenario);
   test::Process gpsemu({GPSEMU_BINARY, "--rate", "5", "--seed", "21", "--output", "pty:" + link.string(), "--output",
                         "file:" + file.string(), "--duration", fmt::format("{}", duration_s), "--scenario", toml.string(),
                         "--log-level", "info"});
-  if (!gpsemu.wait_for_stderr("on /dev/pts", seconds(20))) {
-    ADD_FAILURE() << "gpsemu did not start: " << gpsemu.stderr_text();
+  test::GpsdWatch gpsd(gpsemu, link, test::GpsdAccess::read_only);
+  if (!gpsd.ok()) {
+    ADD_FAILURE() << gpsd.error();
     return run;
   }
-  const int port = test::free_tcp_port();
-  test::Process gpsd({test::kGpsd, "-N", "-n", "-b", "-S", std::to_string(port), fs::read_symlink(link).string()});
-  const int sock = test::connect_gpsd(port, seconds(10));
-  if (sock < 0) {
-    ADD_FAILURE() << "gpsd does not listen on port " << port << ": " << gpsd.stderr_text();
-    return run;
-  }
-  EXPECT_TRUE(test::watch_json(sock));
   test::ReportLines lines;
-  test::read_with_deadline(sock, {milliseconds(std::llround(duration_s * 1000.0) + 1500)}, [&](std::string_view chunk) {
-    const std::int64_t arrived = now_ms_of_day();
+  test::read_with_deadline(gpsd.socket(), {milliseconds(std::llround(duration_s * 1000.0) + 1500)}, [&](std::string_view chunk) {
+    const std::int64_t arrived = now_ms_of_day();  // of the read, the same for every report in it
     lines.feed(chunk, [&](const json& j) {
       if (j["class"] != "TPV") return;
       const test::Tpv t = test::tpv_of(j);
@@ -82,11 +71,10 @@ GpsdRun run_with_gpsd(const std::string& name, const std::string& scenario, doub
     });
     return false;
   });
-  ::close(sock);
+  gpsd.close_client();
   EXPECT_EQ(gpsemu.wait(seconds(20)), 0) << gpsemu.stderr_text();
   run.log = gpsemu.stderr_text();
-  gpsd.signal(SIGTERM);
-  gpsd.wait(seconds(10));
+  gpsd.stop();
   nmea::StreamReader reader;
   for (const auto& s : reader.feed(test::read_file(file))) {
     if (s.type != "GGA") continue;

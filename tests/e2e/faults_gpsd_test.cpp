@@ -6,7 +6,6 @@
 // time (gpsd reads a live device), for a few seconds.
 #include <gtest/gtest.h>
 
-#include <signal.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -23,7 +22,6 @@
 #include "emulator/model/geo.hpp"
 #include "tests/support/gpsd.hpp"
 #include "tests/support/process.hpp"
-#include "tests/support/read_deadline.hpp"
 #include "tests/support/scratch.hpp"
 
 namespace gpsemu {
@@ -51,10 +49,6 @@ struct Report {
 std::vector<Report> run_with_gpsd(const std::string& name, const std::string& scenario, double duration_s,
                                   std::vector<std::string> args = {}) {
   std::vector<Report> out;
-  if (::access(test::kGpsd, X_OK) != 0) {
-    ADD_FAILURE() << test::kGpsd << " is missing: tools/setup --with-test-deps installs gpsd (Debian package gpsd)";
-    return out;
-  }
   const fs::path dir = test::scratch_dir("faults_gpsd", name);
   const fs::path link = dir / "gps";
   const fs::path file = test::write_file(dir / "scenario.toml", scenario);
@@ -63,51 +57,37 @@ std::vector<Report> run_with_gpsd(const std::string& name, const std::string& sc
                                 "--seed", "21", "--scenario", file.string(), "--log-level", "info"};
   argv.insert(argv.end(), args.begin(), args.end());
   test::Process gpsemu(argv);
-  if (!gpsemu.wait_for_stderr("on /dev/pts", seconds(20))) {
-    ADD_FAILURE() << "gpsemu did not start: " << gpsemu.stderr_text();
+  test::GpsdWatch gpsd(gpsemu, link, test::GpsdAccess::read_only);
+  if (!gpsd.ok()) {
+    ADD_FAILURE() << gpsd.error();
     return out;
   }
-  const int port = test::free_tcp_port();
-  test::Process gpsd({test::kGpsd, "-N", "-n", "-b", "-S", std::to_string(port), fs::read_symlink(link).string()});
-  const int sock = test::connect_gpsd(port, seconds(10));
-  if (sock < 0) {
-    gpsd.signal(SIGTERM);
-    gpsd.wait(seconds(5));
-    ADD_FAILURE() << "gpsd does not listen on port " << port << ": " << gpsd.stderr_text();
-    return out;
-  }
-  EXPECT_TRUE(test::watch_json(sock));
-  test::ReportLines lines;
   std::optional<std::int64_t> last_tpv_ms;
-  test::read_with_deadline(sock, {milliseconds(std::llround(duration_s * 1000.0) + 1500)}, [&](std::string_view chunk) {
-    lines.feed(chunk, [&](const json& j) {
-      Report r;
-      if (j["class"] == "TPV") {
-        const test::Tpv tpv = test::tpv_of(j);
-        r.mode = tpv.mode;
-        r.eph_m = tpv.eph_m;
-        r.lat_deg = tpv.lat_deg;
-        r.lon_deg = tpv.lon_deg;
-        r.speed_mps = j.value("speed", NAN);
-        r.status = j.value("status", 1);
-        r.time = j.value("time", "");
-        if (tpv.time_of_day_ms) r.since_ms = last_tpv_ms = *tpv.time_of_day_ms - kStartMsOfDay;
-      } else if (j["class"] == "SKY" && j.contains("satellites")) {
-        r.since_ms = last_tpv_ms;
-        r.sky_listed = static_cast<int>(j["satellites"].size());
-        r.sky_used = 0;
-        for (const json& s : j["satellites"]) r.sky_used += s.value("used", false);
-      } else {
-        return;
-      }
-      out.push_back(r);
-    });
-    return false;
+  gpsd.read_reports(milliseconds(std::llround(duration_s * 1000.0) + 1500), [&](const json& j) {
+    Report r;
+    if (j["class"] == "TPV") {
+      const test::Tpv tpv = test::tpv_of(j);
+      r.mode = tpv.mode;
+      r.eph_m = tpv.eph_m;
+      r.lat_deg = tpv.lat_deg;
+      r.lon_deg = tpv.lon_deg;
+      r.speed_mps = j.value("speed", NAN);
+      r.status = j.value("status", 1);
+      r.time = j.value("time", "");
+      if (tpv.time_of_day_ms) r.since_ms = last_tpv_ms = *tpv.time_of_day_ms - kStartMsOfDay;
+    } else if (j["class"] == "SKY" && j.contains("satellites")) {
+      r.since_ms = last_tpv_ms;
+      r.sky_listed = static_cast<int>(j["satellites"].size());
+      r.sky_used = 0;
+      for (const json& s : j["satellites"]) r.sky_used += s.value("used", false);
+    } else {
+      return;
+    }
+    out.push_back(r);
   });
-  ::close(sock);
+  gpsd.close_client();
   EXPECT_EQ(gpsemu.wait(seconds(20)), 0) << gpsemu.stderr_text();
-  gpsd.signal(SIGTERM);
-  gpsd.wait(seconds(10));
+  gpsd.stop();
   fs::remove_all(dir);
   return out;
 }

@@ -7,7 +7,6 @@
 // time a few seconds before the event, paced in real time (gpsd reads a live device).
 #include <gtest/gtest.h>
 
-#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -25,7 +24,6 @@
 
 #include "tests/support/gpsd.hpp"
 #include "tests/support/process.hpp"
-#include "tests/support/read_deadline.hpp"
 #include "tests/support/scratch.hpp"
 
 namespace gpsemu {
@@ -48,10 +46,6 @@ struct LeapRun {
 /// (read-only for NMEA; read-write for UBX, so it turns on the messages it wants).
 LeapRun run_with_gpsd(const std::string& name, const std::string& protocol, const std::string& start_time, double duration_s) {
   LeapRun run;
-  if (::access(test::kGpsd, X_OK) != 0) {
-    ADD_FAILURE() << test::kGpsd << " is missing: tools/setup --with-test-deps installs gpsd (Debian package gpsd)";
-    return run;
-  }
   const fs::path dir = test::scratch_dir("faults_leap", name);
   const fs::path link = dir / "gps", copy = dir / "copy.out";
   const fs::path scenario = test::write_file(dir / "leap.toml", kScenario);
@@ -59,33 +53,17 @@ LeapRun run_with_gpsd(const std::string& name, const std::string& protocol, cons
                         "file:" + copy.string(), "--rate", "5", "--start-time", start_time, "--clock", "scaled:1",
                         "--duration", fmt::format("{}", duration_s), "--seed", "21", "--scenario", scenario.string(),
                         "--log-level", "info"});
-  if (!gpsemu.wait_for_stderr("on /dev/pts", seconds(20))) {
-    ADD_FAILURE() << "gpsemu did not start: " << gpsemu.stderr_text();
+  test::GpsdWatch gpsd(gpsemu, link, protocol == "nmea" ? test::GpsdAccess::read_only : test::GpsdAccess::read_write);
+  if (!gpsd.ok()) {
+    ADD_FAILURE() << gpsd.error();
     return run;
   }
-  const int port = test::free_tcp_port();
-  std::vector<std::string> gpsd_argv{test::kGpsd, "-N", "-n", "-S", std::to_string(port), fs::read_symlink(link).string()};
-  if (protocol == "nmea") gpsd_argv.insert(gpsd_argv.begin() + 1, "-b");
-  test::Process gpsd(gpsd_argv);
-  const int sock = test::connect_gpsd(port, seconds(10));
-  if (sock < 0) {
-    gpsd.signal(SIGTERM);
-    gpsd.wait(seconds(5));
-    ADD_FAILURE() << "gpsd does not listen on port " << port << ": " << gpsd.stderr_text();
-    return run;
-  }
-  EXPECT_TRUE(test::watch_json(sock));
-  test::ReportLines lines;
-  test::read_with_deadline(sock, {milliseconds(std::llround(duration_s * 1000.0) + 1500)}, [&](std::string_view chunk) {
-    lines.feed(chunk, [&](const json& j) {
-      if (j["class"] == "TPV" && j.contains("time")) run.tpv.push_back(j);
-    });
-    return false;
+  gpsd.read_reports(milliseconds(std::llround(duration_s * 1000.0) + 1500), [&](const json& j) {
+    if (j["class"] == "TPV" && j.contains("time")) run.tpv.push_back(j);
   });
-  ::close(sock);
+  gpsd.close_client();
   EXPECT_EQ(gpsemu.wait(seconds(20)), 0) << gpsemu.stderr_text();
-  gpsd.signal(SIGTERM);
-  gpsd.wait(seconds(10));
+  gpsd.stop();
   run.log = gpsemu.stderr_text();
   if (protocol == "nmea") run.nmea = test::read_file(copy);
   fs::remove_all(dir);

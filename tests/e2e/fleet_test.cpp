@@ -26,6 +26,7 @@
 
 #include "emulator/config/config.hpp"
 #include "emulator/pipeline/runner.hpp"
+#include "tests/support/nmea_check.hpp"
 #include "tests/support/udp_socket.hpp"
 #include "tests/support/process.hpp"
 #include "tests/support/read_deadline.hpp"
@@ -35,6 +36,7 @@ namespace gpsemu {
 namespace {
 
 using namespace std::chrono_literals;
+using test::seconds_of_day;
 namespace fs = std::filesystem;
 
 fs::path scratch_dir(const std::string& name) { return test::scratch_dir("fleet", name); }
@@ -153,20 +155,14 @@ struct UdpSink : test::LoopbackUdpSocket {
   }
 };
 
-double seconds_of_day(const std::string& hhmmss) {
-  return std::stoi(hhmmss.substr(0, 2)) * 3600.0 + std::stoi(hhmmss.substr(2, 2)) * 60.0 + std::stod(hhmmss.substr(4));
-}
-
 TEST(FleetEndToEnd, InRealTimeEveryReceiverGetsEveryEpochOnceInOrderAndNoneEarly) {
   // 12 receivers (a second writer thread from 8 on), 10 Hz for 2 s, each on its own UDP port.
   constexpr int kReceivers = 12;
   std::vector<std::unique_ptr<UdpSink>> sinks;
   std::string toml = "rate = 10\nduration = 2\nlatency = 0.05\nnoise = \"cgrw\"\nseed = 5\nsentences = \"GGA,RMC\"\n"
                      "log-level = \"warn\"\n";
-  for (int i = 0; i < kReceivers; ++i) {
-    sinks.push_back(std::make_unique<UdpSink>());
-    toml += fmt::format("[[receiver]]\noutput = \"udp:127.0.0.1:{}\"\n", sinks.back()->port);
-  }
+  for (int i = 0; i < kReceivers; ++i) sinks.push_back(std::make_unique<UdpSink>());
+  toml += test::receivers_writing_to(sinks);
   Runner runner(build_config_from_text(toml, "fleet.toml", {}));
   std::atomic<bool> stop{false};
   ASSERT_EQ(runner.run(stop), 0);
@@ -203,12 +199,9 @@ TEST(FleetEndToEnd, NoEpochLeavesBeforeItsTimePlusLatency) {
   // Computed ahead, written at the deadline: the kernel's receive time stamp of each datagram is
   // never earlier than the epoch's time + latency (an order check: lateness is not asserted).
   constexpr int kReceivers = 9;
-  std::vector<std::unique_ptr<test::LoopbackUdpSocket>> sinks;
+  const auto sinks = test::stamped_sinks(kReceivers);
   std::string toml = "rate = 10\nduration = 1.5\nlatency = 0.08\nsentences = \"GGA\"\nlog-level = \"warn\"\n";
-  for (int i = 0; i < kReceivers; ++i) {
-    sinks.push_back(std::make_unique<test::LoopbackUdpSocket>(SO_TIMESTAMPNS, 1));
-    toml += fmt::format("[[receiver]]\noutput = \"udp:127.0.0.1:{}\"\n", sinks.back()->port);
-  }
+  toml += test::receivers_writing_to(sinks);
   Runner runner(build_config_from_text(toml, "fleet.toml", {}));
   std::atomic<bool> stop{false};
   ASSERT_EQ(runner.run(stop), 0);
@@ -246,9 +239,9 @@ TEST(FleetEndToEnd, LockstepFollowsTheSlowestSimulator) {
                         "--pose-timeout", "5"});
   std::vector<int> sim;
   for (int i = 0; i < 2; ++i) {
-    const auto line = gpsemu.wait_for_stderr("waiting for poses on", 20s);
-    ASSERT_TRUE(line) << gpsemu.stderr_text();
-    sim.push_back(udp_to(static_cast<std::uint16_t>(std::stoi(line->substr(line->rfind(':') + 1)))));
+    const auto port = test::wait_for_port(gpsemu, "waiting for poses on", 20s);
+    ASSERT_TRUE(port) << gpsemu.stderr_text();
+    sim.push_back(udp_to(*port));
     ASSERT_GE(sim.back(), 0);
   }
   // Simulator 0 runs ahead to t = 1.2 s; simulator 1 has not started: nothing leaves.

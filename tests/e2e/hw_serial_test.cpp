@@ -25,6 +25,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
+using test::seconds_of_day;
 
 class SerialEndToEndTest : public ::testing::Test {
  protected:
@@ -37,10 +38,6 @@ class SerialEndToEndTest : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
   fs::path dir_;
 };
-
-double seconds_of_day(const std::string& field) {
-  return std::stod(field.substr(0, 2)) * 3600 + std::stod(field.substr(2, 2)) * 60 + std::stod(field.substr(4));
-}
 
 // 230400 baud: the default sentences of the default model (an M8N: GPS, GLONASS, QZSS, SBAS, each
 // system its own GSV groups and GSA) take up to 1 170 bytes an epoch, more than 115200 baud carries

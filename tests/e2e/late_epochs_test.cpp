@@ -19,16 +19,8 @@ namespace gpsemu {
 namespace {
 
 using namespace std::chrono_literals;
-
-double seconds_of_day(const std::string& hhmmss) {
-  return std::stoi(hhmmss.substr(0, 2)) * 3600.0 + std::stoi(hhmmss.substr(2, 2)) * 60.0 + std::stod(hhmmss.substr(4));
-}
-
-/// Pumps the child's pipes for `how_long`.
-void pump_for(test::Process& p, std::chrono::milliseconds how_long) {
-  const auto until = std::chrono::steady_clock::now() + how_long;
-  while (std::chrono::steady_clock::now() < until) p.pump(20ms);
-}
+using test::pump_for;
+using test::seconds_of_day;
 
 TEST(LateEpochs, AfterSigstopTheWaitingEpochIsSkippedNotSentWithItsOldTime) {
   test::Process gpsemu({GPSEMU_BINARY, "--rate", "10", "--sentences", "RMC", "--talker", "GP", "--output", "stdout",
@@ -46,20 +38,14 @@ TEST(LateEpochs, AfterSigstopTheWaitingEpochIsSkippedNotSentWithItsOldTime) {
   std::size_t rmcs = 0;
   double worst_age_s = 0.0;
   std::string worst;
-  std::string pending;
-  for (const test::Chunk& chunk : gpsemu.chunks()) {
-    pending += chunk.bytes;
-    const auto split = test::split_sentences(pending);
-    pending = split.rest;
-    for (const std::string& s : split.sentences) {
-      if (test::sentence_type(s) != "RMC") continue;
-      ++rmcs;
-      const double age_s = std::fmod(chunk.read_s - seconds_of_day(test::time_field(s)) + 86400.0 + 43200.0, 86400.0) -
-                           43200.0;
-      if (age_s > worst_age_s) {
-        worst_age_s = age_s;
-        worst = s;
-      }
+  for (const test::ReadSentence& s : test::sentences_as_read(gpsemu.chunks())) {
+    if (test::sentence_type(s.text) != "RMC") continue;
+    ++rmcs;
+    const double age_s =
+        std::fmod(s.read_s - seconds_of_day(test::time_field(s.text)) + 86400.0 + 43200.0, 86400.0) - 43200.0;
+    if (age_s > worst_age_s) {
+      worst_age_s = age_s;
+      worst = s.text;
     }
   }
   EXPECT_GE(rmcs, 20u);

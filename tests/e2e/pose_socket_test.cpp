@@ -149,12 +149,9 @@ void pace_50hz(double seconds, const std::function<void(int, double)>& step) {
 
 /// Starts gpsemu on a free port; returns the port read from its start-up log.
 std::uint16_t start(test::Process& p) {
-  const auto line = p.wait_for_stderr("waiting for poses on", seconds(20));
-  if (!line) {
-    ADD_FAILURE() << "gpsemu did not start:\n" << p.stderr_text();
-    return 0;
-  }
-  return static_cast<std::uint16_t>(std::stoi(line->substr(line->rfind(':') + 1)));
+  const auto port = test::wait_for_port(p, "waiting for poses on");
+  if (!port) ADD_FAILURE() << "gpsemu did not start:\n" << p.stderr_text();
+  return port.value_or(0);
 }
 
 std::vector<std::string> gpsemu_args(const std::string& source, double duration_s, std::vector<std::string> extra = {}) {

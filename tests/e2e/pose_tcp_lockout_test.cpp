@@ -77,12 +77,9 @@ class PoseSender {
 
 /// Starts gpsemu on a free TCP port for `duration_s` of 10 Hz epochs; returns the port.
 std::uint16_t start(test::Process& p) {
-  const auto line = p.wait_for_stderr("waiting for poses on", seconds(20));
-  if (!line) {
-    ADD_FAILURE() << "gpsemu did not start:\n" << p.stderr_text();
-    return 0;
-  }
-  return static_cast<std::uint16_t>(std::stoi(line->substr(line->rfind(':') + 1)));
+  const auto port = test::wait_for_port(p, "waiting for poses on");
+  if (!port) ADD_FAILURE() << "gpsemu did not start:\n" << p.stderr_text();
+  return port.value_or(0);
 }
 
 std::vector<std::string> gpsemu_args(double duration_s) {

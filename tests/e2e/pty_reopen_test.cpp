@@ -32,6 +32,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
+using test::seconds_of_day;
 
 /// The process's open descriptors: "3 -> /dev/ptmx", one a line, in descriptor order.
 std::string open_descriptors(pid_t pid) {
@@ -52,11 +53,6 @@ char process_state(pid_t pid) {
   std::getline(in, stat);
   const auto paren = stat.rfind(')');
   return paren == std::string::npos || paren + 2 >= stat.size() ? '?' : stat[paren + 2];
-}
-
-double seconds_of_day(const std::string& time_field) {
-  return std::stoi(time_field.substr(0, 2)) * 3600.0 + std::stoi(time_field.substr(2, 2)) * 60.0 +
-         std::stod(time_field.substr(4));
 }
 
 double utc_seconds_of_day_now() {

@@ -23,19 +23,15 @@
 #include <sstream>
 #include <thread>
 
-#include <GeographicLib/Geocentric.hpp>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "emulator/rtk/rtcm3_messages.hpp"
-#include "emulator/rtk/rtcm3_reader.hpp"
 #include "nmea/parse.hpp"
 #include "tests/support/gpsd.hpp"
 #include "emulator/ubx/bytes.hpp"
 #include "emulator/ubx/frame.hpp"
 #include "tests/support/process.hpp"
-#include "tests/support/pty_client.hpp"
-#include "tests/support/read_deadline.hpp"
+#include "tests/support/rtk_rover.hpp"
 #include "tests/support/ubx_frames.hpp"
 
 namespace gpsemu {
@@ -43,17 +39,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace std::chrono;
-
-constexpr double kLatDeg = 43.0725, kLonDeg = -89.4125;  // gpsemu's default origin
-
-// A base 300 m north of the origin: its 1006, as a base station sends it.
-std::string base_1006() {
-  rtk::BasePosition b;
-  b.station_id = 42;
-  GeographicLib::Geocentric::WGS84().Forward(kLatDeg + 300.0 / 111000.0, kLonDeg, 230.0, b.ecef_x_m, b.ecef_y_m, b.ecef_z_m);
-  b.antenna_height_m = 1.5;
-  return rtk::rtcm3_frame_bytes(rtk::encode_base_position(b, true));
-}
 
 int udp_sender() { return ::socket(AF_INET, SOCK_DGRAM, 0); }
 
@@ -92,7 +77,6 @@ std::vector<Epoch> gga_epochs(const fs::path& file) {
 }
 
 TEST(RtkCorrections, UdpStreamDrivesTheTimelineThatGpsdReports) {
-  ASSERT_EQ(::access(test::kGpsd, X_OK), 0) << "gpsd is missing: tools/setup --with-test-deps installs it";
   const fs::path dir = fs::temp_directory_path() / fmt::format("gpsemu_rtk_{}", ::getpid());
   fs::create_directories(dir);
   const fs::path link = dir / "gps", file = dir / "out.nmea";
@@ -100,39 +84,30 @@ TEST(RtkCorrections, UdpStreamDrivesTheTimelineThatGpsdReports) {
   test::Process gpsemu({GPSEMU_BINARY, "--output", "pty:" + link.string(), "--output", "file:" + file.string(),
                         "--rate", "5", "--duration", "7", "--rtcm", fmt::format("udp:{}", rtcm_port),
                         "--rtk-convergence", "0.5,1.5,0", "--rtk-timeouts", "0.5,1.1,1.7", "--log-level", "info"});
-  ASSERT_TRUE(gpsemu.wait_for_stderr("on /dev/pts", seconds(20))) << gpsemu.stderr_text();
-  const int gpsd_port = test::free_tcp_port();
-  test::Process gpsd({test::kGpsd, "-N", "-n", "-b", "-S", std::to_string(gpsd_port), fs::read_symlink(link).string()});
-  const int sock = test::connect_gpsd(gpsd_port, seconds(10));
-  ASSERT_GE(sock, 0) << gpsd.stderr_text();
-  EXPECT_TRUE(test::watch_json(sock));
+  test::GpsdWatch gpsd(gpsemu, link, test::GpsdAccess::read_only);
+  ASSERT_TRUE(gpsd.ok()) << gpsd.error();
 
   // Corrections at 10 Hz for 3 s from 1 s into the run, then silence; one frame with a bad CRC.
   std::set<int> statuses;
   std::thread base([rtcm_port] {
     const int fd = udp_sender();
     std::this_thread::sleep_for(milliseconds(1000));
-    std::string bad = base_1006();
+    std::string bad = test::base_1006();
     bad[6] = static_cast<char>(bad[6] ^ 0x40);
     send_to(fd, rtcm_port, bad);
     for (int k = 0; k < 30; ++k) {
-      send_to(fd, rtcm_port, base_1006() + rtk::rtcm3_frame_bytes(rtk::encode_msm(1077, 42, 345600000u + 100u * k, 10, 2)));
+      send_to(fd, rtcm_port, test::base_epoch(k));
       std::this_thread::sleep_for(milliseconds(100));
     }
     ::close(fd);
   });
-  test::ReportLines lines;
-  test::read_with_deadline(sock, {milliseconds(7500)}, [&](std::string_view chunk) {
-    lines.feed(chunk, [&](const nlohmann::json& j) {
-      if (j["class"] == "TPV" && j.value("mode", 0) >= 2) statuses.insert(j.value("status", 1));
-    });
-    return false;
+  gpsd.read_reports(milliseconds(7500), [&](const nlohmann::json& j) {
+    if (j["class"] == "TPV" && j.value("mode", 0) >= 2) statuses.insert(j.value("status", 1));
   });
   base.join();
-  ::close(sock);
+  gpsd.close_client();
   EXPECT_EQ(gpsemu.wait(seconds(20)), 0) << gpsemu.stderr_text();
-  gpsd.signal(SIGTERM);
-  gpsd.wait(seconds(10));
+  gpsd.stop();
 
   const std::vector<Epoch> epochs = gga_epochs(file);
   ASSERT_GT(epochs.size(), 25u);
@@ -172,35 +147,13 @@ TEST(RtkCorrections, UdpStreamDrivesTheTimelineThatGpsdReports) {
 }
 
 TEST(RtkCorrections, InjectedThroughTheUbloxPortAnF9pReportsRxmRtcmAndReachesFixed) {
-  const fs::path dir = fs::temp_directory_path() / fmt::format("gpsemu_rtk_port_{}", ::getpid());
-  fs::create_directories(dir);
-  const fs::path link = dir / "gps";
-  test::Process gpsemu({GPSEMU_BINARY, "--receiver", "ublox-f9p", "--protocol", "ubx", "--output", "pty:" + link.string(),
-                        "--rate", "5", "--duration", "4", "--rtk-convergence", "0.4,1.0,0", "--log-level", "info"});
-  ASSERT_TRUE(gpsemu.wait_for_stderr("on /dev/pts", seconds(20))) << gpsemu.stderr_text();
-  const int fd = test::open_raw_pty_client(link);
-  ASSERT_GE(fd, 0);
-  const std::string rxm_on = ubx::frame_bytes(ubx::msg::cfg_msg, std::string("\x02\x32\x01", 3));
-  ASSERT_EQ(::write(fd, rxm_on.data(), rxm_on.size()), static_cast<ssize_t>(rxm_on.size()));
-  std::string got;
-  const auto drain = [&] {
-    char buf[4096];
-    ssize_t n;
-    while ((n = ::read(fd, buf, sizeof buf)) > 0) got.append(buf, static_cast<std::size_t>(n));
-  };
-  for (int k = 0; k < 25; ++k) {
-    const std::string corrections =
-        base_1006() + rtk::rtcm3_frame_bytes(rtk::encode_msm(1077, 42, 345600000u + 100u * k, 10, 2));
-    EXPECT_EQ(::write(fd, corrections.data(), corrections.size()), static_cast<ssize_t>(corrections.size()));
-    std::this_thread::sleep_for(milliseconds(100));
-    drain();
-  }
-  EXPECT_EQ(gpsemu.wait(seconds(20)), 0) << gpsemu.stderr_text();
-  drain();
-  ::close(fd);
+  test::RoverClient client;
+  client.setup = ubx::frame_bytes(ubx::msg::cfg_msg, std::string("\x02\x32\x01", 3));  // RXM-RTCM on
+  client.epochs = 25;
+  const test::RoverRun run = test::run_f9p_rover("rxm_rtcm", "4", client);
   int rxm_1006 = 0, rxm_1077 = 0, fixed_with_age = 0;
   bool float_seen = false;
-  for (const ubx::Frame& f : ubx::test::frames_in(got)) {
+  for (const ubx::Frame& f : ubx::test::frames_in(run.bytes)) {
     if (f.id == ubx::msg::rxm_rtcm && f.payload.size() == 8) {
       EXPECT_EQ(ubx::get_u2(f.payload, 4), 42u);
       rxm_1006 += ubx::get_u2(f.payload, 6) == 1006;
@@ -212,12 +165,11 @@ TEST(RtkCorrections, InjectedThroughTheUbloxPortAnF9pReportsRxmRtcmAndReachesFix
       if (carr == 2 && ((ubx::get_u2(f.payload, 78) >> 1) & 0x0F) >= 1) ++fixed_with_age;
     }
   }
-  EXPECT_GE(rxm_1006, 20) << gpsemu.stderr_text();
+  EXPECT_GE(rxm_1006, 20) << run.log;
   EXPECT_EQ(rxm_1006, rxm_1077);
   EXPECT_TRUE(float_seen);
-  EXPECT_GE(fixed_with_age, 3) << gpsemu.stderr_text();
-  EXPECT_NE(gpsemu.stderr_text().find("RTCM3 frames (0 bad CRC)"), std::string::npos) << gpsemu.stderr_text();
-  fs::remove_all(dir);
+  EXPECT_GE(fixed_with_age, 3) << run.log;
+  EXPECT_NE(run.log.find("RTCM3 frames (0 bad CRC)"), std::string::npos) << run.log;
 }
 
 }  // namespace

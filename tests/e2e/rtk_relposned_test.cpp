@@ -14,39 +14,22 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <filesystem>
 #include <map>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <GeographicLib/Geocentric.hpp>
-#include <fmt/format.h>
 
 #include "emulator/rtk/rtcm3_messages.hpp"
 #include "emulator/rtk/static_base_relpos.hpp"
 #include "emulator/ubx/bytes.hpp"
 #include "emulator/ubx/frame.hpp"
 #include "emulator/ubx/relposned.hpp"
-#include "tests/support/process.hpp"
-#include "tests/support/pty_client.hpp"
+#include "tests/support/rtk_rover.hpp"
 #include "tests/support/ubx_frames.hpp"
 
 namespace gpsemu {
 namespace {
-
-namespace fs = std::filesystem;
-using namespace std::chrono;
-
-constexpr double kLatDeg = 43.0725, kLonDeg = -89.4125;  // gpsemu's default origin
-
-rtk::BasePosition base() {
-  rtk::BasePosition b;
-  b.station_id = 42;
-  GeographicLib::Geocentric::WGS84().Forward(kLatDeg + 300.0 / 111000.0, kLonDeg, 230.0, b.ecef_x_m, b.ecef_y_m, b.ecef_z_m);
-  b.antenna_height_m = 1.5;
-  return b;
-}
 
 /// What the client read from the port while it wrote `prefix` then 20 epochs of corrections.
 struct RoverRun {
@@ -55,43 +38,13 @@ struct RoverRun {
 };
 
 RoverRun run_rover(const std::string& prefix) {
-  const fs::path dir = fs::temp_directory_path() / fmt::format("gpsemu_relpos_{}_{}", ::getpid(), prefix.size());
-  fs::create_directories(dir);
-  const fs::path link = dir / "gps";
-  test::Process gpsemu({GPSEMU_BINARY, "--receiver", "ublox-f9p", "--protocol", "ubx", "--output", "pty:" + link.string(),
-                        "--rate", "5", "--duration", "3.5", "--rtk-convergence", "0.4,1.0,0", "--log-level", "info"});
-  RoverRun run;
-  if (!gpsemu.wait_for_stderr("on /dev/pts", seconds(20))) {
-    ADD_FAILURE() << gpsemu.stderr_text();
-    return run;
-  }
-  const int fd = test::open_raw_pty_client(link);
-  EXPECT_GE(fd, 0);
-  std::string got;
-  const auto drain = [&] {
-    char buf[4096];
-    ssize_t n;
-    while ((n = ::read(fd, buf, sizeof buf)) > 0) got.append(buf, static_cast<std::size_t>(n));
-  };
-  const auto write_all = [fd](const std::string& bytes) {
-    EXPECT_EQ(::write(fd, bytes.data(), bytes.size()), static_cast<ssize_t>(bytes.size()));
-  };
-  write_all(ubx::frame_bytes(ubx::msg::cfg_msg, std::string("\x01\x3C\x01", 3)) +  // NAV-RELPOSNED
-            ubx::frame_bytes(ubx::msg::cfg_msg, std::string("\x01\x07\x01", 3)) + prefix);  // NAV-PVT
-  std::this_thread::sleep_for(milliseconds(300));
-  for (int k = 0; k < 20; ++k) {
-    write_all(rtk::rtcm3_frame_bytes(rtk::encode_base_position(base(), true)) +
-              rtk::rtcm3_frame_bytes(rtk::encode_msm(1077, 42, 345600000u + 100u * k, 10, 2)));
-    std::this_thread::sleep_for(milliseconds(100));
-    drain();
-  }
-  EXPECT_EQ(gpsemu.wait(seconds(20)), 0) << gpsemu.stderr_text();
-  drain();
-  ::close(fd);
-  fs::remove_all(dir);
-  run.frames = ubx::test::frames_in(got);
-  run.log = gpsemu.stderr_text();
-  return run;
+  test::RoverClient client;
+  client.setup = ubx::frame_bytes(ubx::msg::cfg_msg, std::string("\x01\x3C\x01", 3)) +          // NAV-RELPOSNED
+                 ubx::frame_bytes(ubx::msg::cfg_msg, std::string("\x01\x07\x01", 3)) + prefix;  // NAV-PVT
+  client.settle = std::chrono::milliseconds(300);
+  client.epochs = 20;
+  const test::RoverRun run = test::run_f9p_rover(std::to_string(prefix.size()), "3.5", client);
+  return {ubx::test::frames_in(run.bytes), run.log};
 }
 
 constexpr std::uint32_t kFixOk = 1u << 0, kDiff = 1u << 1, kValid = 1u << 2, kMoving = 1u << 5, kHeadingValid = 1u << 8;
@@ -122,7 +75,7 @@ TEST(RtkRelPosNed, StaticBaseRoverReportsTheBaselineAndFollowsTheRtkState) {
     const auto pvt = pvt_ecef.find(r.itow_ms);
     if (pvt == pvt_ecef.end()) continue;
     // rover - base in the base's NED: about 300 m south, to the centimetre of what NAV-PVT says.
-    const rtk::NedOffset want = rtk::ned_from(base(), pvt->second[0], pvt->second[1], pvt->second[2]);
+    const rtk::NedOffset want = rtk::ned_from(test::base_300m_north(), pvt->second[0], pvt->second[1], pvt->second[2]);
     EXPECT_NEAR(r.n_cm + r.hp_n * 0.01, want.north_m * 100.0, 3.0);
     EXPECT_NEAR(r.e_cm + r.hp_e * 0.01, want.east_m * 100.0, 3.0);
     EXPECT_NEAR(r.d_cm + r.hp_d * 0.01, want.down_m * 100.0, 3.0);

@@ -63,39 +63,34 @@ class UbxGpsd {
     argv.insert(argv.end(), args.begin(), args.end());
     gpsemu_.emplace(argv);
     if (!gpsemu_->wait_for_stderr("UBX on", seconds(20))) throw std::runtime_error("gpsemu did not start: " + gpsemu_->stderr_text());
-    port_ = test::free_tcp_port();
-    std::vector<std::string> gpsd{test::kGpsd, "-N", "-n", "-S", std::to_string(port_), fs::read_symlink(link).string()};
-    if (start.gpsd_read_only) gpsd.insert(gpsd.begin() + 1, "-b");
-    gpsd_.emplace(gpsd);
-    sock_ = test::connect_gpsd(port_, seconds(10));
-    if (sock_ < 0) throw std::runtime_error("gpsd does not listen: " + gpsd_->stderr_text());
-    if (!test::watch_json(sock_)) throw std::runtime_error("cannot ask gpsd for reports");
+    gpsd_.emplace(fs::read_symlink(link).string(),
+                  start.gpsd_read_only ? test::GpsdAccess::read_only : test::GpsdAccess::read_write);
+    if (!gpsd_->ok()) throw std::runtime_error(gpsd_->error());
   }
   ~UbxGpsd() {
-    if (sock_ >= 0) ::close(sock_);
+    gpsd_->close_client();
     gpsemu_->signal(SIGTERM);
     gpsemu_->wait(seconds(10));
-    gpsd_->signal(SIGTERM);
-    gpsd_->wait(seconds(10));
+    gpsd_->stop();
     fs::remove_all(dir_);
   }
 
   /// Reads gpsd's reports for `how_long` (or until `until` says stop), collecting TPVs and the driver.
   template <class Until>
   void read_reports(milliseconds how_long, Until until) {
-    test::read_with_deadline(sock_, {how_long}, [&](std::string_view chunk) {
-      lines_.feed(chunk, [&](const nlohmann::json& j) {
-        if (j["class"] == "DEVICE" && j.contains("driver")) driver = j["driver"].get<std::string>();
-        if (j["class"] == "DEVICES") {
-          for (const auto& d : j.value("devices", nlohmann::json::array())) {
-            if (d.contains("driver")) driver = d["driver"].get<std::string>();
+    gpsd_->read_reports(
+        how_long,
+        [&](const nlohmann::json& j) {
+          if (j["class"] == "DEVICE" && j.contains("driver")) driver = j["driver"].get<std::string>();
+          if (j["class"] == "DEVICES") {
+            for (const auto& d : j.value("devices", nlohmann::json::array())) {
+              if (d.contains("driver")) driver = d["driver"].get<std::string>();
+            }
           }
-        }
-        if (j["class"] == "TPV") tpv.push_back(test::tpv_of(j));
-        if (j["class"] == "SKY" && j.contains("satellites")) sky.push_back(j);
-      });
-      return until();
-    });
+          if (j["class"] == "TPV") tpv.push_back(test::tpv_of(j));
+          if (j["class"] == "SKY" && j.contains("satellites")) sky.push_back(j);
+        },
+        until);
   }
   void read_reports(milliseconds how_long) {
     read_reports(how_long, [] { return false; });
@@ -110,7 +105,7 @@ class UbxGpsd {
   std::string ubxtool(const std::vector<std::string>& args) {
     std::vector<std::string> argv{kUbxtool};
     argv.insert(argv.end(), args.begin(), args.end());
-    argv.push_back(fmt::format("127.0.0.1:{}", port_));
+    argv.push_back(fmt::format("127.0.0.1:{}", gpsd_->port()));
     test::Process p(argv);
     EXPECT_EQ(p.wait(seconds(20)), 0) << p.stderr_text();
     return p.stdout_text();
@@ -131,10 +126,8 @@ class UbxGpsd {
 
  private:
   fs::path dir_;
-  std::optional<test::Process> gpsemu_, gpsd_;
-  int port_ = 0;
-  int sock_ = -1;
-  test::ReportLines lines_;
+  std::optional<test::Process> gpsemu_;
+  std::optional<test::GpsdWatch> gpsd_;
 };
 
 bool tools_present() {

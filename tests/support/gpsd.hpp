@@ -1,6 +1,7 @@
 // Test support for the end-to-end tests with the real gpsd: a free TCP port for gpsd to listen on
 // (parallel tests and a system gpsd on 2947 do not collide), a connection to it once it listens,
-// the JSON watch, and its reports split into lines with the TPV fields the tests check.
+// the JSON watch, its reports split into lines with the TPV fields the tests check, and GpsdWatch:
+// gpsd started on a device with one client watching it, as every gpsd test starts it.
 #pragma once
 
 #include <arpa/inet.h>
@@ -11,15 +12,20 @@
 
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "emulator/model/time.hpp"
+#include "tests/support/process.hpp"
+#include "tests/support/read_deadline.hpp"
 
 namespace gpsemu::test {
 
@@ -110,6 +116,92 @@ class ReportLines {
 
  private:
   std::string buffer_;
+};
+
+/// Whether gpsd may reconfigure the receiver: read-only is `gpsd -b` (it leaves the configuration alone).
+enum class GpsdAccess { read_only, read_write };
+
+/// gpsd (`gpsd -N -n [-b] -S <free port> DEVICE`) reading a device, with one client connected (gpsd
+/// given 10 s to listen) that asked for its JSON reports. ok() is false, and error() says why, when
+/// gpsemu did not start, gpsd is not installed, does not listen or takes no watch. The destructor
+/// closes the client and stops gpsd; close_client() and stop() do it earlier, where a test wants it
+/// at a given moment.
+class GpsdWatch {
+ public:
+  /// gpsd on `device`.
+  GpsdWatch(const std::string& device, GpsdAccess access) { start(device, access); }
+  /// gpsd on the pty that `gpsemu` (started with --output pty:LINK) serves, once it logged that it
+  /// is on it (at most 20 s).
+  GpsdWatch(Process& gpsemu, const std::filesystem::path& link, GpsdAccess access) {
+    if (!gpsemu.wait_for_stderr("on /dev/pts", std::chrono::seconds(20))) {
+      error_ = "gpsemu did not start: " + gpsemu.stderr_text();
+      return;
+    }
+    start(std::filesystem::read_symlink(link).string(), access);
+  }
+  ~GpsdWatch() { stop(); }
+  GpsdWatch(const GpsdWatch&) = delete;
+  GpsdWatch& operator=(const GpsdWatch&) = delete;
+
+  [[nodiscard]] bool ok() const { return error_.empty(); }
+  [[nodiscard]] const std::string& error() const { return error_; }
+  /// The port gpsd listens on (for other clients: ubxtool, gpspipe).
+  [[nodiscard]] int port() const { return port_; }
+  /// The watching client's socket (-1 once closed or when gpsd did not listen).
+  [[nodiscard]] int socket() const { return sock_; }
+
+  /// Reads the watch for `how_long`, calling on_report(json) for each report, until `until()` says
+  /// stop after a read; a report split across calls is completed by the next one.
+  template <class OnReport, class Until>
+  void read_reports(std::chrono::milliseconds how_long, OnReport on_report, Until until) {
+    read_with_deadline(sock_, {how_long}, [&](std::string_view chunk) {
+      lines_.feed(chunk, on_report);
+      return until();
+    });
+  }
+  template <class OnReport>
+  void read_reports(std::chrono::milliseconds how_long, OnReport on_report) {
+    read_reports(how_long, on_report, [] { return false; });
+  }
+
+  void close_client() {
+    if (sock_ >= 0) ::close(sock_);
+    sock_ = -1;
+  }
+  /// Closes the client, then stops gpsd (SIGTERM, up to 10 s).
+  void stop() {
+    close_client();
+    if (!gpsd_) return;
+    gpsd_->signal(SIGTERM);
+    gpsd_->wait(std::chrono::seconds(10));
+    gpsd_.reset();
+  }
+
+ private:
+  void start(const std::string& device, GpsdAccess access) {
+    if (::access(kGpsd, X_OK) != 0) {
+      error_ = std::string(kGpsd) + " is missing: tools/setup --with-test-deps installs gpsd (Debian package gpsd)";
+      return;
+    }
+    port_ = free_tcp_port();
+    std::vector<std::string> argv{kGpsd, "-N", "-n", "-S", std::to_string(port_), device};
+    if (access == GpsdAccess::read_only) argv.insert(argv.begin() + 1, "-b");
+    gpsd_.emplace(argv);
+    sock_ = connect_gpsd(port_, std::chrono::seconds(10));
+    if (sock_ < 0) {
+      gpsd_->signal(SIGTERM);
+      gpsd_->wait(std::chrono::seconds(5));
+      error_ = "gpsd does not listen on port " + std::to_string(port_) + ": " + gpsd_->stderr_text();
+      return;
+    }
+    if (!watch_json(sock_)) error_ = "cannot ask gpsd for reports (?WATCH)";
+  }
+
+  std::optional<Process> gpsd_;
+  int port_ = 0;
+  int sock_ = -1;
+  std::string error_;
+  ReportLines lines_;
 };
 
 }  // namespace gpsemu::test

@@ -72,4 +72,29 @@ inline std::string time_field(const std::string& s) {
   return s.substr(a + 1, b == std::string::npos ? std::string::npos : b - a - 1);
 }
 
+/// Seconds of the UTC day of a time field "hhmmss.ss".
+inline double seconds_of_day(const std::string& hhmmss) {
+  return std::stoi(hhmmss.substr(0, 2)) * 3600.0 + std::stoi(hhmmss.substr(2, 2)) * 60.0 + std::stod(hhmmss.substr(4));
+}
+
+/// A whole sentence (without CR LF) and when the chunk that completed it was read.
+struct ReadSentence {
+  double read_s;  ///< CLOCK_REALTIME, seconds (Process::chunks())
+  std::string text;
+};
+
+/// Every whole sentence of a stream read in chunks (Process::chunks(): bytes and read times), in order.
+template <class Chunks>
+std::vector<ReadSentence> sentences_as_read(const Chunks& chunks) {
+  std::vector<ReadSentence> out;
+  std::string pending;
+  for (const auto& chunk : chunks) {
+    pending += chunk.bytes;
+    SplitResult split = split_sentences(pending);
+    pending = std::move(split.rest);
+    for (std::string& s : split.sentences) out.push_back({chunk.read_s, std::move(s)});
+  }
+  return out;
+}
+
 }  // namespace gpsemu::test

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdint>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -183,6 +184,21 @@ inline Result run(std::vector<std::string> argv, const std::vector<std::string>&
                   std::chrono::milliseconds timeout = std::chrono::seconds(60)) {
   argv.insert(argv.end(), more.begin(), more.end());
   return run(argv, timeout);
+}
+
+/// Reads the child's pipes for `how_long` (while the test watches it run).
+inline void pump_for(Process& p, std::chrono::milliseconds how_long) {
+  const auto until = std::chrono::steady_clock::now() + how_long;
+  while (std::chrono::steady_clock::now() < until) p.pump(std::chrono::milliseconds(20));
+}
+
+/// Waits for `p`'s stderr line holding `needle` that ends in a port (gpsemu's "waiting for poses on
+/// 127.0.0.1:PORT") and returns that port; nothing when no such line came within `timeout`.
+inline std::optional<std::uint16_t> wait_for_port(Process& p, const std::string& needle,
+                                                  std::chrono::milliseconds timeout = std::chrono::seconds(20)) {
+  const auto line = p.wait_for_stderr(needle, timeout);
+  if (!line) return std::nullopt;
+  return static_cast<std::uint16_t>(std::stoi(line->substr(line->rfind(':') + 1)));
 }
 
 /// Whether `text` holds `part`.

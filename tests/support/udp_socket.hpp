@@ -1,6 +1,7 @@
 // A UDP socket bound on loopback at a port the kernel chose, for the tests that read gpsemu's UDP
 // outputs; one socket option (a receive buffer, kernel time stamps) may be set on it, and the
-// datagrams waiting can be read with the kernel's receive time stamps (SO_TIMESTAMPNS).
+// datagrams waiting can be read with the kernel's receive time stamps (SO_TIMESTAMPNS). Also a
+// fleet's sinks and the configuration tables that send each receiver to its own.
 #pragma once
 
 #include <netinet/in.h>
@@ -9,6 +10,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -64,5 +66,21 @@ struct LoopbackUdpSocket {
   int fd = -1;
   std::uint16_t port = 0;
 };
+
+/// `count` sockets asking for the kernel's receive time stamps (SO_TIMESTAMPNS): a fleet's sinks.
+inline std::vector<std::unique_ptr<LoopbackUdpSocket>> stamped_sinks(int count) {
+  std::vector<std::unique_ptr<LoopbackUdpSocket>> sinks;
+  for (int i = 0; i < count; ++i) sinks.push_back(std::make_unique<LoopbackUdpSocket>(SO_TIMESTAMPNS, 1));
+  return sinks;
+}
+
+/// The `[[receiver]]` tables of a fleet configuration that send receiver i's output to sinks[i]
+/// (pointers to anything with a loopback `port`).
+template <class Sinks>
+std::string receivers_writing_to(const Sinks& sinks) {
+  std::string toml;
+  for (const auto& sink : sinks) toml += "[[receiver]]\noutput = \"udp:127.0.0.1:" + std::to_string(sink->port) + "\"\n";
+  return toml;
+}
 
 }  // namespace gpsemu::test

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "emulator/model/receiver.hpp"
+#include "tests/support/fault_fixes.hpp"
 
 namespace gpsemu::faults {
 namespace {
@@ -20,14 +21,7 @@ const Enu kError{0.6, -0.8, 1.0};  // the receiver model's error: 1 m horizontal
 
 /// A 3-D gps fix of 10 used satellites (C/N0 30..48 dB-Hz) at kTruth + kError.
 nmea::Fix make_fix(const LocalFrame& frame, UtcNs t) {
-  nmea::Fix fix;
-  fix.time_utc = std::chrono::floor<std::chrono::milliseconds>(t);
-  fix.quality = nmea::FixQuality::gps;
-  fix.dimension = nmea::FixDimension::three_d;
-  const Geodetic g = frame.to_geodetic(kTruth + kError);
-  fix.lat_deg = g.lat_deg;
-  fix.lon_deg = g.lon_deg;
-  fix.alt_msl_m = g.alt_m;
+  nmea::Fix fix = test::gps_fix_at(frame, t, kTruth + kError);
   fix.satellites_in_view = 12;
   for (int i = 0; i < 12; ++i) {
     auto& s = fix.satellites[static_cast<std::size_t>(i)];

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "emulator/faults/fault_timeline.hpp"
+#include "tests/support/fault_fixes.hpp"
 
 namespace gpsemu::faults {
 namespace {
@@ -20,14 +21,7 @@ const UtcNs kStart = parse_iso8601_utc("2026-03-01T10:00:00Z");
 
 /// A gps fix of 10 used satellites at `truth_m` (no error).
 nmea::Fix make_fix(const LocalFrame& frame, UtcNs t, const Enu& truth_m) {
-  nmea::Fix fix;
-  fix.time_utc = std::chrono::floor<std::chrono::milliseconds>(t);
-  fix.quality = nmea::FixQuality::gps;
-  fix.dimension = nmea::FixDimension::three_d;
-  const Geodetic g = frame.to_geodetic(truth_m);
-  fix.lat_deg = g.lat_deg;
-  fix.lon_deg = g.lon_deg;
-  fix.alt_msl_m = g.alt_m;
+  nmea::Fix fix = test::gps_fix_at(frame, t, truth_m);
   fix.satellites_in_view = 10;
   for (int i = 0; i < 10; ++i) {
     auto& s = fix.satellites[static_cast<std::size_t>(i)];

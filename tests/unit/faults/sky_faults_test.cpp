@@ -14,6 +14,7 @@
 #include "emulator/faults/fault_timeline.hpp"
 #include "emulator/ubx/bytes.hpp"
 #include "emulator/ubx/nav.hpp"
+#include "tests/support/fault_fixes.hpp"
 
 namespace gpsemu::faults {
 namespace {
@@ -28,14 +29,7 @@ const Enu kError{0.6, -0.8, 1.0};
 /// A 3-D fix of 12 used GPS satellites, one every 30 degrees of azimuth (0, 30, ... 330), at
 /// elevations 15..70, moving north at 10 m/s; DOPs from that geometry.
 nmea::Fix make_fix(const LocalFrame& frame, UtcNs t) {
-  nmea::Fix fix;
-  fix.time_utc = std::chrono::floor<std::chrono::milliseconds>(t);
-  fix.quality = nmea::FixQuality::gps;
-  fix.dimension = nmea::FixDimension::three_d;
-  const Geodetic g = frame.to_geodetic(kTruth + kError);
-  fix.lat_deg = g.lat_deg;
-  fix.lon_deg = g.lon_deg;
-  fix.alt_msl_m = g.alt_m;
+  nmea::Fix fix = test::gps_fix_at(frame, t, kTruth + kError);
   fix.speed_mps = 10.0;
   fix.course_deg_true = 0.0;
   fix.satellites_in_view = 12;
@@ -193,14 +187,7 @@ TEST(ResetFault, SilentForItsBootThenARebootAskedOnceAndTheFaultLastsToTheTtff) 
 }
 
 TEST(SecondStageFaults, BadKeysAreRefusedWithTheReason) {
-  const auto refused = [](FaultKeys keys, const std::string& part) {
-    try {
-      (void)make_fault(keys);
-      ADD_FAILURE() << "accepted: " << part;
-    } catch (const std::invalid_argument& e) {
-      EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
-    }
-  };
+  const auto refused = test::expect_fault_refused;
   refused({{"kind", std::string("sky-mask")}}, "mask: missing");
   refused({{"kind", std::string("sky-mask")}, {"mask", std::string("0-90")}}, "mask: sky-mask: '0-90' is not FROM-TO:ELEVATION");
   refused({{"kind", std::string("spoof")}}, "spoof: give speed_mps");
