@@ -70,6 +70,8 @@ struct ConfigDraft {
 /// Every fault's receiver index exists among `receivers`. Throws ConfigError.
 void check_fault_receivers(const std::vector<faults::Fault>& faults, std::size_t receivers);
 
+/// Appends the composite noise model's options (--composite-*; composite_options.cpp) to `table`.
+void add_composite_options(std::vector<OptionDef>& table);
 /// Appends the RTK options (--rtcm, --rtk-*; rtk_options.cpp) to `table`.
 void add_rtk_options(std::vector<OptionDef>& table);
 

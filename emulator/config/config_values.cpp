@@ -106,4 +106,13 @@ std::string shorten_quoted(const std::string& message) {
   return out;
 }
 
+noise::CgrwAxis parse_cgrw_axis(const std::string& key, const std::string& text) {
+  const auto v = parse_list(key, text, 4, 4);
+  if (v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0 && v[3] == 0.0) return {0.0, 0.0, 0.0, 0.0};  // axis off
+  for (const double x : v) {
+    if (!(x > 0.0)) throw std::invalid_argument(fmt::format("{}: every width must be > 0 metres (or all four 0: no noise on the axis), got '{}'", key, text));
+  }
+  return {v[0], v[1], v[2], v[3]};
+}
+
 }  // namespace gpsemu::config_values

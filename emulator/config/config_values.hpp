@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "emulator/model/noise/noise_model.hpp"
+
 namespace gpsemu::config_values {
 
 /// A finite number in [min, max]; throws std::invalid_argument naming `key`, the range and `text`.
@@ -18,6 +20,9 @@ namespace gpsemu::config_values {
 [[nodiscard]] std::uint64_t parse_uint(const std::string& key, const std::string& text);
 [[nodiscard]] std::string parse_choice(const std::string& key, const std::string& text,
                                        std::initializer_list<const char*> accepted);
+
+/// A cgrw axis "W,W1,W2,S2": four widths > 0 metres, or all four 0 (no noise on the axis).
+[[nodiscard]] noise::CgrwAxis parse_cgrw_axis(const std::string& key, const std::string& text);
 
 /// Longest quoted value an error message shows (characters); longer ones end in "...".
 inline constexpr std::size_t kMaxQuotedChars = 80;
