@@ -28,7 +28,7 @@ namespace {
 namespace fs = std::filesystem;
 using namespace std::chrono;
 
-const std::string kDir = GPSEMU_SOURCE_DIR "/tests/data/real";
+const std::string kDir = std::string(GPSEMU_SOURCE_DIR) + "/tests/data/real";
 
 using test::read_file;
 

@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/paths.hpp"
+
 extern char** environ;
 
 namespace gpsemu::test {

@@ -16,6 +16,7 @@
 #include "emulator/model/noise/cgrw_model.hpp"
 #include "emulator/model/noise/noise_model.hpp"
 #include "tests/support/calibration_logs.hpp"
+#include "tests/support/paths.hpp"
 
 namespace gpsemu::calibration {
 namespace {
@@ -96,7 +97,7 @@ TEST(CompositeSmooth, TheWrittenConfigLoadsWithTheChosenSmoothPart) {
 
 // The Telit HE910 (tests/data/real) is one where the cgrw smooth part scores better.
 TEST(CompositeSmooth, AWinningCgrwSmoothPartIsWrittenUnderItsOwnKeys) {
-  const Calibration c = calibrate(read_receiver_log_file(GPSEMU_SOURCE_DIR "/tests/data/real/telit-he910.log"),
+  const Calibration c = calibrate(read_receiver_log_file(std::string(GPSEMU_SOURCE_DIR) + "/tests/data/real/telit-he910.log"),
                                   CalibrateOptions{1, 8});
   ASSERT_EQ(c.composite.smooth, "cgrw") << c.composite.describe();
   expect_written_as_scored(c, "telit-he910.log");

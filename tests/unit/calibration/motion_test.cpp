@@ -13,6 +13,7 @@
 #include "emulator/calibration/calibrate.hpp"
 #include "emulator/calibration/motion.hpp"
 #include "tests/support/calibration_logs.hpp"
+#include "tests/support/paths.hpp"
 
 namespace gpsemu::calibration {
 namespace {
@@ -63,7 +64,7 @@ TEST(Motion, StationaryNoiseIsNotMotion) {
   EXPECT_FALSE(m.moving) << m.describe();
 }
 
-const std::string kRealDir = GPSEMU_SOURCE_DIR "/tests/data/real";
+const std::string kRealDir = std::string(GPSEMU_SOURCE_DIR) + "/tests/data/real";
 
 // The real receivers are stationary by their own speed over ground and, without it, by the noise's
 // limits.
@@ -145,7 +146,7 @@ TEST(Motion, SettlingReceiversPassAndMovingOnesAreRefused) {
                                 {"rx210.log", false, {0.9}},
                                 {"haicom-305N.log", true, {}},
                                 {"bundg_zeus_9.log", true, {}}};
-  const std::string dir = GPSEMU_SOURCE_DIR "/tests/data/motion/";
+  const std::string dir = std::string(GPSEMU_SOURCE_DIR) + "/tests/data/motion/";
   for (const Case& c : cases) {
     ReceiverLog r = read_receiver_log_file(dir + c.file);
     ASSERT_GT(r.speeds.size(), 30u) << c.file;

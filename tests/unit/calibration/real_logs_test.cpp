@@ -10,11 +10,12 @@
 #include <fmt/format.h>
 
 #include "emulator/calibration/calibrate.hpp"
+#include "tests/support/paths.hpp"
 
 namespace gpsemu::calibration {
 namespace {
 
-const std::string kDir = GPSEMU_SOURCE_DIR "/tests/data/real";
+const std::string kDir = std::string(GPSEMU_SOURCE_DIR) + "/tests/data/real";
 
 struct RealLog {
   const char* file;

@@ -20,6 +20,7 @@
 #include "emulator/config/config.hpp"
 #include "emulator/config/receiver_config.hpp"
 #include "emulator/model/receiver.hpp"
+#include "tests/support/paths.hpp"
 
 namespace gpsemu::calibration {
 namespace {
@@ -74,7 +75,7 @@ TEST(ReceiverStateLearning, AStreamedLogTeachesWhatTheWholeTextDoes) {
   EXPECT_EQ(a.lowest_used_elevation_deg, b.lowest_used_elevation_deg);
 }
 
-const std::string kDir = GPSEMU_SOURCE_DIR "/tests/data/real";
+const std::string kDir = std::string(GPSEMU_SOURCE_DIR) + "/tests/data/real";
 
 class CalibratedGates : public ::testing::TestWithParam<const char*> {};
 
