@@ -7,6 +7,7 @@
 
 #include "emulator/model/sky/orbits.hpp"
 #include "emulator/model/sky/profile.hpp"
+#include "emulator/ubx/model.hpp"
 
 #include "emulator/config/config_options.hpp"
 
@@ -104,6 +105,8 @@ ReceiverSettings resolve_receiver(const ReceiverDraft& draft, const TimelineSett
   r.model.profile = sky::profile_of(r.ublox_model);
   if (!r.talker_given && r.model.profile.systems.count() > 1) r.format.talker = "GN";
   r.format.gsv_second_signal = r.model.profile.dual_band;
+  // An M9N's SPG firmware uses RTCM3 corrections for DGNSS only: no RTK float or fixed (docs/rtk.md).
+  if (ubx::dgnss_only(r.ublox_model)) r.rtk.best = nmea::FixQuality::dgps;
   if (r.ephemeris) {
     try {
       r.model.orbits = sky::Orbits::from_rinex_nav(*r.ephemeris);
