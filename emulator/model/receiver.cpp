@@ -170,6 +170,7 @@ nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) 
   fix.alt_msl_m = position.alt_m;
   fix.geoid_sep_m = geoid_sep_m_;
   fix.speed_mps = speed_mps;
+  fix.vel_up_mps = truth->velocity_mps.up_m;  // like the horizontal velocity, the truth's
   if (fix.speed_mps >= options_.course_min_speed_mps) {
     double course = std::atan2(ve, vn) * 180.0 / std::numbers::pi;
     if (course < 0.0) course += 360.0;

@@ -88,14 +88,14 @@ double head_acc_deg(const nmea::Fix& fix, const NavExtras& extras) {
   return std::clamp(std::atan2(sigma_mps, fix.speed_mps) / kDegToRad, 1e-5, 180.0);
 }
 
-/// North and east velocity (metres per second); 0 without a fix.
+/// North, east and down velocity (metres per second); 0 without a fix.
 struct VelocityNed {
   double north_mps = 0.0, east_mps = 0.0, down_mps = 0.0;
 };
 VelocityNed velocity_of(const nmea::Fix& fix) {
   if (!fix.has_fix()) return {};
   const double course_rad = fix.course_deg_true.value_or(0.0) * kDegToRad;
-  return {fix.speed_mps * std::cos(course_rad), fix.speed_mps * std::sin(course_rad), 0.0};
+  return {fix.speed_mps * std::cos(course_rad), fix.speed_mps * std::sin(course_rad), -fix.vel_up_mps};
 }
 
 std::uint32_t tow_ms(const nmea::Fix& fix) { return gps_time(fix).tow_ms; }

@@ -5,7 +5,7 @@
 //
 // Where the fix is silent: accuracies come from its GST sigmas (hAcc = hypot(sigma_lat,
 // sigma_lon), vAcc = sigma_alt) and NavExtras::speed_sigma_mps, never below the floor of the fix
-// quality (accuracy_floor: no receiver reports 0); the vertical velocity is 0; time is UTC +
+// quality (accuracy_floor: no receiver reports 0); velD is -vel_up_mps; time is UTC +
 // gps_leap_seconds, its validity flags NavExtras::time's; TDOP and GDOP the fix's, or when it has
 // none (0) TDOP = 0.6 PDOP and GDOP = hypot(PDOP, TDOP); NDOP = EDOP = HDOP/sqrt 2.
 #pragma once
