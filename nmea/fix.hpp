@@ -76,6 +76,7 @@ struct Fix {
   double geoid_sep_m = 0.0;  ///< geoid separation: ellipsoid height minus MSL altitude (metres)
   double speed_mps = 0.0;    ///< speed over ground (metres per second)
   std::optional<double> course_deg_true;  ///< course over ground, degrees true [0, 360); empty when unknown
+  double vel_up_mps = 0.0;   ///< vertical velocity, up positive (metres per second): UBX velD is its negative
   /// Heading of the vehicle (a dual-antenna receiver's measurement, noise included), degrees true
   /// [0, 360); empty when unknown (HDT empty, THS mode V).
   std::optional<double> heading_deg_true;

@@ -7,6 +7,8 @@
 
 #include "emulator/model/sky/orbits.hpp"
 #include "emulator/model/sky/profile.hpp"
+#include "emulator/ubx/model.hpp"
+#include "emulator/ubx/settings.hpp"
 
 #include "emulator/config/config_options.hpp"
 
@@ -77,6 +79,14 @@ void resolve_timeline(ConfigDraft& draft) {
   if (t.pps && t.fast()) throw ConfigError("pps: a PPS pulse marks real seconds; it cannot be used with --fast");
 }
 
+bool factory_state(const ReceiverSettings& receiver) {
+  return !receiver.protocol_given && receiver.ublox_model != ubx::ReceiverModel::generic;
+}
+
+bool has_ubx_port(const ReceiverSettings& receiver) {
+  return receiver.protocol != Protocol::nmea || factory_state(receiver);
+}
+
 ReceiverSettings resolve_receiver(const ReceiverDraft& draft, const TimelineSettings& timeline) {
   ReceiverSettings r = draft.settings;
   if (r.pose_horizon_s > r.pose_timeout_s) {
@@ -104,6 +114,16 @@ ReceiverSettings resolve_receiver(const ReceiverDraft& draft, const TimelineSett
   r.model.profile = sky::profile_of(r.ublox_model);
   if (!r.talker_given && r.model.profile.systems.count() > 1) r.format.talker = "GN";
   r.format.gsv_second_signal = r.model.profile.dual_band;
+  // An M9N's SPG firmware uses RTCM3 corrections for DGNSS only: no RTK float or fixed (docs/rtk.md).
+  if (ubx::dgnss_only(r.ublox_model)) r.rtk.best = nmea::FixQuality::dgps;
+  // A u-blox port writes u-blox's NMEA messages only: a sentence it lacks would be dropped silently.
+  for (const nmea::SentenceType type : nmea::all_sentence_types) {
+    if (!has_ubx_port(r) || !r.format.sentences.contains(type) || ubx::nmea_message(type)) continue;
+    throw ConfigError(fmt::format("sentences: a u-blox {} does not write {} (not a u-blox NMEA message; a moving-base "
+                                  "rover's heading is in NAV-RELPOSNED): leave {} out, or give --protocol nmea for "
+                                  "an NMEA receiver that writes it", ubx::model_info(r.ublox_model).name,
+                                  nmea::sentence_name(type), nmea::sentence_name(type)));
+  }
   if (r.ephemeris) {
     try {
       r.model.orbits = sky::Orbits::from_rinex_nav(*r.ephemeris);

@@ -32,8 +32,15 @@ void resolve_timeline(ConfigDraft& draft);
 
 /// One receiver's settings from its draft: the cgrw one knob and explicit axes resolved into the
 /// noise configuration; checks the pose timeouts, cgrw-rate and the time decimals against the
-/// rate. Source, outputs and tee are left to the caller (fleet_config.hpp). Throws ConfigError.
+/// rate; a u-blox port is not asked for sentences a u-blox does not write (HDT, THS). Source,
+/// outputs and tee are left to the caller (fleet_config.hpp). Throws ConfigError.
 [[nodiscard]] ReceiverSettings resolve_receiver(const ReceiverDraft& draft, const TimelineSettings& timeline);
+
+/// `--receiver ublox-*` without --protocol: the model as it leaves the factory (its NMEA at its
+/// default baud, UBX answered on the same port), which drivers then configure. generic stays NMEA.
+[[nodiscard]] bool factory_state(const ReceiverSettings& receiver);
+/// Whether `receiver` has a u-blox port (UBX answered): --protocol ubx or nmea+ubx, or the factory state.
+[[nodiscard]] bool has_ubx_port(const ReceiverSettings& receiver);
 
 /// The emulator loop's checks of a receiver's pose source against the clock (a lockstep clock
 /// needs a udp:/tcp: source; a socket source runs on the wall clock). Throws std::invalid_argument.

@@ -100,6 +100,7 @@ struct Receiver::Impl {
       e.position = {fix.lat_deg, fix.lon_deg, fix.alt_msl_m};
       e.position_enu_m = to_api(frame.to_enu({fix.lat_deg, fix.lon_deg, fix.alt_msl_m}));
       e.speed_mps = fix.speed_mps;
+      e.vel_up_mps = fix.vel_up_mps;
       e.satellites_used = fix.satellites_used;
       e.hdop = fix.hdop;
     } else {

@@ -35,6 +35,7 @@ struct Epoch {
   LatLonAlt position{};      ///< reported position (truth + noise), degrees, degrees, metres MSL
   Enu position_enu_m{};      ///< the same in the local frame about the origin (metres)
   double speed_mps = 0.0;    ///< reported speed over ground (metres per second)
+  double vel_up_mps = 0.0;   ///< reported vertical velocity, up positive (metres per second)
   int satellites_used = 0;
   double hdop = 0.0;
   std::string nmea;          ///< the epoch's sentences, exactly the bytes the CLI writes

@@ -162,7 +162,10 @@ nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) 
   const double ve = truth->velocity_mps.east_m;
   const double vn = truth->velocity_mps.north_m;
   const double speed_mps = std::sqrt(ve * ve + vn * vn);  // std::hypot's care for overflow costs 20 ns an epoch
-  const Geodetic position = near_.to_geodetic(frame_, hold_.apply(truth->position_m + error, speed_mps));
+  // Held only while slow in 3-D: a copter climbing in place is not standing still.
+  const double vu = truth->velocity_mps.up_m;
+  const Enu reported_m = hold_.apply(truth->position_m + error, std::sqrt(speed_mps * speed_mps + vu * vu));
+  const Geodetic position = near_.to_geodetic(frame_, reported_m);
   fix.quality = options_.quality;
   fix.dimension = two_d ? nmea::FixDimension::two_d : nmea::FixDimension::three_d;
   fix.lat_deg = position.lat_deg;
@@ -170,6 +173,7 @@ nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) 
   fix.alt_msl_m = position.alt_m;
   fix.geoid_sep_m = geoid_sep_m_;
   fix.speed_mps = speed_mps;
+  fix.vel_up_mps = vu;  // like the horizontal velocity, the truth's
   if (fix.speed_mps >= options_.course_min_speed_mps) {
     double course = std::atan2(ve, vn) * 180.0 / std::numbers::pi;
     if (course < 0.0) course += 360.0;

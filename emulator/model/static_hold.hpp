@@ -1,7 +1,7 @@
 // Static hold (static navigation): what SiRF, SkyTraq and u-blox receivers do when they think they
-// stand still. While the speed over ground is below a threshold the receiver repeats its last
-// reported position, and lets it go when its own (noisy) position wanders farther than a radius
-// from it, or when it moves faster. SiRF and SkyTraq logs repeat the previous position in 57% and
+// stand still. While the speed (3-D: a climb in place is motion) is below a threshold the receiver
+// repeats its last reported position, and lets it go when its own (noisy) position wanders farther
+// than a radius from it, or when it moves faster. SiRF and SkyTraq logs repeat the previous position in 57% and
 // 94% of epochs (issue 27); calibration fits the radius from a log's share of repeated positions
 // (emulator/calibration/hold_fit.hpp). Pure and deterministic.
 #pragma once
@@ -17,7 +17,7 @@ struct StaticHoldOptions {
   /// Horizontal distance (metres) the receiver's own position may wander from the held one before
   /// a new position is reported; 0 = no hold.
   double radius_m = 0.0;
-  /// The position is held only while the speed over ground is below this (metres/second).
+  /// The position is held only while the speed (3-D, the receiver model passes it) is below this (metres/second).
   double max_speed_mps = 0.3;
   [[nodiscard]] bool enabled() const { return radius_m > 0.0; }
 };

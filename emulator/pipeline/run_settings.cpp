@@ -16,12 +16,6 @@ namespace {
 
 std::chrono::nanoseconds to_ns(double seconds) { return std::chrono::nanoseconds{std::llround(seconds * 1e9)}; }
 
-// `--receiver ublox-*` without --protocol: the model as it leaves the factory (its NMEA at its
-// default baud, UBX answered on the same port), which drivers then configure. generic stays NMEA.
-bool factory_state(const ReceiverSettings& receiver) {
-  return !receiver.protocol_given && receiver.ublox_model != ubx::ReceiverModel::generic;
-}
-
 // The outputs, a serial one without a baud at the factory state's (the model's default baud).
 std::vector<transport::OutputSpec> output_specs(const ReceiverSettings& receiver) {
   std::vector<transport::OutputSpec> specs = receiver.outputs;

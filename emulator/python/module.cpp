@@ -143,6 +143,7 @@ PYBIND11_MODULE(gpsemu, m) {
         return py::make_tuple(e.position_enu_m[0], e.position_enu_m[1], e.position_enu_m[2]); },
                              "(east, north, up) metres about the origin; NaN without fix")
       .def_readonly("speed_mps", &Epoch::speed_mps)
+      .def_readonly("vel_up_mps", &Epoch::vel_up_mps, "reported vertical velocity, up positive (m/s)")
       .def_readonly("satellites_used", &Epoch::satellites_used)
       .def_readonly("hdop", &Epoch::hdop)
       .def_property_readonly("nmea", [](const Epoch& e) { return py::bytes(e.nmea); },

@@ -87,7 +87,7 @@ RtkStatus RtkState::step(double time_s, const std::optional<std::array<double, 3
   } else if (age_s > timeline_.fixed_max_age_s) {
     q = lower(q, Q::rtk_float);
   }
-  s.quality = q;
+  s.quality = lower(q, timeline_.best);
   return s;
 }
 

@@ -13,6 +13,7 @@
 //     age > fixed_max_age_s   -> RTK float
 //     age > float_max_age_s   -> DGPS
 //     age > dgps_max_age_s    -> the fix as configured (the F9P's DGNSS timeout, 60 s by default)
+// A DGNSS-only receiver (RtkTimeline::best dgps, an M9N) stays at DGPS while corrections come.
 // Once the state has fallen to DGPS or below, convergence starts again (float, then fixed, counted
 // from the first MSM after the gap); a float reached by age alone returns to fixed at the next MSM.
 #pragma once
@@ -36,6 +37,9 @@ struct RtkTimeline {
   double fixed_max_age_s = 5.0;   ///< correction age up to which a fixed solution holds
   double float_max_age_s = 30.0;  ///< correction age up to which a float solution holds
   double dgps_max_age_s = 60.0;   ///< correction age up to which the fix stays differential
+  /// The best state the receiver reaches: rtk_fixed (an F9P's HPG firmware), dgps (an M9N: its
+  /// SPG firmware uses RTCM3 for DGNSS only). From --receiver, not an option.
+  nmea::FixQuality best = nmea::FixQuality::rtk_fixed;
 };
 
 /// The state at one epoch.

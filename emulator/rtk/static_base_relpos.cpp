@@ -7,6 +7,8 @@
 
 #include <GeographicLib/Geocentric.hpp>
 
+#include "emulator/ubx/nav.hpp"
+
 namespace gpsemu::rtk {
 
 NedOffset ned_from(const BasePosition& from, double to_x_m, double to_y_m, double to_z_m) {
@@ -42,15 +44,17 @@ ubx::RelPosNed static_base_relpos(const RtkStatus& status, const std::optional<B
   rel.east_m = d.east_m;
   rel.down_m = d.down_m;
   rel.length_m = std::sqrt(d.north_m * d.north_m + d.east_m * d.east_m + d.down_m * d.down_m);
-  rel.acc_north_m = fix.sigma_lat_m;
-  rel.acc_east_m = fix.sigma_lon_m;
-  rel.acc_down_m = fix.sigma_alt_m;
+  // The accuracies NAV-PVT reports (one source: hypot(accN, accE) is its hAcc, accD its vAcc).
+  const ubx::NedAccuracy acc = ubx::position_accuracy(fix);
+  rel.acc_north_m = acc.north_m;
+  rel.acc_east_m = acc.east_m;
+  rel.acc_down_m = acc.down_m;
   if (rel.length_m > 0.0) {
     const double n = d.north_m / rel.length_m, e = d.east_m / rel.length_m, v = d.down_m / rel.length_m;
-    rel.acc_length_m = std::sqrt(n * n * fix.sigma_lat_m * fix.sigma_lat_m + e * e * fix.sigma_lon_m * fix.sigma_lon_m +
-                                 v * v * fix.sigma_alt_m * fix.sigma_alt_m);
+    rel.acc_length_m = std::sqrt(n * n * acc.north_m * acc.north_m + e * e * acc.east_m * acc.east_m +
+                                 v * v * acc.down_m * acc.down_m);
   } else {
-    rel.acc_length_m = std::max({fix.sigma_lat_m, fix.sigma_lon_m, fix.sigma_alt_m});
+    rel.acc_length_m = std::max({acc.north_m, acc.east_m, acc.down_m});
   }
   rel.rel_pos_valid = true;
   return rel;

@@ -5,7 +5,8 @@
 //
 //   relPos N/E/D  rover - base, in the local north/east/down frame at the base (metres)
 //   length        |relPos| (3-D)
-//   accN/E/D      the fix's 1-sigma north/east/vertical accuracy (what the RTK state made of it)
+//   accN/E/D      the fix's 1-sigma north/east/vertical accuracy as NAV-PVT reports it
+//                 (ubx::position_accuracy: what the RTK state made of it, at least NAV-PVT's floor)
 //   accLength     the accuracy along the baseline: sqrt(sum (relPos_i / length)^2 acc_i^2)
 //   flags         gnssFixOK (the fix's), diffSoln (corrections in use), relPosValid (differential
 //                 and the base position known), carrSoln none / float / fixed from the RTK state,

@@ -14,7 +14,8 @@ struct MsgOut {
   MessageId id;
   std::uint32_t i2c_key;
 };
-constexpr std::array<MsgOut, 37> kMsgOut = {{
+constexpr std::array<MsgOut, 40> kMsgOut = {{
+    {msg::nav_sol, 0x20910001},      {msg::nav_svinfo, 0x2091000B},  {msg::nav_sbas, 0x2091006A},
     {msg::nav_pvt, 0x20910006},      {msg::nav_posllh, 0x20910029},  {msg::nav_velned, 0x20910042},
     {msg::nav_status, 0x2091001A},   {msg::nav_dop, 0x20910038},     {msg::nav_sat, 0x20910015},
     {msg::nav_timeutc, 0x2091005B},  {msg::nav_timegps, 0x20910047}, {msg::nav_cov, 0x20910083},

@@ -1,7 +1,8 @@
 // The generation-9 key/value configuration (CFG-VALSET, CFG-VALGET, CFG-VALDEL) over Settings.
 // A key's id carries its value's size (bits 28-30: 1 bit, 1, 2, 4 or 8 bytes). Modelled keys
 // map onto Settings (CFG-RATE-*, CFG-UARTn-BAUDRATE, CFG-<port>INPROT/OUTPROT-*, CFG-NAVSPG-*
-// of CFG-NAV5, CFG-MSGOUT-* of the messages PX4's and ArduPilot's drivers configure); any other
+// of CFG-NAV5, CFG-MSGOUT-* of the messages PX4's and ArduPilot's drivers configure, and of
+// NAV-SVINFO and NAV-SBAS, which a u-blox 9 NAKs as messages it lacks); any other
 // well-formed key is kept as written so that a VALGET reads it back. Pure.
 #pragma once
 

@@ -39,7 +39,7 @@ bool model_has_message(ReceiverModel model, MessageId id) {
   const bool generation9 = model_info(model).key_value_config;
   if (id == msg::nav_svinfo || id == msg::nav_sbas) return !generation9;
   if (id == msg::nav_sig || id == msg::mon_rf) return generation9;
-  if (id == msg::rxm_rtcm) return model == ReceiverModel::ublox_f9p;  // reports RTCM3 input (docs/rtk.md)
+  if (id == msg::rxm_rtcm) return generation9;  // reports RTCM3 input: M9N (DGNSS) and F9P (docs/rtk.md)
   if (id == msg::nav_hpposllh || id == msg::nav_relposned || id == msg::nav_svin) {
     return model == ReceiverModel::ublox_f9p;
   }
@@ -47,6 +47,8 @@ bool model_has_message(ReceiverModel model, MessageId id) {
 }
 
 bool dual_band(ReceiverModel model) { return model == ReceiverModel::ublox_f9p; }
+
+bool dgnss_only(ReceiverModel model) { return model == ReceiverModel::ublox_m9n; }
 
 std::string mon_ver_payload(ReceiverModel model) {
   const ModelInfo& info = model_info(model);

@@ -68,10 +68,10 @@ Sigmas sigmas_of(const nmea::Fix& fix, double speed_sigma_mps) {
           std::max(fix.sigma_alt_m, floor.vertical_m), std::max(speed_sigma_mps, floor.speed_mps)};
 }
 double h_acc_m(const nmea::Fix& fix) {
-  const Sigmas s = sigmas_of(fix, 0.0);
-  return std::hypot(s.north_m, s.east_m);
+  const NedAccuracy a = position_accuracy(fix);
+  return std::hypot(a.north_m, a.east_m);
 }
-double v_acc_m(const nmea::Fix& fix) { return sigmas_of(fix, 0.0).down_m; }
+double v_acc_m(const nmea::Fix& fix) { return position_accuracy(fix).down_m; }
 double speed_sigma_mps(const nmea::Fix& fix, const NavExtras& extras) {
   return sigmas_of(fix, extras.speed_sigma_mps).speed_mps;
 }
@@ -88,14 +88,14 @@ double head_acc_deg(const nmea::Fix& fix, const NavExtras& extras) {
   return std::clamp(std::atan2(sigma_mps, fix.speed_mps) / kDegToRad, 1e-5, 180.0);
 }
 
-/// North and east velocity (metres per second); 0 without a fix.
+/// North, east and down velocity (metres per second); 0 without a fix.
 struct VelocityNed {
   double north_mps = 0.0, east_mps = 0.0, down_mps = 0.0;
 };
 VelocityNed velocity_of(const nmea::Fix& fix) {
   if (!fix.has_fix()) return {};
   const double course_rad = fix.course_deg_true.value_or(0.0) * kDegToRad;
-  return {fix.speed_mps * std::cos(course_rad), fix.speed_mps * std::sin(course_rad), 0.0};
+  return {fix.speed_mps * std::cos(course_rad), fix.speed_mps * std::sin(course_rad), -fix.vel_up_mps};
 }
 
 std::uint32_t tow_ms(const nmea::Fix& fix) { return gps_time(fix).tow_ms; }
@@ -156,6 +156,11 @@ Ecef ecef_of(const nmea::Fix& fix) {
 }
 }  // namespace
 
+NedAccuracy position_accuracy(const nmea::Fix& fix) {
+  const Sigmas s = sigmas_of(fix, 0.0);
+  return {s.north_m, s.east_m, s.down_m};
+}
+
 AccuracyFloor accuracy_floor(nmea::FixQuality quality) {
   switch (quality) {
     case nmea::FixQuality::rtk_fixed: return {0.01, 0.015, 0.02};
@@ -163,15 +168,6 @@ AccuracyFloor accuracy_floor(nmea::FixQuality quality) {
     case nmea::FixQuality::dgps: return {0.3, 0.45, 0.05};
     default: return {0.5, 0.75, 0.05};
   }
-}
-
-GpsTime gps_time(nmea::UtcTime utc, int gps_minus_utc_s) {
-  using namespace std::chrono;
-  constexpr sys_days gps_epoch{year{1980} / January / 6};
-  const milliseconds since = utc - time_point_cast<milliseconds>(gps_epoch) + seconds{gps_minus_utc_s};
-  constexpr milliseconds week = duration_cast<milliseconds>(weeks{1});
-  const auto w = since / week;
-  return {static_cast<int>(w), static_cast<std::uint32_t>((since - w * week).count())};
 }
 
 std::string nav_pvt(const nmea::Fix& fix, const NavExtras& extras) {

@@ -5,7 +5,7 @@
 //
 // Where the fix is silent: accuracies come from its GST sigmas (hAcc = hypot(sigma_lat,
 // sigma_lon), vAcc = sigma_alt) and NavExtras::speed_sigma_mps, never below the floor of the fix
-// quality (accuracy_floor: no receiver reports 0); the vertical velocity is 0; time is UTC +
+// quality (accuracy_floor: no receiver reports 0); velD is -vel_up_mps; time is UTC +
 // gps_leap_seconds, its validity flags NavExtras::time's; TDOP and GDOP the fix's, or when it has
 // none (0) TDOP = 0.6 PDOP and GDOP = hypot(PDOP, TDOP); NDOP = EDOP = HDOP/sqrt 2.
 #pragma once
@@ -27,7 +27,7 @@ namespace gpsemu::ubx {
 /// GPS time minus UTC since 2017-01-01 (seconds); u-blox's default until a new leap second.
 inline constexpr int gps_leap_seconds = 18;
 
-/// GPS week and time of week of a UTC time.
+/// GPS week and time of week of a UTC time (nav_time.cpp).
 struct GpsTime {
   int week = 0;               ///< weeks since 1980-01-06
   std::uint32_t tow_ms = 0;   ///< milliseconds into the week (NAV messages' iTOW)
@@ -54,6 +54,14 @@ struct AccuracyFloor {
   double horizontal_m = 0.0, vertical_m = 0.0, speed_mps = 0.0;
 };
 [[nodiscard]] AccuracyFloor accuracy_floor(nmea::FixQuality quality);
+
+/// The fix's 1-sigma position accuracy as the NAV messages report it (metres): its GST sigmas,
+/// each at least its share of accuracy_floor(): NAV-PVT hAcc = hypot(north, east), vAcc = down;
+/// NAV-RELPOSNED's accN/accE/accD are these.
+struct NedAccuracy {
+  double north_m = 0.0, east_m = 0.0, down_m = 0.0;
+};
+[[nodiscard]] NedAccuracy position_accuracy(const nmea::Fix& fix);
 
 /// hAcc/vAcc/sAcc a u-blox reports without a fix (mm, mm, mm/s).
 inline constexpr std::uint32_t no_fix_accuracy_mm = 0xFFFFFFFF;

@@ -52,6 +52,13 @@ gpsemu_cli_test(outage_has_empty_fields 0 "\\$GNGGA,000001\\.00,,,,,0,00,99\\.99
                 --fast --duration 3 --output stdout --outage 1+1 --start-time 2024-01-01T00:00:00Z --log-level warn)
 gpsemu_cli_test(rtk_fixed_quality 0 "\\$GNGGA,[0-9.]+,[0-9.]+,N,[0-9.]+,W,4,.*\\$GNGLL,[^$]*,A,R\\*"
                 --fast --duration 1 --output stdout --fix-quality rtk-fixed --log-level warn)
+# A u-blox port writes no HDT or THS (they are not u-blox sentences): refused at start-up, not dropped.
+gpsemu_cli_test(ublox_refuses_hdt 2 "sentences: a u-blox ublox-f9p does not write HDT"
+                --receiver ublox-f9p --sentences GGA,HDT --fast --duration 1 --output stdout)
+gpsemu_cli_test(ublox_refuses_ths 2 "sentences: a u-blox ublox-m9n does not write THS"
+                --receiver ublox-m9n --protocol nmea+ubx --sentences RMC,THS --fast --duration 1 --output stdout)
+gpsemu_cli_test(ublox_nmea_only_writes_hdt 0 "\\$GNHDT,"
+                --receiver ublox-f9p --protocol nmea --sentences GGA,HDT --fast --duration 1 --output stdout)
 
 # A value option before a subcommand's positional argument takes one value, not the argument too.
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/two_epochs.nmea

@@ -6,8 +6,9 @@
 // gpsd 3.22 reports the states as TPV "status" 2 (DGPS), 4 (RTK float) and 3 (RTK fixed). A frame
 // with a bad CRC is dropped and counted in the summary. The same corrections written to an F9P's
 // u-blox port (as PX4/ArduPilot inject them) are reported by RXM-RTCM once the client turns it on,
-// and NAV-PVT's carrSoln reaches fixed with a correction age. Short timeline options keep it to
-// seconds.
+// and NAV-PVT's carrSoln reaches fixed with a correction age; an M9N (DGNSS only) reports them by
+// RXM-RTCM too and goes DGPS (NAV-PVT diffSoln, GGA quality 2), never RTK. Short timeline options
+// keep it to seconds.
 #include <gtest/gtest.h>
 
 #include <arpa/inet.h>
@@ -170,6 +171,49 @@ TEST(RtkCorrections, InjectedThroughTheUbloxPortAnF9pReportsRxmRtcmAndReachesFix
   EXPECT_TRUE(float_seen);
   EXPECT_GE(fixed_with_age, 3) << run.log;
   EXPECT_NE(run.log.find("RTCM3 frames (0 bad CRC)"), std::string::npos) << run.log;
+}
+
+// A NEO-M9N (SPG 4.04) takes RTCM3 for DGNSS: diffSoln and GGA quality 2 with the correction age
+// and station, carrSoln 0 however long the corrections come (RTK float/fixed is the F9P's).
+TEST(RtkCorrections, InjectedThroughTheUbloxPortAnM9nReportsRxmRtcmAndGoesDgpsNotRtk) {
+  test::RoverClient client;
+  client.setup = ubx::frame_bytes(ubx::msg::cfg_valset, ubx::test::valset({{0x20910269, 1}}));  // RXM-RTCM UART1
+  client.epochs = 25;  // 2.5 s of corrections: past the 1.0 s the F9P needs for fixed
+  const test::RoverRun run = test::run_rover("ublox-m9n", "nmea+ubx", "m9n_dgnss", "4", client);
+  int acks = 0, naks = 0, rxm_1077 = 0, pvt_diff = 0, pvt_carrier = 0, gga_dgps = 0, gga_rtk = 0;
+  for (const ubx::Frame& f : ubx::test::frames_in(run.bytes)) {
+    acks += f.id == ubx::msg::ack_ack;
+    naks += f.id == ubx::msg::ack_nak;
+    if (f.id == ubx::msg::rxm_rtcm && f.payload.size() == 8 && ubx::get_u2(f.payload, 6) == 1077) {
+      EXPECT_EQ(ubx::get_u1(f.payload, 1), 2u << 1);  // msgUsed 2: used
+      ++rxm_1077;
+    }
+    if (f.id == ubx::msg::nav_pvt && f.payload.size() == 92) {
+      pvt_diff += (ubx::get_u1(f.payload, 21) & 0x02) != 0;
+      pvt_carrier += (ubx::get_u1(f.payload, 21) >> 6) != 0;
+    }
+  }
+  std::istringstream lines(run.bytes);
+  for (std::string line; std::getline(lines, line);) {
+    const auto at = line.find("GGA,");
+    if (at == std::string::npos || at < 3) continue;
+    std::vector<std::string> fields;
+    std::stringstream ss(line.substr(at));
+    for (std::string field; std::getline(ss, field, ',');) fields.push_back(field);
+    if (fields.size() < 15) continue;
+    gga_dgps += fields[6] == "2" && fields[14].rfind("0042", 0) == 0;
+    gga_rtk += fields[6] == "4" || fields[6] == "5";
+  }
+  // The VALSET took: no NAK, and the RXM-RTCM reports below. (Its ACK can go out before gpsemu
+  // counts the freshly opened pty as read, so it is not counted here.)
+  EXPECT_LE(acks, 1) << run.log;
+  EXPECT_EQ(naks, 0);
+  EXPECT_GE(rxm_1077, 20) << run.log;
+  EXPECT_GE(pvt_diff, 8) << run.log;
+  EXPECT_EQ(pvt_carrier, 0);
+  EXPECT_GE(gga_dgps, 8) << run.log;
+  EXPECT_EQ(gga_rtk, 0);
+  EXPECT_EQ(run.log.find("RTK float"), std::string::npos) << run.log;
 }
 
 }  // namespace

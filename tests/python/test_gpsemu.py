@@ -130,6 +130,12 @@ def test_geodetic_truth_equals_enu_truth():
         assert ea.has_fix and abs(ea.speed_mps - 1.0) < 1e-9
 
 
+def test_vertical_velocity_is_reported():
+    rx = gpsemu.Receiver(KEYS)
+    e = rx.step_enu((0.0, 0.0, 0.0), (1.0, 0.0, 2.5))
+    assert e.has_fix and abs(e.vel_up_mps - 2.5) < 1e-9 and abs(e.speed_mps - 1.0) < 1e-9
+
+
 def test_no_truth_is_no_fix():
     rx = gpsemu.Receiver({**KEYS, "sentences": "RMC,GGA"})
     e = rx.step_no_fix()

@@ -1,6 +1,6 @@
 // Test support for the RTK end-to-end tests: the base station they send (300 m north of gpsemu's
-// default origin, station 42: its 1006 and a GPS MSM7 an epoch, the project's encoder) and an F9P
-// rover on a pty whose client writes that base's RTCM3 into the u-blox port, as PX4 and ArduPilot
+// default origin, station 42: its 1006 and a GPS MSM7 an epoch, the project's encoder) and a u-blox
+// rover (an F9P, or any model) on a pty whose client writes that base's RTCM3 into the u-blox port, as PX4 and ArduPilot
 // inject corrections, and reads what the receiver answers.
 #pragma once
 
@@ -56,14 +56,15 @@ struct RoverRun {
   std::string log;
 };
 
-/// gpsemu as an F9P (`--receiver ublox-f9p --protocol ubx`) at 5 Hz for `duration` on a pty, with
-/// RTK converging fast (0.4 s to float, 1.0 s to fixed); `client` writes into its port and reads
-/// it meanwhile. gpsemu not starting, no client or a short write is a test failure.
-inline RoverRun run_f9p_rover(const std::string& name, const std::string& duration, const RoverClient& client) {
+/// gpsemu as `model` (`--receiver MODEL --protocol PROTOCOL`) at 5 Hz for `duration` on a pty,
+/// with RTK converging fast (0.4 s to float, 1.0 s to fixed); `client` writes into its port and
+/// reads it meanwhile. gpsemu not starting, no client or a short write is a test failure.
+inline RoverRun run_rover(const std::string& model, const std::string& protocol, const std::string& name,
+                          const std::string& duration, const RoverClient& client) {
   using namespace std::chrono;
-  const std::filesystem::path dir = scratch_dir("f9p_rover", name);
+  const std::filesystem::path dir = scratch_dir("rover", name);
   const std::filesystem::path link = dir / "gps";
-  Process gpsemu({GPSEMU_BINARY, "--receiver", "ublox-f9p", "--protocol", "ubx", "--output", "pty:" + link.string(),
+  Process gpsemu({GPSEMU_BINARY, "--receiver", model, "--protocol", protocol, "--output", "pty:" + link.string(),
                   "--rate", "5", "--duration", duration, "--rtk-convergence", "0.4,1.0,0", "--log-level", "info"});
   RoverRun run;
   if (!gpsemu.wait_for_stderr("on /dev/pts", seconds(20))) {
@@ -96,6 +97,11 @@ inline RoverRun run_f9p_rover(const std::string& name, const std::string& durati
   std::filesystem::remove_all(dir);
   run.log = gpsemu.stderr_text();
   return run;
+}
+
+/// An F9P rover (`--receiver ublox-f9p --protocol ubx`): run_rover().
+inline RoverRun run_f9p_rover(const std::string& name, const std::string& duration, const RoverClient& client) {
+  return run_rover("ublox-f9p", "ubx", name, duration, client);
 }
 
 }  // namespace gpsemu::test

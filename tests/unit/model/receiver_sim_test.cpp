@@ -36,6 +36,23 @@ TEST(Sim, StationaryStaysAtTheOriginWithZeroSpeed) {
   EXPECT_FALSE(fix.course_deg_true.has_value());
 }
 
+// A copter climbing in place (2 m/s up, no horizontal motion) under a static hold (5 m radius):
+// its altitude and vertical velocity follow the climb; the hold is for a receiver standing still.
+TEST(Sim, StaticHoldDoesNotFreezeAClimbInPlace) {
+  ReceiverOptions o;
+  o.hold.radius_m = 5.0;
+  Receiver rx(kFrame, o, no_noise(), kStart);
+  for (int s = 0; s <= 10; ++s) {
+    sources::Truth climbing;
+    climbing.position_m = {0.0, 0.0, 2.0 * s};
+    climbing.velocity_mps = {0.0, 0.0, 2.0};
+    const auto fix = rx.fix_at(kStart + seconds(s), climbing);
+    ASSERT_TRUE(fix.has_fix());
+    EXPECT_NEAR(fix.alt_msl_m, 260.0 + 2.0 * s, 1e-6) << s;
+    EXPECT_EQ(fix.vel_up_mps, 2.0);
+  }
+}
+
 TEST(Sim, LineDrivesStraightAtItsSpeedThenStops) {
   SimOptions o;
   o.speed_mps = 2.0;

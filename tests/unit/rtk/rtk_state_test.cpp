@@ -71,6 +71,17 @@ TEST(RtkState, StoppedCorrectionsDecayFixedToFloatToDgpsToAutonomous) {
   EXPECT_EQ(q[80], Q::gps);        // age 61 > 60: the DGNSS timeout
 }
 
+// A DGNSS-only receiver (an M9N: RtkTimeline::best dgps) is DGPS while the corrections come and
+// for the DGNSS timeout after, never float or fixed.
+TEST(RtkState, ADgnssOnlyReceiverStaysDgpsUntilTheTimeout) {
+  RtkTimeline t;
+  t.best = Q::dgps;
+  RtkState rtk(t);
+  const std::vector<Q> q = timeline(rtk, 0.0, 20, 100);  // last MSM at t = 19
+  for (int k = 0; k < 80; ++k) EXPECT_EQ(q[k], Q::dgps) << k;
+  EXPECT_EQ(q[80], Q::gps);  // age 61 > 60
+}
+
 TEST(RtkState, ReportsAgeAndStationWhileDifferential) {
   RtkState rtk;
   rtk.received(base_message());

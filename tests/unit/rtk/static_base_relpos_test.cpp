@@ -9,6 +9,9 @@
 #include <GeographicLib/Geocentric.hpp>
 #include <GeographicLib/LocalCartesian.hpp>
 
+#include "emulator/ubx/bytes.hpp"
+#include "emulator/ubx/nav.hpp"
+
 namespace gpsemu::rtk {
 namespace {
 
@@ -89,6 +92,22 @@ TEST(StaticBaseRelPos, CarrSolnFollowsTheRtkState) {
   EXPECT_EQ(dg.flags & (kFixOk | kDiff | kValid), kFixOk | kDiff | kValid);
   EXPECT_EQ(carr(dg.flags), 0u);
   EXPECT_NEAR(dg.n_cm, 1000, 1);
+}
+
+// One accuracy for the rover's position (issue 36): in DGPS (the RTK part gives each axis at least
+// 0.2 m) NAV-RELPOSNED's accN/accE/accD are NAV-PVT's hAcc and vAcc split by axis, not 283 mm
+// against NAV-PVT's 300 mm.
+TEST(StaticBaseRelPos, AccuraciesAreNavPvtsInDgps) {
+  nmea::Fix fix = rover_fix(10.0, 10.0, 0.0);
+  fix.quality = Q::dgps;
+  fix.sigma_lat_m = fix.sigma_lon_m = 0.2;  // the DGPS floor of the RTK part
+  fix.sigma_alt_m = 0.3;
+  const ubx::RelPosNedFields rel = encoded(status(Q::dgps), base(), fix);
+  const std::string pvt = ubx::nav_pvt(fix, {});
+  const double h_acc_mm = ubx::get_u4(pvt, 40), v_acc_mm = ubx::get_u4(pvt, 44);
+  EXPECT_NEAR(std::hypot(rel.acc_n, rel.acc_e) / 10.0, h_acc_mm, 1.0);
+  EXPECT_NEAR(rel.acc_d / 10.0, v_acc_mm, 1.0);
+  EXPECT_EQ(rel.acc_n, rel.acc_e);
 }
 
 TEST(StaticBaseRelPos, WithoutBasePositionOrCorrectionsNothingIsValid) {

@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
+#include <numbers>
 #include <string>
 
 #include "emulator/ubx/bytes.hpp"
@@ -250,6 +252,32 @@ TEST(UbxNav, DopUsesTheFixsTdopAndGdopWhenItHasThem) {
   const std::string p = nav_dop(f);
   EXPECT_EQ(get_u2(p, 4), 190);  // gDOP
   EXPECT_EQ(get_u2(p, 8), 80);   // tDOP
+}
+
+// The vertical velocity (up positive in the fix) is NAV-PVT's velD in mm/s and NAV-VELNED's in cm/s,
+// down positive; VELNED's speed is 3-D, gSpeed the ground speed; NAV-SOL and NAV-VELECEF carry it
+// in the ECEF velocity (its up component at the fix's latitude and longitude).
+TEST(UbxNav, VerticalVelocityIsVelDAndInTheEcefVelocity) {
+  nmea::Fix f = fixed_fix();
+  f.speed_mps = 3.0;
+  f.course_deg_true = 0.0;
+  f.vel_up_mps = 4.0;  // climbing
+  const std::string pvt = nav_pvt(f, fixed_extras());
+  EXPECT_EQ(static_cast<std::int32_t>(get_u4(pvt, 48)), 3000);   // velN mm/s
+  EXPECT_EQ(static_cast<std::int32_t>(get_u4(pvt, 56)), -4000);  // velD mm/s
+  EXPECT_EQ(static_cast<std::int32_t>(get_u4(pvt, 60)), 3000);   // gSpeed mm/s
+  const std::string velned = nav_velned(f, fixed_extras());
+  EXPECT_EQ(static_cast<std::int32_t>(get_u4(velned, 12)), -400);  // velD cm/s
+  EXPECT_EQ(get_u4(velned, 16), 500u);                             // speed (3-D) cm/s
+  EXPECT_EQ(get_u4(velned, 20), 300u);                             // gSpeed cm/s
+  const double lat = f.lat_deg * std::numbers::pi / 180.0, lon = f.lon_deg * std::numbers::pi / 180.0;
+  for (const std::string& ecef : {nav_velecef(f, fixed_extras()), nav_sol(f, fixed_extras()).substr(28, 12)}) {
+    const std::size_t at = ecef.size() == 20 ? 4 : 0;
+    const double x = static_cast<std::int32_t>(get_u4(ecef, at)), y = static_cast<std::int32_t>(get_u4(ecef, at + 4)),
+                 z = static_cast<std::int32_t>(get_u4(ecef, at + 8));
+    EXPECT_NEAR(std::cos(lat) * std::cos(lon) * x + std::cos(lat) * std::sin(lon) * y + std::sin(lat) * z, 400.0, 1.0);
+    EXPECT_NEAR(std::sqrt(x * x + y * y + z * z), 500.0, 1.0);
+  }
 }
 
 }  // namespace

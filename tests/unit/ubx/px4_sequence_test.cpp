@@ -10,10 +10,12 @@
 // noise, AGC and jamming fields of sensor_gps come from MON-RF (F9P) or MON-HW (M8N).
 #include <gtest/gtest.h>
 
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "emulator/rtk/rtcm3_messages.hpp"
 #include "emulator/ubx/cfg_keys.hpp"
 #include "emulator/ubx/machine.hpp"
 #include "emulator/ubx/session.hpp"
@@ -298,6 +300,82 @@ TEST(UbxPx4Sequence, M8nNaksValsetAndAnswersTheClassicPathEndingAt5HzAnd115200) 
   EXPECT_EQ(px4.noise_per_ms, 89);       // MON-HW every solution
   EXPECT_EQ(px4.automatic_gain_control, 3140);
   EXPECT_EQ(px4.jamming_indicator, 9);
+}
+
+// PX4-GPSDrivers src/ubx.cpp on a NEO-M9N: MON-VER without MOD=ZED-F9P makes it Board::u_blox9;
+// configureDevice() then uses 125 ms (8 Hz), leaves out HPPOSLLH and RELPOSNED ("no RTCM on M9*
+// except F9P") but still enables CFG-MSGOUT-UBX_RXM_RTCM_<port> in the message-rate VALSET for every
+// u-blox 9 (the `_board == u_blox9 || F9P` branch), and its I2C VALSET has no I2COUTPROT_RTCM3X.
+// The keys and their order are those of configure()/configureDevice() with PX4's defaults (GPS
+// output mode, GPS_1_GNSS 0, no minimum C/N0 or elevation, dynamic model 7).
+TEST(UbxPx4Sequence, M9nAcceptsPx4sU9ValsetWithRxmRtcmAndOutputsWhatItEnabled) {
+  ConfigMachine m = machine_of(ReceiverModel::ublox_m9n);
+  const std::vector<std::string> valsets = {
+      uart1_valset(),
+      valset({{key::uart1_baudrate, 115200}}),
+      valset({{uart1inprot_rtcm3x, 1}, {usbinprot_ubx, 1}, {usbinprot_rtcm3x, 1}, {usbinprot_nmea, 0},
+              {usboutprot_ubx, 1}, {usboutprot_nmea, 0}}),
+      valset({{key::navspg_fixmode, 3}, {navspg_utcstandard, 3}, {key::navspg_dynmodel, 7}, {odo_use_odo, 0},
+              {odo_use_cog, 0}, {odo_outlpvel, 0}, {odo_outlpcog, 0}, {key::rate_meas, 125}, {key::rate_nav, 1},
+              {key::rate_timeref, 0}}),
+      valset({{navhpg_dgnssmode, 3}}),
+      valset({{itfm_enable, 1}}),
+      valset({{sec_jamdet_hi, 1}}),
+      // The message rates: the VALSET gpsemu NAKed whole before (RXM-RTCM was F9P-only).
+      valset({{key::msgout_nav_pvt_i2c + uart1, 1}, {key::msgout_nav_pvt_i2c + usb, 1},
+              {msgout_dop_i2c + uart1, 1}, {msgout_dop_i2c + usb, 1}, {msgout_sat_i2c + uart1, 10},
+              {msgout_sat_i2c + usb, 10}, {msgout_status_i2c + uart1, 1}, {msgout_status_i2c + usb, 1},
+              {msgout_mon_rf_i2c + uart1, 1}, {msgout_mon_rf_i2c + usb, 1},
+              {msgout_rxm_rtcm_i2c + uart1, 1}, {msgout_rxm_rtcm_i2c + usb, 1}}),
+      valset({{i2cinprot_ubx, 0}, {i2cinprot_nmea, 0}, {i2cinprot_rtcm3x, 0}, {i2coutprot_ubx, 0},
+              {i2coutprot_nmea, 0}}),
+  };
+  for (std::size_t i = 0; i < valsets.size(); ++i) {
+    if (i == 2) {  // MON-VER after the baud: no F9P, so PX4 takes it for a u-blox 9 (M9N)
+      const auto ver = send(m, msg::mon_ver);
+      ASSERT_EQ(ver.frames.size(), 1u);
+      EXPECT_NE(ver.frames[0].payload.find("MOD=NEO-M9N"), std::string::npos);
+    }
+    EXPECT_EQ(send(m, msg::cfg_valset, valsets[i]).frames, std::vector<Frame>{ack_of(msg::cfg_valset)})
+        << "VALSET " << i;
+  }
+  EXPECT_EQ(m.stats().naks, 0u);
+  const Settings& s = m.settings();
+  test::expect_solutions_every(s, m.model(), 125ms);
+  EXPECT_EQ(s.rate(msg::nav_pvt, Port::uart1), 1);
+  EXPECT_EQ(s.rate(msg::nav_status, Port::uart1), 1);
+  EXPECT_EQ(s.rate(msg::mon_rf, Port::uart1), 1);
+  EXPECT_EQ(s.rate(msg::rxm_rtcm, Port::uart1), 1);
+
+  // The same bytes on a port: each solution has what PX4 enabled, and RTCM3 it forwards is reported.
+  SessionSettings settings;
+  settings.start.model = ReceiverModel::ublox_m9n;
+  settings.start.baud = 38400;
+  Session session(settings);
+  session.client_wrote(g_written);
+  (void)session.take_reply();
+  nmea::Fix fix;
+  fix.quality = nmea::FixQuality::gps;
+  fix.dimension = nmea::FixDimension::three_d;
+  fix.satellites_used = 8;
+  std::string out;
+  for (int k = 0; k < 10; ++k) {
+    fix.time_utc = std::chrono::sys_days{std::chrono::year{2026} / 11 / 24} + std::chrono::hours{12} + k * 125ms;
+    session.append_solution(fix, out);
+  }
+  std::map<MessageId, int> counts;
+  for (const Frame& f : test::frames_in(out)) ++counts[f.id];
+  EXPECT_EQ(counts[msg::nav_pvt], 10);
+  EXPECT_EQ(counts[msg::nav_dop], 10);
+  EXPECT_EQ(counts[msg::nav_status], 10);
+  EXPECT_EQ(counts[msg::mon_rf], 10);
+  EXPECT_EQ(counts[msg::nav_sat], 1);  // every 10th solution
+  session.client_wrote(rtk::rtcm3_frame_bytes(rtk::encode_msm(1077, 42, 1000, 10, 2)));
+  const std::vector<Frame> reports = test::frames_in(session.take_reply());
+  ASSERT_EQ(reports.size(), 1u);
+  EXPECT_EQ(reports[0].id, msg::rxm_rtcm);
+  EXPECT_EQ(get_u2(reports[0].payload, 6), 1077);  // msgType
+  EXPECT_EQ(session.take_rtcm().size(), 1u);
 }
 
 }  // namespace

@@ -286,6 +286,36 @@ TEST(UbxSession, M9nNaksTheHighPrecisionKeys) {
             std::vector<Frame>{test::ack_of(msg::cfg_valset)});
 }
 
+// CFG-MSGOUT-UBX_NAV_SOL_<port> (0x20910001 + port, in u-blox's generation-9 key list): NAV-SOL
+// turned on by VALSET is written, as by CFG-MSG (issue 36: it was ACKed, read back and never sent).
+TEST(UbxSession, NavSolTurnedOnByValsetIsWrittenOnM9nAndF9p) {
+  for (const ReceiverModel model : {ReceiverModel::ublox_m9n, ReceiverModel::ublox_f9p}) {
+    Session session(model_session(model));
+    constexpr std::uint32_t nav_sol_uart1 = 0x20910002;
+    session.client_wrote(frame_bytes(msg::cfg_valset, valset({{nav_sol_uart1, 1}})));
+    EXPECT_EQ(frames_in(session.take_reply()), std::vector<Frame>{test::ack_of(msg::cfg_valset)});
+    std::string out;
+    session.append_solution(fix_at(hours{12}), out);
+    EXPECT_EQ(ids_of(out), std::vector<MessageId>{msg::nav_sol}) << model_info(model).name;
+  }
+}
+
+// NAV-SVINFO and NAV-SBAS left with protocol 27: a u-blox 9 NAKs their CFG-MSGOUT keys
+// (CFG-MSGOUT-UBX_NAV_SVINFO_UART1 0x2091000c, CFG-MSGOUT-UBX_NAV_SBAS_UART1 0x2091006b) in a
+// VALSET, as it NAKs them in CFG-MSG, and a VALGET of them.
+TEST(UbxSession, U9NaksTheSvinfoAndSbasKeys) {
+  for (const ReceiverModel model : {ReceiverModel::ublox_m9n, ReceiverModel::ublox_f9p}) {
+    StartSettings start;
+    start.model = model;
+    ConfigMachine m(start);
+    for (const std::uint32_t k : {0x2091000cu, 0x2091006bu}) {
+      EXPECT_EQ(test::send(m, msg::cfg_valset, valset({{k, 1}})).frames, std::vector<Frame>{test::nak_of(msg::cfg_valset)})
+          << std::hex << k << " " << model_info(model).name;
+      EXPECT_EQ(test::send(m, msg::cfg_valget, test::valget({k})).frames, std::vector<Frame>{test::nak_of(msg::cfg_valget)});
+    }
+  }
+}
+
 TEST(UbxSession, ColdResetStartsTheRunTimeAgain) {
   Session session(f9p_nmea_only());
   session.client_wrote(frame_bytes(msg::cfg_msg, test::unhex("0103 01")));
