@@ -350,6 +350,9 @@ std::vector<OptionDef> make_option_table() {
       "any, logged) taking JSON lines, e.g. {\"fault\":\"jam\",\"db\":25}, {\"clear\":\"jam\"}, {\"status\":true}; "
       "`gpsemu ctl PATH ...` is its client (docs/faults.md) (default none)",
       [](ConfigDraft& d, V v) { d.process.control_path = parse_control_spec(v.back()); });
+  add("control-idle-timeout", "S", "--control: close a client that sent no request for this long, seconds, 0..86400 "
+      "(0: never; at most 8 clients at once) (default 30)",
+      [](ConfigDraft& d, V v) { d.process.control_idle_timeout_s = parse_number("control-idle-timeout", v.back(), 0.0, 86400.0); });
   add("realtime-priority", "N", "run with SCHED_FIFO priority N, 1..99, where permitted (else a warning and normal "
       "scheduling) (default: normal scheduling)",
       [](ConfigDraft& d, V v) { d.process.realtime.fifo_priority = static_cast<int>(parse_number("realtime-priority", v.back(), 1, 99)); });
