@@ -124,10 +124,13 @@ std::vector<OptionDef> make_option_table() {
   add("fast", "", "no pacing: generate epochs as fast as possible (batch generation, tests)",
       [](ConfigDraft& d, V v) { d.fast = parse_bool("fast", v.back()); });
   add("scenario", "FILE", "faults on a timeline: a TOML file of [[fault]] tables (kind, at, duration, parameters "
-      "with units; docs/faults.md); [[fault]] tables may also be in --config (default none)",
+      "with units; docs/faults.md), or a --tee file to replay its live faults; repeatable: the files' faults add up "
+      "in the order given; [[fault]] tables may also be in --config (default none)",
       [](ConfigDraft& d, V v) {
-        for (faults::Fault& f : load_scenario(v.back())) d.timeline.faults.push_back(std::move(f));
-      });
+        for (const std::string& file : v) {
+          for (faults::Fault& f : load_scenario(file)) d.timeline.faults.push_back(std::move(f));
+        }
+      }, true);
   add("clock", "CLOCK", "epoch clock: realtime | scaled:K (paced at K x real time, K 0.01..1000; NMEA times still "
       "one epoch period apart) | fast (as --fast) | lockstep (an epoch leaves when the 't' of udp:/tcp: poses "
       "reaches it; t = 0 is --start-time or the first epoch), e.g. scaled:10 (default realtime)",
