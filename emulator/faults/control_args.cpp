@@ -1,5 +1,6 @@
 #include "emulator/faults/control_args.hpp"
 
+#include <algorithm>
 #include <optional>
 #include <stdexcept>
 #include <string_view>
@@ -122,7 +123,19 @@ std::string control_flags_help() {
   std::string out = "KIND and its flags (--FLAG VALUE or --FLAG=VALUE; a key's unit may be left out: --ramp for --ramp-s):\n";
   for (const KindInfo& k : catalogue()) out += fmt::format("  {}: {}\n", k.name, flag_list(parameters_of(k.kind)));
   out += fmt::format("  every fault: {}\n", flag_list(std::vector<std::string_view>(kLiveCommonKeys.begin(), kLiveCommonKeys.end())));
-  out += "  clear KIND|all [--receiver N]; status; send JSON";
+  out += "  clear KIND|all [--receiver N]; status; send JSON\n";
+  out += "Each parameter (the key of a [[fault]] table and of the JSON request):\n";
+  std::vector<std::string_view> keys(kLiveCommonKeys.begin(), kLiveCommonKeys.end());
+  for (const KindInfo& k : catalogue()) {
+    for (const std::string_view key : parameters_of(k.kind)) {
+      if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
+    }
+  }
+  std::sort(keys.begin() + static_cast<std::ptrdiff_t>(kLiveCommonKeys.size()), keys.end());
+  for (const std::string_view key : keys) {
+    if (const ParameterInfo* p = parameter_info(key)) out += fmt::format("  {}: {}\n", flags_of(key), p->help);
+  }
+  out.pop_back();  // CLI11 ends the footer's line
   return out;
 }
 

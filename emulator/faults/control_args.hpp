@@ -18,7 +18,8 @@ namespace gpsemu::faults {
 /// wrong (an unknown kind or flag, a flag without a value, a word too many).
 [[nodiscard]] std::string control_request_of(const std::vector<std::string>& words);
 
-/// The help's list of the kinds and their flags, one line a kind: "  jam: --db, --ramp[-s], ...".
+/// The help's list of the kinds and their flags, one line a kind ("  jam: --db, --ramp-out-s|--ramp-out,
+/// ..."), then each parameter's unit and range from the catalogue ("  --db: C/N0 drop ..., dB, 0..60").
 [[nodiscard]] std::string control_flags_help();
 
 }  // namespace gpsemu::faults

@@ -86,6 +86,8 @@ TEST(ControlArgs, TheHelpNamesEveryKindAndItsFlags) {
   for (const KindInfo& k : catalogue()) EXPECT_NE(help.find("  " + std::string(k.name) + ": "), std::string::npos) << k.name;
   EXPECT_NE(help.find("spoof: --bearing-deg|--bearing"), std::string::npos) << help;
   EXPECT_NE(help.find("latency: --delay-ms|--delay, --jitter-ms|--jitter"), std::string::npos) << help;
+  EXPECT_NE(help.find("  --db: C/N0 drop at full strength, dB, 0..60\n"), std::string::npos) << help;
+  EXPECT_NE(help.find("  --speed-mps|--speed: drag speed, m/s, 0..1000\n"), std::string::npos) << help;
 }
 
 }  // namespace
