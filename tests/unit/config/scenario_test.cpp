@@ -44,6 +44,12 @@ TEST(Scenario, AFaultThatWouldNeverStartWithinTheDurationIsRefused) {
       << e;
   EXPECT_NO_THROW((void)build_config(std::nullopt, {{"scenario", {file}}, {"duration", {"101"}}}));
   EXPECT_NO_THROW((void)build_config(std::nullopt, {{"scenario", {file}}}));  // no --duration: runs until stopped
+  // at_utc: known to be too late only when --start-time says when the run begins.
+  const auto utc = write_temp("utc.toml", "[[fault]]\nkind = \"outage\"\nat_utc = \"2026-05-01T12:01:00Z\"\nduration = 5\n");
+  const std::string u = error_of({{"scenario", {utc}}, {"duration", {"60"}}, {"start-time", {"2026-05-01T12:00:00Z"}}});
+  EXPECT_NE(u.find(utc + ":3: [[fault]]: at_utc: 2026-05-01T12:01:00.000Z is not before the end of the run"), std::string::npos)
+      << u;
+  EXPECT_NO_THROW((void)build_config(std::nullopt, {{"scenario", {utc}}, {"duration", {"61"}}, {"start-time", {"2026-05-01T12:00:00Z"}}}));
 }
 
 TEST(Scenario, SeveralScenarioFilesAddUpInTheOrderGiven) {
