@@ -44,15 +44,16 @@ ClientId new_client_id() {
   return next.fetch_add(1);
 }
 
-void Output::client_wrote(std::string_view bytes, ClientId client) {
-  if (client_input_ == nullptr) return;
+bool Output::client_wrote(std::string_view bytes, ClientId client) {
+  if (client_input_ == nullptr) return false;
   client_input_->client_wrote(bytes, client);
+  const bool read = client_input_->reads_input();
   std::string reply = client_input_->take_reply(client);
-  if (reply.empty()) return;
+  if (reply.empty()) return read;
   if (reply_bytes_ + reply.size() > max_pending_reply_bytes) {
     count_reply_dropped(reply.size());  // whole: every answer of this read together
     report_reply_drops();
-    return;
+    return read;
   }
   reply_bytes_ += reply.size();
   if (!replies_.empty() && replies_.back().first == client) {
@@ -60,6 +61,7 @@ void Output::client_wrote(std::string_view bytes, ClientId client) {
   } else {
     replies_.emplace_back(client, std::move(reply));
   }
+  return read;
 }
 
 void Output::client_left(ClientId client) {

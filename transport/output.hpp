@@ -61,6 +61,9 @@ class ClientInput {
   [[nodiscard]] virtual std::string take_reply(ClientId /*client*/) { return {}; }
   /// `client` went away (disconnected, the pty closed by everyone): forget its half-read input.
   virtual void client_left(ClientId /*client*/) {}
+  /// Whether what clients write is read (a u-blox's session parses it) rather than dropped (a
+  /// receiver that only writes NMEA). Default: read.
+  [[nodiscard]] virtual bool reads_input() const { return true; }
 };
 
 class Output {
@@ -120,9 +123,10 @@ class Output {
   /// or drop, which the base class logs at most once a second.
   virtual WriteStatus write_bytes(std::string_view bytes, std::string& error_text) = 0;
 
-  /// Backend hook: hands what `client` wrote to the attached ClientInput (none: dropped) and
-  /// keeps its answer for answer_clients().
-  void client_wrote(std::string_view bytes, ClientId client);
+  /// Backend hook: hands what `client` wrote to the attached ClientInput and keeps its answer for
+  /// answer_clients(). Returns false when the bytes are dropped (no ClientInput, or one that does
+  /// not read input): the backend counts them as discarded.
+  bool client_wrote(std::string_view bytes, ClientId client);
   /// Backend hook: `client` went away; the ClientInput forgets its half-read input.
   void client_left(ClientId client);
   /// Backend hook: writes `bytes` (whole answers) to `client` behind what is queued for it, or

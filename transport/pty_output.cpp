@@ -342,9 +342,11 @@ void PtyOutput::service() {
   // Clients write to the receiver (gpsd probes with kilobytes of configuration strings): read it
   // without ever blocking, so the client never stalls on a full pty, and hand it to the client
   // input (the receiver's encoders; NMEA drops it).
-  const posix::Drained input = posix::drain_input(master_fd_, client_input_budget,
-                                                  [this](std::string_view bytes) { client_wrote(bytes, client_); });
-  pty_stats_.input_bytes_discarded += input.bytes;
+  std::uint64_t read_bytes = 0;  // taken by the receiver (a u-blox parses it); the rest is discarded
+  const posix::Drained input = posix::drain_input(master_fd_, client_input_budget, [this, &read_bytes](std::string_view bytes) {
+    if (client_wrote(bytes, client_)) read_bytes += bytes.size();
+  });
+  pty_stats_.input_bytes_discarded += input.bytes - read_bytes;
   notice_clients();  // after the input above was read: it was the old client's
   send_waiting();
   if (input.end == posix::Drained::End::failed) {
@@ -358,12 +360,17 @@ void PtyOutput::report_discards() {
   const bool changed = pty_stats_.stale_bytes_discarded != reported_.stale_bytes_discarded ||
                        pty_stats_.input_bytes_discarded != reported_.input_bytes_discarded;
   if (!changed) return;
-  if (log_limited(discard_log_, spdlog::level::debug,
-                  "{}: discarded {} unread bytes of {} earlier epochs (no client reading) and {} bytes of "
-                  "client input since the last report",
-                  describe(), pty_stats_.stale_bytes_discarded - reported_.stale_bytes_discarded,
-                  pty_stats_.stale_epochs_discarded - reported_.stale_epochs_discarded,
-                  pty_stats_.input_bytes_discarded - reported_.input_bytes_discarded)) {
+  const std::uint64_t stale_bytes = pty_stats_.stale_bytes_discarded - reported_.stale_bytes_discarded;
+  const std::uint64_t input_bytes = pty_stats_.input_bytes_discarded - reported_.input_bytes_discarded;
+  std::string what;
+  if (stale_bytes != 0) {
+    what = fmt::format("{} unread bytes of {} earlier epochs (no client reading)", stale_bytes,
+                       pty_stats_.stale_epochs_discarded - reported_.stale_epochs_discarded);
+  }
+  if (input_bytes != 0) {
+    what += fmt::format("{}{} bytes of client input (the receiver reads none)", what.empty() ? "" : " and ", input_bytes);
+  }
+  if (log_limited(discard_log_, spdlog::level::debug, "{}: discarded {} since the last report", describe(), what)) {
     reported_ = pty_stats_;
   }
 }

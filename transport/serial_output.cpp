@@ -267,9 +267,11 @@ void SerialOutput::service() {
     maybe_reopen();
     return;
   }
-  const posix::Drained input =
-      posix::drain_input(fd_, client_input_budget, [this](std::string_view bytes) { client_wrote(bytes, client_); });
-  serial_stats_.input_bytes_discarded += input.bytes;
+  std::uint64_t read_bytes = 0;  // taken by the receiver; the rest is discarded
+  const posix::Drained input = posix::drain_input(fd_, client_input_budget, [this, &read_bytes](std::string_view bytes) {
+    if (client_wrote(bytes, client_)) read_bytes += bytes.size();
+  });
+  serial_stats_.input_bytes_discarded += input.bytes - read_bytes;
   if (input.end != posix::Drained::End::empty) {
     // End of file on a tty, or EIO: the device hung up (unplugged, the pty's other side closed).
     lose_device(input.end == posix::Drained::End::closed ? "hung up" : posix::errno_text(input.error));

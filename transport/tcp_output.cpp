@@ -125,9 +125,12 @@ void TcpOutput::handle(const posix::TcpServerEvent& event) {
   }
   bool closed = false;
   if (event.readable) {
-    const posix::Drained input = posix::drain_input(server_.client_fd(event.slot), client_input_budget,
-                                                      [this, id = ids_[event.slot]](std::string_view bytes) { client_wrote(bytes, id); });
-    tcp_stats_.input_bytes_discarded += input.bytes;
+    std::uint64_t read_bytes = 0;  // taken by the receiver; the rest is discarded
+    const posix::Drained input = posix::drain_input(
+        server_.client_fd(event.slot), client_input_budget, [this, &read_bytes, id = ids_[event.slot]](std::string_view bytes) {
+          if (client_wrote(bytes, id)) read_bytes += bytes.size();
+        });
+    tcp_stats_.input_bytes_discarded += input.bytes - read_bytes;
     closed = input.end != posix::Drained::End::empty;  // 0: the client closed; otherwise reset
   }
   if (!closed && event.writable) closed = !send_pending(event.slot);

@@ -142,6 +142,8 @@ Config resolve(ConfigDraft& draft) {
     throw ConfigError(config_values::shorten_quoted(e.what()));
   }
   check_fault_receivers(draft.timeline.faults, config.receivers.size());
+  check_fault_times(draft.timeline.faults, draft.timeline);
+  check_fault_overlaps(draft.timeline.faults, draft.timeline);
   config.process = std::move(draft.process);
   config.timeline = std::move(draft.timeline);
   config.replay = std::move(draft.replay);
@@ -164,7 +166,7 @@ Config build(const toml::table* file, const std::string& file_name, const RawOpt
         continue;
       }
       if (name == "fault") {  // [[fault]] tables: the scenario (docs/faults.md)
-        for (faults::Fault& f : parse_fault_tables(file_name, node)) config.timeline.faults.push_back(std::move(f));
+        for (faults::Fault& f : parse_fault_tables("config file " + file_name, node)) config.timeline.faults.push_back(std::move(f));
         continue;
       }
       const OptionDef* option = find_option(name);

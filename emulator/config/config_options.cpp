@@ -124,10 +124,13 @@ std::vector<OptionDef> make_option_table() {
   add("fast", "", "no pacing: generate epochs as fast as possible (batch generation, tests)",
       [](ConfigDraft& d, V v) { d.fast = parse_bool("fast", v.back()); });
   add("scenario", "FILE", "faults on a timeline: a TOML file of [[fault]] tables (kind, at, duration, parameters "
-      "with units; docs/faults.md); [[fault]] tables may also be in --config (default none)",
+      "with units; docs/faults.md), or a --tee file to replay its live faults; repeatable: the files' faults add up "
+      "in the order given; [[fault]] tables may also be in --config (default none)",
       [](ConfigDraft& d, V v) {
-        for (faults::Fault& f : load_scenario(v.back())) d.timeline.faults.push_back(std::move(f));
-      });
+        for (const std::string& file : v) {
+          for (faults::Fault& f : load_scenario(file)) d.timeline.faults.push_back(std::move(f));
+        }
+      }, true);
   add("clock", "CLOCK", "epoch clock: realtime | scaled:K (paced at K x real time, K 0.01..1000; NMEA times still "
       "one epoch period apart) | fast (as --fast) | lockstep (an epoch leaves when the 't' of udp:/tcp: poses "
       "reaches it; t = 0 is --start-time or the first epoch), e.g. scaled:10 (default realtime)",
@@ -350,6 +353,9 @@ std::vector<OptionDef> make_option_table() {
       "any, logged) taking JSON lines, e.g. {\"fault\":\"jam\",\"db\":25}, {\"clear\":\"jam\"}, {\"status\":true}; "
       "`gpsemu ctl PATH ...` is its client (docs/faults.md) (default none)",
       [](ConfigDraft& d, V v) { d.process.control_path = parse_control_spec(v.back()); });
+  add("control-idle-timeout", "S", "--control: close a client that sent no request for this long, seconds, 0..86400 "
+      "(0: never; at most 8 clients at once) (default 30)",
+      [](ConfigDraft& d, V v) { d.process.control_idle_timeout_s = parse_number("control-idle-timeout", v.back(), 0.0, 86400.0); });
   add("realtime-priority", "N", "run with SCHED_FIFO priority N, 1..99, where permitted (else a warning and normal "
       "scheduling) (default: normal scheduling)",
       [](ConfigDraft& d, V v) { d.process.realtime.fifo_priority = static_cast<int>(parse_number("realtime-priority", v.back(), 1, 99)); });

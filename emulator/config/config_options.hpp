@@ -62,13 +62,19 @@ struct ConfigDraft {
 /// "scenario file") names it in messages. Throws ConfigError.
 [[nodiscard]] std::string read_config_file(const std::string& path, std::string_view what);
 
-/// The `fault` key of a TOML file: [[fault]] tables (scenario.cpp). Throws ConfigError naming the
-/// file, the line and the key.
+/// The `fault` key of a TOML file: [[fault]] tables (scenario.cpp), `file` ("config file run.toml")
+/// in their origin. Throws ConfigError naming the file, the line of the key at fault and the key.
 [[nodiscard]] std::vector<faults::Fault> parse_fault_tables(const std::string& file, const toml::node& node);
 /// A scenario file (--scenario): [[fault]] tables and nothing else. Throws ConfigError.
 [[nodiscard]] std::vector<faults::Fault> load_scenario(const std::string& path);
 /// Every fault's receiver index exists among `receivers`. Throws ConfigError.
 void check_fault_receivers(const std::vector<faults::Fault>& faults, std::size_t receivers);
+/// Every fault starts before the end of the run (--duration; an `at_utc` when --start-time is
+/// known): one that never would is refused. Throws ConfigError naming its file, line and key.
+void check_fault_times(const std::vector<faults::Fault>& faults, const TimelineSettings& timeline);
+/// No two spoofs act on one receiver at once (their drags would add up unnoticed). Throws
+/// ConfigError naming the second one's file and line and the first one.
+void check_fault_overlaps(const std::vector<faults::Fault>& faults, const TimelineSettings& timeline);
 
 /// Appends the composite noise model's options (--composite-*; composite_options.cpp) to `table`.
 void add_composite_options(std::vector<OptionDef>& table);

@@ -1,5 +1,11 @@
 // Scenario files: [[fault]] tables (--scenario FILE, or inside --config) into faults::Fault values;
 // or a --tee file, whose "# fault" lines are the live events of a session (faults/tee_events.hpp).
+#include <algorithm>
+#include <chrono>
+#include <limits>
+#include <optional>
+#include <utility>
+
 #include <fmt/format.h>
 
 #include "emulator/faults/tee_events.hpp"
@@ -19,11 +25,12 @@ std::vector<faults::Fault> parse_fault_tables(const std::string& file, const tom
   std::vector<faults::Fault> out;
   for (const auto& item : *array) {
     const toml::table& t = *item.as_table();
-    const int table_line = static_cast<int>(t.source().begin.line);
+    faults::FaultOrigin origin{file, static_cast<int>(t.source().begin.line), {}};
     faults::FaultKeys keys;
     for (const auto& [key, value] : t) {
       const std::string name{key.str()};
       const int key_line = static_cast<int>(value.source().begin.line);
+      origin.key_lines.emplace_back(name, key_line);
       if (value.is_string()) {
         keys.emplace_back(name, *value.value<std::string>());
       } else if (value.is_integer() || value.is_floating_point()) {
@@ -38,8 +45,13 @@ std::vector<faults::Fault> parse_fault_tables(const std::string& file, const tom
     try {
       out.push_back(faults::make_fault(keys));
     } catch (const std::exception& e) {
-      throw ConfigError(config_values::shorten_quoted(fmt::format("{}:{}: [[fault]]: {}", file, table_line, e.what())));
+      // make_fault's message starts with the key it is about ("db: ..."): that key's line.
+      const std::string message = e.what();
+      const std::size_t colon = message.find(": ");
+      throw ConfigError(config_values::shorten_quoted(
+          origin.prefix(colon == std::string::npos ? std::string() : message.substr(0, colon)) + message));
     }
+    out.back().origin = std::move(origin);
   }
   return out;
 }
@@ -66,7 +78,7 @@ std::vector<faults::Fault> load_scenario(const std::string& path) {
       throw ConfigError(fmt::format("scenario file {}:{}: unknown key '{}' (a scenario holds [[fault]] tables only)", path,
                                     node.source().begin.line, key.str()));
     }
-    out = parse_fault_tables(path, node);
+    out = parse_fault_tables("scenario file " + path, node);
   }
   return out;
 }
@@ -74,8 +86,67 @@ std::vector<faults::Fault> load_scenario(const std::string& path) {
 void check_fault_receivers(const std::vector<faults::Fault>& faults, std::size_t receivers) {
   for (const faults::Fault& f : faults) {
     if (f.receiver && static_cast<std::size_t>(*f.receiver) >= receivers) {
-      throw ConfigError(fmt::format("fault {}: there is no receiver {} (receivers are 0..{})", f.describe(), *f.receiver,
-                                    receivers - 1));
+      const std::string where = f.origin.file.empty() ? fmt::format("fault {}: ", f.describe()) : f.origin.prefix("receiver");
+      throw ConfigError(fmt::format("{}receiver: there is no receiver {} (receivers are 0..{}: --receivers N)", where,
+                                    *f.receiver, receivers - 1));
+    }
+  }
+}
+
+namespace {
+
+/// [start, end) of `f` in seconds after the first epoch (end: infinity without a duration, or for
+/// an area's fault, which may start again on each visit); nothing when it cannot be told (at_utc
+/// without --start-time).
+std::optional<std::pair<double, double>> fault_window_s(const faults::Fault& f, const TimelineSettings& timeline) {
+  double start_s = f.at_s;
+  if (f.at_utc) {
+    if (!timeline.start_time) return std::nullopt;
+    start_s = std::chrono::duration<double>(*f.at_utc - *timeline.start_time).count();
+  }
+  const double end_s = f.duration_s && !f.where ? start_s + *f.duration_s + f.ramp_out_s : std::numeric_limits<double>::infinity();
+  return std::pair{start_s, end_s};
+}
+
+std::string named(const faults::Fault& f) {
+  return f.origin.file.empty() ? fmt::format("the fault {}", f.describe())
+                               : fmt::format("the spoof at {}:{}", f.origin.file, f.origin.table_line);
+}
+
+}  // namespace
+
+void check_fault_overlaps(const std::vector<faults::Fault>& faults, const TimelineSettings& timeline) {
+  for (std::size_t i = 0; i < faults.size(); ++i) {
+    const faults::Fault& a = faults[i];
+    if (a.kind != faults::FaultKind::spoof) continue;
+    for (std::size_t j = i + 1; j < faults.size(); ++j) {
+      const faults::Fault& b = faults[j];
+      if (b.kind != faults::FaultKind::spoof) continue;
+      if (a.receiver && b.receiver && *a.receiver != *b.receiver) continue;
+      const auto wa = fault_window_s(a, timeline), wb = fault_window_s(b, timeline);
+      if (!wa || !wb || wb->first >= wa->second || wa->first >= wb->second) continue;
+      const std::string where = b.origin.file.empty() ? fmt::format("fault {}: ", b.describe()) : b.origin.prefix("kind");
+      throw ConfigError(fmt::format("{}spoof: overlaps {} on the same receiver from {:g} s: two spoofers would add their "
+                                    "drags; give one spoof, or let the second start after the first ends (its ramp_out_s "
+                                    "included)", where, named(a), std::max(wa->first, wb->first)));
+    }
+  }
+}
+
+void check_fault_times(const std::vector<faults::Fault>& faults, const TimelineSettings& timeline) {
+  if (!timeline.duration_s) return;
+  const double run_s = *timeline.duration_s;
+  for (const faults::Fault& f : faults) {
+    const std::string where = f.origin.file.empty() ? fmt::format("fault {}: ", f.describe()) : f.origin.prefix(f.at_utc ? "at_utc" : "at");
+    if (!f.at_utc && f.at_s >= run_s) {
+      throw ConfigError(fmt::format("{}at: {:g} s is not before the end of the run (--duration {:g} s): the fault would "
+                                    "never start", where, f.at_s, run_s));
+    }
+    if (f.at_utc && timeline.start_time &&
+        *f.at_utc >= *timeline.start_time + std::chrono::duration_cast<UtcNs::duration>(std::chrono::duration<double>(run_s))) {
+      throw ConfigError(where + fmt::format("at_utc: {} is not before the end of the run ({} + --duration {:g} s): the "
+                                            "fault would never start", format_iso8601_utc(*f.at_utc),
+                                            format_iso8601_utc(*timeline.start_time), run_s));
     }
   }
 }

@@ -35,6 +35,7 @@ struct ProcessSettings {
   std::string log_level = "info";    ///< trace | debug | info | warn | error | off
   posix::RealtimeSettings realtime;  ///< SCHED_FIFO priority, mlockall, timer slack (realtime.hpp)
   std::optional<std::string> control_path;  ///< --control unix:PATH: the live fault socket (docs/faults.md)
+  double control_idle_timeout_s = 30.0;     ///< a control client silent this long is closed (seconds; 0: never)
 };
 
 /// The one epoch timeline all receivers of a process share, and the PPS line that marks it.

@@ -50,6 +50,26 @@ void add_last_epoch(json& answer, const FaultTimeline& t) {
   answer["after_epoch_s"] = last.epochs ? json(last.since_s) : json(nullptr);
 }
 
+/// "jam db=25 for 10 s", "jam db=25 until cleared where circle:...": a live fault as answered.
+std::string live_description(const Fault& fault) {
+  std::string what = fault.parameters() + (fault.duration_s ? fmt::format(" for {:.6g} s", *fault.duration_s)
+                                                            : std::string(" until cleared"));
+  if (fault.where) what += " where " + fault.where->text();
+  return what;
+}
+
+/// The spoof acting on `t` (or starting at its next epoch) that a clear does not end, if any.
+std::optional<std::string> spoof_on(const FaultTimeline& t) {
+  for (const Fault& p : t.pending()) {
+    if (p.kind == FaultKind::spoof) return live_description(p);
+  }
+  if (t.clear_pending(FaultKind::spoof)) return std::nullopt;
+  for (const FaultTimeline::Entry& e : t.entries()) {
+    if (e.fault.kind == FaultKind::spoof && !e.ended && !e.cleared && (e.active || e.fading_from_s)) return e.fault.describe();
+  }
+  return std::nullopt;
+}
+
 std::string fault_message(const json& message, const std::vector<FaultTimeline*>& timelines) {
   FaultKeys keys;
   for (const auto& [key, value] : message.items()) {
@@ -67,12 +87,17 @@ std::string fault_message(const json& message, const std::vector<FaultTimeline*>
       throw std::invalid_argument(fmt::format("{}: expected a number or a string, got {}", key, value.dump()));
     }
   }
-  const Fault fault = make_fault(keys);
+  const Fault fault = make_fault(keys, FaultSource::live);
   const std::vector<std::size_t> receivers = receivers_of(message, timelines.size());
+  for (const std::size_t i : receivers) {
+    if (fault.kind != FaultKind::spoof) break;
+    if (const auto other = spoof_on(*timelines[i])) {
+      throw std::invalid_argument(fmt::format("spoof: receiver {} has a spoof on ({}): two spoofers would add their drags; "
+                                              "clear spoof first", i, *other));
+    }
+  }
   for (const std::size_t i : receivers) timelines[i]->add_live(fault, recorded(message, i));
-  std::string what = fault.parameters() + (fault.duration_s ? fmt::format(" for {:.6g} s", *fault.duration_s)
-                                                                             : std::string(" until cleared"));
-  if (fault.where) what += " where " + fault.where->text();
+  const std::string what = live_description(fault);
   spdlog::info("control: fault {} for receivers {}: from the next epoch", what, receivers_json(receivers).dump());
   json answer{{"class", "FAULT"}, {"fault", std::string(kind_name(fault.kind))}, {"describe", what},
               {"receivers", receivers_json(receivers)}, {"starts", "next epoch"}};
@@ -112,8 +137,15 @@ std::string status_message(const std::vector<FaultTimeline*>& timelines) {
     json faults = json::array();
     for (const FaultTimeline::Entry& e : t.entries()) {
       if (e.ended) continue;
-      faults.push_back({{"fault", std::string(kind_name(e.fault.kind))}, {"describe", e.fault.describe()},
-                        {"active", e.active}, {"epochs", e.epochs}});
+      json f{{"fault", std::string(kind_name(e.fault.kind))}, {"describe", e.fault.describe()}, {"active", e.active},
+             {"epochs", e.epochs}};
+      if (!e.cleared && t.clear_pending(e.fault.kind)) f["ends"] = "next epoch";
+      faults.push_back(std::move(f));
+    }
+    // Accepted since the last epoch: they start at the next one.
+    for (const Fault& p : t.pending()) {
+      faults.push_back({{"fault", std::string(kind_name(p.kind))}, {"describe", live_description(p)}, {"active", false},
+                        {"pending", true}, {"starts", "next epoch"}, {"epochs", 0}});
     }
     receivers.push_back({{"receiver", i}, {"epochs", last.epochs}, {"time_s", last.since_s},
                          {"quality", static_cast<int>(last.quality)}, {"satellites_used", last.satellites_used},

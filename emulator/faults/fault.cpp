@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <set>
 #include <stdexcept>
 
@@ -11,50 +12,20 @@
 namespace gpsemu::faults {
 namespace {
 
-constexpr std::array<std::pair<FaultKind, std::string_view>, 14> kKinds{{
-    {FaultKind::outage, "outage"},
-    {FaultKind::freeze, "freeze"},
-    {FaultKind::jump, "jump"},
-    {FaultKind::wrong, "wrong"},
-    {FaultKind::fix_quality, "fix-quality"},
-    {FaultKind::degrade, "degrade"},
-    {FaultKind::silence, "silence"},
-    {FaultKind::jam, "jam"},
-    {FaultKind::sky_mask, "sky-mask"},
-    {FaultKind::spoof, "spoof"},
-    {FaultKind::time, "time"},
-    {FaultKind::reset, "reset"},
-    {FaultKind::garble, "garble"},
-    {FaultKind::latency, "latency"},
-}};
-
-/// The parameters each kind takes beside kind, at, duration, end and receiver.
-std::set<std::string_view> parameters_of(FaultKind kind) {
-  switch (kind) {
-    case FaultKind::jump: return {"east_m", "north_m", "up_m", "decay_s"};
-    case FaultKind::wrong: return {"east_m", "north_m", "up_m", "ramp_s", "ramp_out_s"};
-    case FaultKind::fix_quality: return {"quality"};
-    case FaultKind::degrade: return {"satellites", "dop_k", "noise_k", "ramp_s", "ramp_out_s"};
-    case FaultKind::jam: return {"db", "ramp_s", "ramp_out_s"};
-    case FaultKind::sky_mask: return {"mask"};
-    case FaultKind::spoof:
-      return {"speed_mps", "bearing_deg", "east_m", "north_m", "up_m", "ramp_s", "time_drift_ms_per_s", "detected"};
-    case FaultKind::time: return {"mode", "jump_s", "leap_utc"};
-    case FaultKind::reset: return {"silent_s", "ttff_s"};
-    case FaultKind::garble: return {"rate"};
-    case FaultKind::latency: return {"delay_ms", "jitter_ms"};
-    default: return {};
-  }
-}
-
-std::string list(const std::set<std::string_view>& names) {
+std::string list(const std::vector<std::string_view>& names) {
   if (names.empty()) return "none";
   return fmt::format("{}", fmt::join(names, ", "));
 }
 
 double number(const std::string& key, const FaultValue& value, double min, double max) {
   const double* x = std::get_if<double>(&value);
-  if (!x) throw std::invalid_argument(fmt::format("{}: expected a number, got '{}'", key, std::get<std::string>(value)));
+  if (!x) {
+    const std::string& s = std::get<std::string>(value);
+    char* end = nullptr;
+    const bool numeric = !s.empty() && (std::strtod(s.c_str(), &end), end == s.c_str() + s.size());
+    throw std::invalid_argument(fmt::format("{}: expected a number, got the string \"{}\"{}", key, s,
+                                            numeric ? fmt::format(" (write {} = {}, without quotes)", key, s) : ""));
+  }
   if (!std::isfinite(*x) || *x < min || *x > max)
     throw std::invalid_argument(fmt::format("{}: {} is outside [{}, {}]", key, *x, min, max));
   return *x;
@@ -139,24 +110,13 @@ constexpr double kMaxOffsetM = 1e7;
 
 }  // namespace
 
-std::string_view kind_name(FaultKind kind) {
-  for (const auto& [k, name] : kKinds) {
-    if (k == kind) return name;
+std::string FaultOrigin::prefix(std::string_view key) const {
+  if (file.empty()) return {};
+  int line = table_line;
+  for (const auto& [k, l] : key_lines) {
+    if (k == key) line = l;
   }
-  return "?";
-}
-
-std::optional<FaultKind> parse_kind(std::string_view name) {
-  for (const auto& [k, n] : kKinds) {
-    if (n == name) return k;
-  }
-  return std::nullopt;
-}
-
-std::string kind_names() {
-  std::string out;
-  for (const auto& [k, name] : kKinds) out += (out.empty() ? "" : ", ") + std::string(name);
-  return out;
+  return fmt::format("{}:{}: [[fault]]: ", file, line);
 }
 
 double Fault::strength_at(double since_s) const {
@@ -232,19 +192,20 @@ std::string Fault::parameters() const {
   return s;
 }
 
-Fault make_fault(const FaultKeys& keys) {
+Fault make_fault(const FaultKeys& keys, FaultSource source) {
   Fault f;
   const FaultValue* kind_value = nullptr;
   for (const auto& [key, value] : keys) {
     if (key == "kind") kind_value = &value;
   }
-  if (!kind_value) throw std::invalid_argument(fmt::format("kind: missing (one of {})", kind_names()));
-  const std::string kind = text("kind", *kind_value);
+  const std::string kind_key = source == FaultSource::live ? "fault" : "kind";
+  if (!kind_value) throw std::invalid_argument(fmt::format("{}: missing (one of {})", kind_key, kind_names()));
+  const std::string kind = text(kind_key, *kind_value);
   const std::optional<FaultKind> found = parse_kind(kind);
-  if (!found) throw std::invalid_argument(fmt::format("kind: unknown fault '{}' (one of {})", kind, kind_names()));
+  if (!found) throw std::invalid_argument(fmt::format("{}: unknown fault '{}' (one of {})", kind_key, kind, kind_names()));
   f.kind = *found;
 
-  const std::set<std::string_view> own = parameters_of(f.kind);
+  const std::vector<std::string_view> own = parameters_of(f.kind);
   std::set<std::string> seen;
   std::optional<double> end_s;
   for (const auto& [key, value] : keys) {
@@ -271,9 +232,9 @@ Fault make_fault(const FaultKeys& keys) {
       } else {
         f.receiver = whole(key, value, 0, 1 << 20);
       }
-    } else if (!own.count(key)) {
-      throw std::invalid_argument(fmt::format("{}: not a parameter of {} (its parameters: {}; every fault: kind, at, "
-                                              "at_utc, where, duration or end, receiver)", key, kind, list(own)));
+    } else if (std::find(own.begin(), own.end(), key) == own.end()) {
+      throw std::invalid_argument(fmt::format("{}: not a parameter of {} (its parameters: {}; every {}fault: {})", key, kind,
+                                              list(own), source == FaultSource::live ? "live " : "", common_keys(source)));
     } else if (key == "east_m") {
       f.offset_m.east_m = number(key, value, -kMaxOffsetM, kMaxOffsetM);
     } else if (key == "north_m") {

@@ -16,36 +16,13 @@
 #include <vector>
 
 #include "emulator/faults/area.hpp"
+#include "emulator/faults/catalogue.hpp"
 #include "emulator/model/enu.hpp"
 #include "emulator/model/sky.hpp"
 #include "emulator/model/time.hpp"
 #include "nmea/fix.hpp"
 
 namespace gpsemu::faults {
-
-/// The catalogue, in the order docs/faults.md lists it.
-enum class FaultKind {
-  outage,       ///< no satellites, no fix
-  freeze,       ///< the last fix repeated with new times (PX4's "stuck")
-  jump,         ///< a position step, staying or decaying (multipath, a bad fix)
-  wrong,        ///< a constant position offset (ramped in over ramp_s)
-  fix_quality,  ///< the reported quality forced (rtk-fixed, rtk-float, dgps, gps, estimated)
-  degrade,      ///< fewer satellites used, DOP x k, error x k
-  silence,      ///< the receiver writes nothing
-  jam,          ///< C/N0 down by db over ramp_s: weak satellites drop, accuracy follows, fix lost below 4
-  sky_mask,     ///< azimuth/elevation sectors blocked: those satellites gone, DOPs from the rest (sky_faults.hpp)
-  spoof,        ///< position (and time) dragged away at speed_mps, velocity consistent (sky_faults.hpp)
-  time,         ///< a time jump or a GPS week-number rollover (sky_faults.hpp)
-  reset,        ///< the receiver reboots: silent, then a cold start with its RAM configuration lost
-  garble,       ///< bytes corrupted: sentences and frames with a flipped bit (bad checksum) or cut short
-  latency,      ///< the epoch's bytes written late (delay_ms, jitter_ms), its time fields unchanged
-};
-
-/// Every kind, in catalogue order.
-inline constexpr std::array<FaultKind, 14> kAllKinds{
-    FaultKind::outage,  FaultKind::freeze,   FaultKind::jump,  FaultKind::wrong, FaultKind::fix_quality,
-    FaultKind::degrade, FaultKind::silence,  FaultKind::jam,   FaultKind::sky_mask, FaultKind::spoof,
-    FaultKind::time,    FaultKind::reset,    FaultKind::garble, FaultKind::latency};
 
 /// What a `time` fault does to the reported time.
 enum class TimeFaultMode {
@@ -56,17 +33,20 @@ enum class TimeFaultMode {
 /// Weeks a week-number rollover takes the date back (the 10-bit GPS week).
 inline constexpr int kRolloverWeeks = 1024;
 
-/// "outage", "fix-quality", ... (the scenario's `kind`).
-[[nodiscard]] std::string_view kind_name(FaultKind kind);
-/// The kind named `name`, if any.
-[[nodiscard]] std::optional<FaultKind> parse_kind(std::string_view name);
-/// Every kind's name, comma separated (for messages and help).
-[[nodiscard]] std::string kind_names();
-
 /// A C/N0 below this is not tracked (dB-Hz): a jammed satellite under it drops from the solution.
 inline constexpr double kTrackingThresholdDbHz = 20.0;
 /// Fewest satellites of a 3-D fix: below, a jammed or degraded receiver has no fix.
 inline constexpr int kMinFixSatellites = 4;
+
+/// Where a fault was written, for start-up messages (empty file: a live request or a --tee file).
+struct FaultOrigin {
+  std::string file;      ///< "scenario file jam.toml", "config file run.toml"
+  int table_line = 0;    ///< the line of its [[fault]]
+  std::vector<std::pair<std::string, int>> key_lines;  ///< each key's line
+  /// "scenario file jam.toml:7: [[fault]]: " with `key`'s line (the table's when it has none);
+  /// "" without a file.
+  [[nodiscard]] std::string prefix(std::string_view key = {}) const;
+};
 
 struct Fault {
   FaultKind kind = FaultKind::outage;
@@ -103,6 +83,7 @@ struct Fault {
   double rate = 0.0;                  ///< garble: fraction of sentences and frames hit (0..1)
   double delay_ms = 0.0;              ///< latency: the bytes leave this much after the epoch's deadline (ms)
   double jitter_ms = 0.0;             ///< latency: plus a uniform draw in [0, jitter_ms) each epoch (ms)
+  FaultOrigin origin;                 ///< the file and lines it came from, for start-up messages
 
   /// Whether epoch time `since_s` (seconds after the first epoch) is inside the fault.
   /// Compared in whole nanoseconds, so 0.1 + 0.2 s ends at the epoch of 0.3 s.
@@ -123,8 +104,9 @@ using FaultValue = std::variant<double, std::string>;
 using FaultKeys = std::vector<std::pair<std::string, FaultValue>>;
 
 /// A fault from its keys: `kind` (required), `at`, `duration` or `end`, `receiver` (index or
-/// "all"), and the kind's own parameters. Throws std::invalid_argument naming the key for an
-/// unknown key, a key the kind does not take, or a value out of range.
-[[nodiscard]] Fault make_fault(const FaultKeys& keys);
+/// "all"), and the kind's own parameters (catalogue.hpp). Throws std::invalid_argument naming the
+/// key ("db: ...") for an unknown key, a key the kind does not take, or a value out of range;
+/// `source` says which common keys the message lists.
+[[nodiscard]] Fault make_fault(const FaultKeys& keys, FaultSource source = FaultSource::scenario);
 
 }  // namespace gpsemu::faults

@@ -97,7 +97,8 @@ std::int64_t ns_of(double s) { return std::llround(s * 1e9); }
 
 /// Faults whose effect has a strength fade out over ramp_out_s after they end.
 bool fades(const Fault& f) {
-  return f.ramp_out_s > 0.0 && (f.kind == FaultKind::jam || f.kind == FaultKind::wrong || f.kind == FaultKind::degrade);
+  return f.ramp_out_s > 0.0 && (f.kind == FaultKind::jam || f.kind == FaultKind::wrong || f.kind == FaultKind::degrade ||
+                                f.kind == FaultKind::spoof);
 }
 
 }  // namespace
@@ -118,6 +119,7 @@ void FaultTimeline::take_pending(UtcNs t, double since_s, const nmea::Fix& fix) 
     for (Entry& e : entries_) {
       if (e.fault.kind != kind || e.ended || e.cleared) continue;
       e.cleared = true;
+      e.cleared_s = since_s;
       if (!e.active && !e.fading_from_s) e.ended = true;  // had not started: it never will
     }
     if (!request.empty()) applied_.push_back({t, since_s, std::move(request)});
@@ -133,6 +135,7 @@ bool FaultTimeline::active_now(Entry& e, double since_s, const std::optional<Enu
   if (!f.where) return f.active_at(since_s);
   if (f.disarm_s && ns_of(since_s) >= ns_of(*f.disarm_s)) {
     e.cleared = true;  // a replayed clear: over for good, as the live one was
+    e.cleared_s = *f.disarm_s;
     return false;
   }
   const bool inside = truth_m && ns_of(since_s) >= ns_of(f.at_s) && f.where->contains(frame.to_geodetic(*truth_m));
@@ -185,7 +188,13 @@ EpochEffect FaultTimeline::apply(UtcNs t, nmea::Fix& fix, const std::optional<En
       strength = e.strength * std::clamp(1.0 - (since_s - *e.fading_from_s) / e.fault.ramp_out_s, 0.0, 1.0);
       if (strength <= 0.0) e.fading_from_s.reset();
     }
-    if (active || e.fading_from_s) {
+    // A spoof fades by its offsets, not a strength (sky_faults.hpp); over when they reach nothing.
+    if (!active && e.fading_from_s && e.fault.kind == FaultKind::spoof && since_s - *e.fading_from_s >= e.fault.ramp_out_s)
+      e.fading_from_s.reset();
+    if (!active && e.fading_from_s && e.fault.kind == FaultKind::spoof) {
+      ++e.epochs;
+      spoof(fix, e.fault, since_s, frame, e.fading_from_s);
+    } else if (active || e.fading_from_s) {
       ++e.epochs;
       apply_one(e.fault, since_s, start_s, strength, fix, truth_m, frame, rf, effect);
     } else {
@@ -323,8 +332,33 @@ int FaultTimeline::clear(FaultKind kind, std::string request) {
   return n + waiting;
 }
 
+std::vector<std::string> FaultTimeline::summary_lines() const {
+  std::vector<std::string> out;
+  for (const Entry& e : entries_) {
+    std::string what = e.fault.describe();
+    if (e.cleared_s && !e.fault.where) {
+      // It lasted from its start to the clear, unless its own end came first.
+      const double start_s = e.fault.at_s;
+      const bool ended_before = e.fault.duration_s && ns_of(start_s + *e.fault.duration_s) <= ns_of(*e.cleared_s);
+      if (!ended_before) {
+        Fault until_clear = e.fault;
+        if (ns_of(*e.cleared_s) <= ns_of(start_s)) {
+          what = until_clear.describe() + " (cleared before it started)";
+        } else {
+          until_clear.duration_s = *e.cleared_s - start_s;
+          what = until_clear.describe() + " (cleared)";
+        }
+      }
+    } else if (e.cleared_s) {
+      what += fmt::format(" (cleared at {:.6g} s)", *e.cleared_s);
+    }
+    out.push_back(fmt::format("{}fault {}: {} epochs", who_, what, e.epochs));
+  }
+  return out;
+}
+
 void FaultTimeline::log_summary() const {
-  for (const Entry& e : entries_) spdlog::info("{}fault {}: {} epochs", who_, e.fault.describe(), e.epochs);
+  for (const std::string& line : summary_lines()) spdlog::info("{}", line);
 }
 
 }  // namespace gpsemu::faults

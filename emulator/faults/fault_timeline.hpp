@@ -62,6 +62,7 @@ class FaultTimeline {
     bool active = false;
     bool ended = false;
     bool cleared = false;                ///< a clear ended it: it does not start again
+    std::optional<double> cleared_s{};   ///< the epoch the clear applied at (s after the first epoch)
     std::optional<double> entered_s{};   ///< where: when the truth entered the area (the start of this visit)
     std::optional<double> fading_from_s{};  ///< ramp_out_s: when it ended and began to fade
     double strength = 0.0;               ///< its strength at the last epoch it was active
@@ -79,6 +80,15 @@ class FaultTimeline {
   /// Ends at the next epoch every fault of `kind` that is active or waiting (live or from the
   /// scenario); returns how many. `request` as for add_live (recorded once, with the first kind).
   int clear(FaultKind kind, std::string request = {});
+  /// The live faults accepted since the last epoch, to start at the next one.
+  [[nodiscard]] const std::vector<Fault>& pending() const { return pending_; }
+  /// Whether a clear of `kind` waits for the next epoch.
+  [[nodiscard]] bool clear_pending(FaultKind kind) const {
+    for (const auto& [k, request] : pending_clears_) {
+      if (k == kind) return true;
+    }
+    return false;
+  }
   /// The live events applied at the last epoch (empty most epochs).
   [[nodiscard]] const std::vector<AppliedEvent>& applied_events() const { return applied_; }
 
@@ -91,7 +101,9 @@ class FaultTimeline {
     bool silent = false;
   };
   [[nodiscard]] const LastEpoch& last_epoch() const { return last_epoch_; }
-  /// One line per fault: what it was and how many epochs it covered.
+  /// One line per fault: what it was (a cleared one: until its clear) and how many epochs it covered.
+  [[nodiscard]] std::vector<std::string> summary_lines() const;
+  /// Logs summary_lines().
   void log_summary() const;
 
  private:

@@ -1,5 +1,6 @@
 #include "emulator/faults/sky_faults.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -66,16 +67,22 @@ void mask_sky(nmea::Fix& fix, const std::vector<SkyMaskSector>& mask, const std:
   if (truth_m) scale_error(fix, *truth_m, kh, frame);
 }
 
-void spoof(nmea::Fix& fix, const Fault& f, double since_s, const LocalFrame& frame) {
-  const double elapsed_s = std::max(0.0, since_s - f.at_s);
-  fix.time_utc += std::chrono::milliseconds(std::llround(f.time_drift_ms_per_s * elapsed_s));
+void spoof(nmea::Fix& fix, const Fault& f, double since_s, const LocalFrame& frame, std::optional<double> ended_s) {
+  // Fading out: the offsets reached at the end, times k falling from 1 to 0 over ramp_out_s.
+  const double until_s = ended_s ? std::min(since_s, *ended_s) : since_s;
+  const double k = ended_s && f.ramp_out_s > 0.0 ? std::clamp(1.0 - (since_s - *ended_s) / f.ramp_out_s, 0.0, 1.0) : 1.0;
+  const double elapsed_s = std::max(0.0, until_s - f.at_s);
+  fix.time_utc += std::chrono::milliseconds(std::llround(k * f.time_drift_ms_per_s * elapsed_s));
   if (!fix.has_fix()) return;
   const double bearing = f.bearing_deg * kDegToRad;
   const Enu drag_mps{f.speed_mps * std::sin(bearing), f.speed_mps * std::cos(bearing), 0.0};
-  offset_position(fix, elapsed_s * drag_mps + f.strength_at(since_s) * f.offset_m, frame);
+  const Enu reached_m = elapsed_s * drag_mps + f.strength_at(until_s) * f.offset_m;
+  offset_position(fix, k * reached_m, frame);
+  // The velocity of the false trajectory: the drag while on, the return (-reached / ramp_out_s) while fading.
+  const Enu moving_mps = !ended_s ? drag_mps : k > 0.0 ? (-1.0 / f.ramp_out_s) * reached_m : Enu{};
   const double course = fix.course_deg_true.value_or(0.0) * kDegToRad;
-  const double east_mps = fix.speed_mps * std::sin(course) + drag_mps.east_m;
-  const double north_mps = fix.speed_mps * std::cos(course) + drag_mps.north_m;
+  const double east_mps = fix.speed_mps * std::sin(course) + moving_mps.east_m;
+  const double north_mps = fix.speed_mps * std::cos(course) + moving_mps.north_m;
   fix.speed_mps = std::hypot(east_mps, north_mps);
   if (fix.speed_mps > 0.05) {
     double deg = std::atan2(east_mps, north_mps) / kDegToRad;

@@ -121,6 +121,13 @@ std::string_view Channel::take_delayed(UtcNs t) {
   return released_;
 }
 
+bool Channel::reads_input() const {
+  for (const auto& encoder : encoders_) {
+    if (encoder->reads_client_input()) return true;
+  }
+  return false;
+}
+
 void Channel::client_wrote(std::string_view bytes, transport::ClientId client) {
   for (const auto& encoder : encoders_) encoder->client_wrote(bytes, client);
   if (ubx_ == nullptr) return;

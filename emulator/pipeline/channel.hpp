@@ -98,6 +98,8 @@ class Channel final : public transport::ClientInput {
   /// Every encoder's answer to what `client` wrote, in encoder order.
   [[nodiscard]] std::string take_reply(transport::ClientId client) override;
   void client_left(transport::ClientId client) override;
+  /// Whether an encoder reads client input (a u-blox port); NMEA alone drops it.
+  [[nodiscard]] bool reads_input() const override;
 
   /// The UBX encoder (settings.ubx), null for an NMEA channel.
   [[nodiscard]] UbxEncoder* ubx_encoder() const { return ubx_; }

@@ -1,9 +1,17 @@
 #include "emulator/pipeline/control_socket.hpp"
 
+#include <sys/timerfd.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
+#include <spdlog/spdlog.h>
+
+#include "transport/posix/errors.hpp"
 #include "transport/posix/sockets.hpp"
 
 namespace gpsemu {
@@ -15,15 +23,19 @@ std::vector<faults::FaultTimeline*> timelines_of(ChannelSet& channels) {
   return out;
 }
 
-posix::UnixLineServer::Messages messages() {
-  return {faults::control_error(fmt::format("too many control clients (at most {})", posix::UnixLineServer::kMaxClients)),
-          faults::control_error(
-              fmt::format("line longer than {} bytes: ignored to its end", posix::UnixLineServer::kMaxLineBytes))};
+posix::UnixLineServer::Settings settings(std::chrono::milliseconds idle_timeout) {
+  const double idle_s = std::chrono::duration<double>(idle_timeout).count();
+  return {{faults::control_error(fmt::format("too many control clients (at most {}; an idle one is closed after {:g} s)",
+                                             posix::UnixLineServer::kMaxClients, idle_s)),
+           faults::control_error(
+               fmt::format("line longer than {} bytes: ignored to its end", posix::UnixLineServer::kMaxLineBytes)),
+           faults::control_error(fmt::format("closed: no request for {:g} s (--control-idle-timeout)", idle_s))},
+          idle_timeout};
 }
 
 /// The server for `spec`: a Unix socket, or a TCP port (its real port in its name when 0 was asked).
-posix::UnixLineServer make_server(const std::string& spec) {
-  if (spec.rfind("tcp:", 0) != 0) return posix::UnixLineServer(spec, messages());
+posix::UnixLineServer make_server(const std::string& spec, std::chrono::milliseconds idle_timeout) {
+  if (spec.rfind("tcp:", 0) != 0) return posix::UnixLineServer(spec, settings(idle_timeout));
   const posix::Endpoint e = posix::parse_endpoint(spec.substr(4));
   posix::SocketRequest request;
   request.host = e.host;
@@ -31,13 +43,72 @@ posix::UnixLineServer make_server(const std::string& spec) {
   request.context = fmt::format("control socket {}: cannot listen", spec);
   posix::UniqueFd fd = posix::listen_tcp(request, 8);
   const std::uint16_t port = posix::bound_port(fd.get());
-  return posix::UnixLineServer(std::move(fd), "tcp:" + posix::host_port(e.host, port), messages());
+  return posix::UnixLineServer(std::move(fd), "tcp:" + posix::host_port(e.host, port), settings(idle_timeout));
 }
+
+constexpr std::string_view kErrorClass = R"({"class":"ERROR")";
 
 }  // namespace
 
-ControlSocket::ControlSocket(const std::string& spec, ChannelSet& channels)
-    : control_(timelines_of(channels)), server_(make_server(spec)) {}
+ControlSocket::ControlSocket(const std::string& spec, ChannelSet& channels, std::chrono::milliseconds idle_timeout)
+    : control_(timelines_of(channels)), server_(make_server(spec, idle_timeout)) {
+  if (idle_timeout <= std::chrono::milliseconds::zero()) return;
+  idle_timer_.reset(::timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC));
+  if (!idle_timer_.valid()) throw std::runtime_error(fmt::format("control socket {}: timerfd: {}", spec, posix::errno_text(errno)));
+  const auto period = std::max<std::chrono::nanoseconds>(idle_timeout / 4, std::chrono::milliseconds(100));
+  itimerspec every{};
+  every.it_interval.tv_sec = static_cast<time_t>(std::chrono::duration_cast<std::chrono::seconds>(period).count());
+  every.it_interval.tv_nsec = static_cast<long>((period % std::chrono::seconds(1)).count());
+  every.it_value = every.it_interval;
+  (void)::timerfd_settime(idle_timer_.get(), 0, &every, nullptr);
+}
+
+void ControlSocket::fds(std::vector<int>& out) const {
+  server_.fds(out);
+  if (idle_timer_.valid()) out.push_back(idle_timer_.get());
+}
+
+void ControlSocket::service() {
+  if (idle_timer_.valid()) {
+    std::uint64_t expirations = 0;
+    (void)!::read(idle_timer_.get(), &expirations, sizeof expirations);  // re-arm its readiness
+  }
+  server_.service([this](std::string_view line) {
+    std::string answer = control_.handle(line);
+    if (answer.rfind(kErrorClass, 0) == 0) {
+      ++error_answers_;
+      transport::log_limited(error_log_, spdlog::level::warn, "control socket {}: error answer to {}: {}", server_.path(),
+                             line.substr(0, 200), answer);
+    }
+    return answer;
+  });
+  log_drops();
+}
+
+void ControlSocket::log_drops() {
+  const posix::UnixLineServer::Stats& s = server_.stats();
+  const auto more = [](std::uint64_t now, std::uint64_t before) { return now - before; };
+  const std::uint64_t refused = more(s.clients_refused, logged_.clients_refused);
+  const std::uint64_t idle = more(s.clients_idle_closed, logged_.clients_idle_closed);
+  const std::uint64_t not_reading = more(s.clients_not_reading, logged_.clients_not_reading);
+  const std::uint64_t too_long = more(s.lines_too_long, logged_.lines_too_long);
+  if (refused + idle + not_reading + too_long == 0) return;
+  if (transport::log_limited(drop_log_, spdlog::level::warn,
+                             "control socket {}: {} client(s) refused (already {} connected), {} closed idle (no request "
+                             "for {:g} s), {} dropped (not reading their answers), {} line(s) too long",
+                             server_.path(), refused, posix::UnixLineServer::kMaxClients, idle,
+                             std::chrono::duration<double>(server_.idle_timeout()).count(), not_reading, too_long)) {
+    logged_ = s;
+  }
+}
+
+std::string ControlSocket::summary() const {
+  const posix::UnixLineServer::Stats& s = server_.stats();
+  return fmt::format("control socket {}: {} requests answered ({} errors); {} clients connected, {} refused (too many), "
+                     "{} closed idle, {} dropped not reading; {} lines too long",
+                     server_.path(), s.lines_answered, error_answers_, s.clients_accepted, s.clients_refused,
+                     s.clients_idle_closed, s.clients_not_reading, s.lines_too_long);
+}
 
 std::string parse_control_spec(const std::string& spec) {
   if (spec.rfind("unix:", 0) == 0 && spec.size() > 5) return spec.substr(5);

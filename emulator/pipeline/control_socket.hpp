@@ -1,15 +1,19 @@
 // The live control socket (--control unix:PATH or tcp:HOST:PORT): JSON lines in (faults/control.hpp), serviced by
 // the epoch loop between epochs like the pose inputs, so a live fault applies at the next epoch
-// and never delays one.
+// and never delays one. What it refused or dropped (clients beyond the limit, idle or not reading,
+// lines too long) and its ERROR answers are counted, logged (a few lines a second at most) and in
+// the exit summary.
 #pragma once
 
 #include <chrono>
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "emulator/faults/control.hpp"
 #include "emulator/pipeline/channel_set.hpp"
+#include "transport/log_limit.hpp"
 #include "transport/posix/unix_line_server.hpp"
 
 namespace gpsemu {
@@ -17,17 +21,30 @@ namespace gpsemu {
 class ControlSocket final : public LoopInput {
  public:
   /// Listens on `spec` (parse_control_spec(): a Unix socket's PATH, or "tcp:HOST:PORT") for the
-  /// fault timelines of `channels`. Throws std::runtime_error.
-  ControlSocket(const std::string& spec, ChannelSet& channels);
-  void fds(std::vector<int>& out) const override { server_.fds(out); }
-  void service() override {
-    server_.service([this](std::string_view line) { return control_.handle(line); });
-  }
+  /// fault timelines of `channels`; a client silent for `idle_timeout` is closed (zero: never).
+  /// Throws std::runtime_error.
+  ControlSocket(const std::string& spec, ChannelSet& channels,
+                std::chrono::milliseconds idle_timeout = posix::UnixLineServer::kDefaultIdleTimeout);
+  void fds(std::vector<int>& out) const override;
+  void service() override;
   [[nodiscard]] const posix::UnixLineServer& server() const { return server_; }
+  /// ERROR answers given.
+  [[nodiscard]] std::uint64_t error_answers() const { return error_answers_; }
+  /// The exit summary's line: requests answered, errors, clients refused and dropped.
+  [[nodiscard]] std::string summary() const;
 
  private:
+  /// Logs what the server refused or dropped since the last call (rate-limited).
+  void log_drops();
+
   faults::FaultControl control_;
   posix::UnixLineServer server_;
+  /// Fires a few times an idle timeout, so idle clients are closed while nothing else wakes the loop.
+  posix::UniqueFd idle_timer_;
+  std::uint64_t error_answers_ = 0;
+  posix::UnixLineServer::Stats logged_{};  ///< the counts the log has told
+  transport::LogLimit drop_log_{2};
+  transport::LogLimit error_log_{2};
 };
 
 /// "unix:PATH" -> PATH; "tcp:[HOST:]PORT" -> "tcp:HOST:PORT" (HOST default 127.0.0.1; port 0: the

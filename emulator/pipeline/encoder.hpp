@@ -27,6 +27,8 @@ class Encoder {
   [[nodiscard]] virtual std::string take_reply(transport::ClientId /*client*/) { return {}; }
   /// `client` went away: its half-read input is forgotten. Default: nothing.
   virtual void client_left(transport::ClientId /*client*/) {}
+  /// Whether client_wrote() reads the bytes (a u-blox session) rather than ignoring them. Default: no.
+  [[nodiscard]] virtual bool reads_client_input() const { return false; }
 };
 
 /// The configured NMEA sentences (nmea/sentences.hpp), in receiver order. Ignores client input.

@@ -123,6 +123,7 @@ RunSettings run_settings(const Config& config) {
   RunSettings run;
   run.loop = loop_settings(config.timeline);
   run.control_path = config.process.control_path;
+  run.control_idle_timeout = std::chrono::milliseconds(std::llround(config.process.control_idle_timeout_s * 1000.0));
   for (const ReceiverSettings& r : config.receivers) run.receivers.push_back(receiver_setup(r, config.timeline));
   for (std::size_t i = 0; i < run.receivers.size(); ++i)
     add_faults(run.receivers[i].channel, config.timeline.faults, i, run.receivers.size());

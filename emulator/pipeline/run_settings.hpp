@@ -52,6 +52,7 @@ struct RunSettings {
   LoopSettings loop;
   std::vector<ReceiverSetup> receivers;  ///< one, or a fleet's
   std::optional<std::string> control_path;  ///< the control socket (--control unix:PATH)
+  std::chrono::milliseconds control_idle_timeout{30000};  ///< its clients are closed after this long silent (0: never)
 };
 
 /// The shared timeline and pacing.

@@ -72,7 +72,7 @@ Runner::Runner(RunSettings settings, std::optional<RunnerIo> io)
     channels_->add(std::move(ch));
   }
   if (settings.control_path) {
-    control_ = std::make_unique<ControlSocket>(*settings.control_path, *channels_);
+    control_ = std::make_unique<ControlSocket>(*settings.control_path, *channels_, settings.control_idle_timeout);
     channels_->set_extra_input(control_.get());
   }
   if (io) {
@@ -207,6 +207,7 @@ void Runner::log_summary() const {
     if (const std::string rtk = ch.rtk().summary(port_bad_crc); !rtk.empty()) spdlog::info("{}{}", sink_.who(i), rtk);
   }
   if (pps_) pps_->log_summary();
+  if (control_) spdlog::info("{}", control_->summary());
   if (const std::uint64_t suppressed = transport::log_lines_suppressed(); suppressed != 0) {
     spdlog::info("{} repeated log lines suppressed (at most a few a second of each kind are written)", suppressed);
   }

@@ -30,6 +30,7 @@ class UbxEncoder final : public Encoder {
   void client_wrote(std::string_view bytes, transport::ClientId client) override;
   [[nodiscard]] std::string take_reply(transport::ClientId client) override { return session_.take_reply(client); }
   void client_left(transport::ClientId client) override { session_.client_left(client); }
+  [[nodiscard]] bool reads_client_input() const override { return true; }
 
   /// Measurement period, baud and cold-start changes the client asked for, not yet taken.
   [[nodiscard]] std::vector<ubx::Effect> take_effects() { return session_.take_effects(); }

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <fstream>
 #include <iostream>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -75,6 +76,20 @@ void options_table(std::ostream& out, const std::vector<const CLI::Option*>& opt
   }
 }
 
+/// A subcommand's help footer (gpsemu ctl: each fault kind's flags): its indented lines as a list,
+/// every --flag in backquotes as in the option tables.
+void footer(std::ostream& out, const std::string& text) {
+  static const std::regex flag("(--[a-z0-9][a-z0-9-]*)");
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    const bool item = line.rfind("  ", 0) == 0;
+    const std::string body = std::regex_replace(item ? line.substr(2) : line, flag, "`$1`");
+    out << (item ? "- " : "") << body << (item ? "\n" : "\n\n");
+  }
+  out << "\n";
+}
+
 void positionals_list(std::ostream& out, const std::vector<const CLI::Option*>& positionals) {
   out << "Arguments:\n\n";
   for (const CLI::Option* p : positionals) {
@@ -113,6 +128,7 @@ void write_reference(std::ostream& out, const CLI::App& app) {
     out << "```\n" << usage(*s) << "\n```\n\n";
     const auto positionals = options_of(*s, true);
     if (!positionals.empty()) positionals_list(out, positionals);
+    if (!s->get_footer().empty()) footer(out, s->get_footer());
     const auto opts = options_of(*s, false);
     if (!opts.empty()) {
       out << "Options of `" << s->get_name() << "` (the options of `gpsemu` are accepted too, before or after"

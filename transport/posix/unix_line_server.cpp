@@ -33,9 +33,20 @@ bool send_line_blocking(int fd, std::string_view text) {
   return true;
 }
 
+/// Whether a server answers on the Unix socket at `address` (false: a file nobody listens on, left
+/// by a run that died). Throws `fail(...)` when it cannot tell.
+bool someone_listens(const sockaddr_un& address, const std::function<std::runtime_error(const std::string&)>& fail) {
+  UniqueFd probe(::socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0));
+  if (!probe.valid()) throw fail(errno_text(errno));
+  if (::connect(probe.get(), reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0) return true;
+  if (errno == EAGAIN || errno == EINPROGRESS) return true;  // listening, its backlog full
+  if (errno == ECONNREFUSED || errno == ENOENT) return false;
+  throw fail(fmt::format("exists and cannot be checked: {}; remove it or choose another path", errno_text(errno)));
+}
+
 }  // namespace
 
-UnixLineServer::UnixLineServer(std::string path, Messages messages) : path_(std::move(path)), messages_(std::move(messages)) {
+UnixLineServer::UnixLineServer(std::string path, Settings settings) : path_(std::move(path)), settings_(std::move(settings)) {
   const auto fail = [this](const std::string& why) { return std::runtime_error(fmt::format("control socket {}: {}", path_, why)); };
   sockaddr_un address{};
   address.sun_family = AF_UNIX;
@@ -45,7 +56,9 @@ UnixLineServer::UnixLineServer(std::string path, Messages messages) : path_(std:
   struct stat st{};
   if (::lstat(path_.c_str(), &st) == 0) {
     if (!S_ISSOCK(st.st_mode)) throw fail("exists and is not a socket; remove it or choose another path");
-    ::unlink(path_.c_str());  // a socket left by an earlier run
+    if (someone_listens(address, fail))
+      throw fail("in use: another process answers on it (another gpsemu with the same --control?); stop it or choose another path");
+    ::unlink(path_.c_str());  // a socket left by a run that died: nobody listens on it
   }
   listen_.reset(::socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0));
   if (!listen_.valid()) throw fail(errno_text(errno));
@@ -55,13 +68,31 @@ UnixLineServer::UnixLineServer(std::string path, Messages messages) : path_(std:
     ::unlink(path_.c_str());
     throw fail(errno_text(err));
   }
+  if (::lstat(path_.c_str(), &st) == 0) {
+    file_device_ = st.st_dev;
+    file_inode_ = st.st_ino;
+  }
 }
 
-UnixLineServer::UnixLineServer(UniqueFd listening, std::string name, Messages messages)
-    : path_(std::move(name)), messages_(std::move(messages)), listen_(std::move(listening)), owns_file_(false) {}
+UnixLineServer::UnixLineServer(UniqueFd listening, std::string name, Settings settings)
+    : path_(std::move(name)), settings_(std::move(settings)), listen_(std::move(listening)), owns_file_(false) {}
 
 UnixLineServer::~UnixLineServer() {
-  if (listen_.valid() && owns_file_) ::unlink(path_.c_str());
+  if (!listen_.valid() || !owns_file_) return;
+  // Only the file we made: another process may have put its own there since.
+  struct stat st{};
+  if (::lstat(path_.c_str(), &st) == 0 && S_ISSOCK(st.st_mode) && st.st_dev == file_device_ && st.st_ino == file_inode_)
+    ::unlink(path_.c_str());
+}
+
+void UnixLineServer::close_idle(std::chrono::steady_clock::time_point now) {
+  if (settings_.idle_timeout <= std::chrono::milliseconds::zero()) return;
+  std::erase_if(clients_, [&](const Client& c) {
+    if (now - c.last_line < settings_.idle_timeout) return false;
+    (void)send_line(c.fd.get(), settings_.messages.idle_closed);
+    ++stats_.clients_idle_closed;
+    return true;
+  });
 }
 
 void UnixLineServer::fds(std::vector<int>& out) const {
@@ -77,15 +108,18 @@ bool UnixLineServer::send_line(int fd, std::string_view text) {
 }
 
 void UnixLineServer::service(const Handler& handle) {
+  const auto now = std::chrono::steady_clock::now();
+  close_idle(now);
   while (true) {
     UniqueFd fd(::accept4(listen_.get(), nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC));
     if (!fd.valid()) break;
     if (clients_.size() >= kMaxClients) {
-      (void)send_line(fd.get(), messages_.too_many_clients);
-      ++clients_dropped_;
+      (void)send_line(fd.get(), settings_.messages.too_many_clients);
+      ++stats_.clients_refused;
       continue;
     }
-    clients_.push_back({std::move(fd), {}, false});
+    ++stats_.clients_accepted;
+    clients_.push_back({std::move(fd), now, {}, false});
   }
   char buffer[4096];
   for (auto it = clients_.begin(); it != clients_.end();) {
@@ -104,7 +138,13 @@ void UnixLineServer::service(const Handler& handle) {
         const std::string_view part = chunk.substr(0, nl);
         if (!c.discarding) c.pending.append(part);
         if (c.pending.size() > kMaxLineBytes) {
-          if (!c.discarding && !send_line(c.fd.get(), messages_.line_too_long)) gone = true;
+          if (!c.discarding) {
+            ++stats_.lines_too_long;
+            if (!send_line(c.fd.get(), settings_.messages.line_too_long)) {
+              gone = true;
+              ++stats_.clients_not_reading;
+            }
+          }
           c.discarding = true;
           c.pending.clear();
         }
@@ -114,9 +154,13 @@ void UnixLineServer::service(const Handler& handle) {
           std::string line = std::move(c.pending);
           c.pending.clear();
           if (!line.empty() && line.back() == '\r') line.pop_back();
+          c.last_line = now;
           if (!line.empty()) {
-            ++lines_answered_;
-            if (!send_line(c.fd.get(), handle(line))) gone = true;
+            ++stats_.lines_answered;
+            if (!send_line(c.fd.get(), handle(line))) {
+              gone = true;
+              ++stats_.clients_not_reading;
+            }
           }
         }
         c.discarding = false;

@@ -1,8 +1,10 @@
 // A Unix-domain (or loopback TCP) stream socket that takes text lines from a few clients and
 // answers each line with one line (the control socket: JSON lines in, one JSON answer each). Never blocks: the caller
-// polls fds() and calls service() when one is readable. A line longer than kMaxLineBytes, or a
-// client whose answers do not fit its socket buffer, is dropped (counted); a client beyond
-// kMaxClients is told so and closed. The socket file is removed when the server goes.
+// polls fds() and calls service() when one is readable (and between epochs). A line longer than
+// kMaxLineBytes, or a client whose answers do not fit its socket buffer, is dropped; a client beyond
+// kMaxClients is told so and closed; a client silent for the idle timeout is told so and closed (so
+// idle connections never lock the operator out); each counted in stats(). A path where another
+// server answers is refused; the socket file is removed when the server goes, if it is still ours.
 #pragma once
 
 #include <chrono>
@@ -23,18 +25,35 @@ class UnixLineServer {
   static constexpr std::size_t kMaxLineBytes = 4096;
   /// Answers one line (without its '\n'); the answer is sent followed by '\n'.
   using Handler = std::function<std::string(std::string_view line)>;
-  /// What the server tells a client it refuses, or a line too long (one line each).
+  static constexpr std::chrono::milliseconds kDefaultIdleTimeout{std::chrono::seconds(30)};
+  /// What the server tells a client it refuses, a line too long, or an idle client it closes (one line each).
   struct Messages {
     std::string too_many_clients;
     std::string line_too_long;
+    std::string idle_closed;
+  };
+  struct Settings {
+    Messages messages;
+    /// A client that sent no complete line for this long is closed (zero: never).
+    std::chrono::milliseconds idle_timeout = kDefaultIdleTimeout;
+  };
+  /// What happened to the clients and their lines since the start.
+  struct Stats {
+    std::uint64_t lines_answered = 0;
+    std::uint64_t clients_accepted = 0;
+    std::uint64_t clients_refused = 0;      ///< beyond kMaxClients: told so and closed
+    std::uint64_t clients_idle_closed = 0;  ///< silent for the idle timeout: told so and closed
+    std::uint64_t clients_not_reading = 0;  ///< an answer did not fit their socket: dropped
+    std::uint64_t lines_too_long = 0;       ///< over kMaxLineBytes: answered with an error, skipped
   };
 
-  /// Listens on `path` (a stale socket file there is replaced; any other file is an error).
-  /// Throws std::runtime_error beginning with "control socket PATH: ".
-  UnixLineServer(std::string path, Messages messages);
+  /// Listens on `path`: a socket file nobody listens on (left by a run that died) is replaced;
+  /// a socket another process answers on, or any other file, is refused. Throws
+  /// std::runtime_error beginning with "control socket PATH: ".
+  UnixLineServer(std::string path, Settings settings);
   /// The same on a listening socket made by the caller (listen_tcp()); `name` ("tcp:127.0.0.1:5005")
   /// stands for it in path() and messages, and no file is removed.
-  UnixLineServer(UniqueFd listening, std::string name, Messages messages);
+  UnixLineServer(UniqueFd listening, std::string name, Settings settings);
   ~UnixLineServer();
   UnixLineServer(const UnixLineServer&) = delete;
   UnixLineServer& operator=(const UnixLineServer&) = delete;
@@ -45,25 +64,28 @@ class UnixLineServer {
   void service(const Handler& handle);
 
   [[nodiscard]] const std::string& path() const { return path_; }
-  [[nodiscard]] std::uint64_t lines_answered() const { return lines_answered_; }
-  [[nodiscard]] std::uint64_t clients_dropped() const { return clients_dropped_; }
+  [[nodiscard]] const Stats& stats() const { return stats_; }
+  [[nodiscard]] std::chrono::milliseconds idle_timeout() const { return settings_.idle_timeout; }
 
  private:
   struct Client {
     UniqueFd fd;
+    std::chrono::steady_clock::time_point last_line;  ///< connected, or its last complete line
     std::string pending;  ///< a line not yet ended
     bool discarding = false;  ///< inside a line too long: skip to its end
   };
+  /// Closes the clients silent for longer than the idle timeout.
+  void close_idle(std::chrono::steady_clock::time_point now);
   /// Sends `text` + '\n' whole, or returns false (the client is then dropped).
   static bool send_line(int fd, std::string_view text);
 
   std::string path_;
-  Messages messages_;
+  Settings settings_;
   UniqueFd listen_;
-  bool owns_file_ = true;  ///< a Unix socket's file, removed at the end
+  bool owns_file_ = true;  ///< a Unix socket's file, removed at the end if it is still the one we made
+  std::uint64_t file_device_ = 0, file_inode_ = 0;  ///< that file's identity
   std::vector<Client> clients_;
-  std::uint64_t lines_answered_ = 0;
-  std::uint64_t clients_dropped_ = 0;
+  Stats stats_;
 };
 
 /// A client's one exchange: connects to the server at `path`, sends `line` + '\n' and returns the

@@ -2,7 +2,8 @@
 // answer never discards what the client has not read yet (it reads the rest of the epoch it began,
 // then the answer); what the pty cannot take waits and goes out, in order, as the client reads;
 // every client closing the device ends the connection (the client input hears client_left) and
-// what was queued for it is discarded and counted.
+// what was queued for it is discarded and counted; input the receiver reads is not counted as
+// discarded (issue 33 point 10).
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <poll.h>
@@ -82,6 +83,20 @@ TEST_F(PtyAnswers, AnAnswerNeverDiscardsWhatTheClientHasNotRead) {
   EXPECT_EQ(read_serviced(client, out, epoch.size() - 6 + 8), epoch.substr(6) + "<ANSWER>");
   EXPECT_EQ(out.stats().replies_written, 1u);
   EXPECT_EQ(out.pty_stats().stale_bytes_discarded, 0u);
+  ::close(client);
+}
+
+TEST_F(PtyAnswers, InputTheReceiverReadsIsNotCountedAsDiscarded) {
+  const int client = open_client(out);
+  ASSERT_GE(client, 0);
+  ASSERT_EQ(::write(client, "poll", 4), 4);
+  service_until_heard(out, input, 1);
+  EXPECT_EQ(read_serviced(client, out, 8), "<ANSWER>");
+  EXPECT_EQ(out.pty_stats().input_bytes_discarded, 0u);  // the receiver read and answered it
+  out.set_client_input(nullptr);                         // none reads it now: dropped, counted
+  ASSERT_EQ(::write(client, "probe", 5), 5);
+  service_until(out, [&] { return out.pty_stats().input_bytes_discarded != 0; });
+  EXPECT_EQ(out.pty_stats().input_bytes_discarded, 5u);
   ::close(client);
 }
 

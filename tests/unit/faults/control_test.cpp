@@ -114,5 +114,55 @@ TEST(FaultControl, AnswersNameTheEpochTheyCameAfterAndEachReceiverRecordsTheEven
   EXPECT_EQ(r.ask(R"({"fault":"jam","db":20,"where":"circle:47,8,100","ramp_out_s":2})")["class"], "FAULT");
 }
 
+TEST(FaultControl, StatusShowsAnAcceptedFaultAsPendingBeforeTheNextEpoch) {
+  TwoReceivers r;
+  r.epoch(0);
+  ASSERT_EQ(r.ask(R"({"fault":"jam","db":30,"receiver":0})")["class"], "FAULT");
+  const json before = r.ask(R"({"status":true})");
+  ASSERT_EQ(before["receivers"][0]["faults"].size(), 1u) << before.dump();
+  const json& pending = before["receivers"][0]["faults"][0];
+  EXPECT_EQ(pending["fault"], "jam");
+  EXPECT_EQ(pending["pending"], true);
+  EXPECT_EQ(pending["starts"], "next epoch");
+  EXPECT_EQ(pending["active"], false);
+  EXPECT_EQ(pending["describe"], "jam db=30 until cleared");
+  EXPECT_TRUE(before["receivers"][1]["faults"].empty());
+  r.epoch(100);
+  const json after = r.ask(R"({"status":true})");
+  EXPECT_EQ(after["receivers"][0]["faults"][0]["active"], true);
+  EXPECT_FALSE(after["receivers"][0]["faults"][0].contains("pending"));
+  (void)r.ask(R"({"clear":"jam"})");
+  EXPECT_EQ(r.ask(R"({"status":true})")["receivers"][0]["faults"][0]["ends"], "next epoch");
+}
+
+TEST(FaultControl, AClearedLiveFaultIsSummarisedUntilItsClearNotToTheEnd) {
+  TwoReceivers r;
+  r.epoch(0);
+  (void)r.ask(R"({"fault":"jam","db":30,"receiver":0})");
+  r.epoch(1000);
+  r.epoch(2000);
+  (void)r.ask(R"({"clear":"jam"})");
+  r.epoch(3000);
+  r.epoch(4000);
+  const std::vector<std::string> lines = r.a.summary_lines();
+  ASSERT_EQ(lines.size(), 1u);
+  EXPECT_EQ(lines[0], "fault jam db=30 at 1 s for 2 s (cleared): 2 epochs");
+}
+
+TEST(FaultControl, ASecondSpoofOnAReceiverWithOneOnIsRefused) {
+  TwoReceivers r;
+  r.epoch(0);
+  ASSERT_EQ(r.ask(R"({"fault":"spoof","speed_mps":2,"receiver":0})")["class"], "FAULT");
+  const json pending = r.ask(R"({"fault":"spoof","speed_mps":2})");  // before the first one started
+  EXPECT_EQ(pending["class"], "ERROR");
+  EXPECT_EQ(pending["message"], "spoof: receiver 0 has a spoof on (spoof speed_mps=2 bearing_deg=0 undetected until cleared): "
+                                "two spoofers would add their drags; clear spoof first");
+  r.epoch(100);
+  EXPECT_EQ(r.ask(R"({"fault":"spoof","speed_mps":1,"receiver":0})")["class"], "ERROR");
+  EXPECT_EQ(r.ask(R"({"fault":"spoof","speed_mps":1,"receiver":1})")["class"], "FAULT");  // the other receiver has none
+  (void)r.ask(R"({"clear":"spoof","receiver":0})");
+  EXPECT_EQ(r.ask(R"({"fault":"spoof","speed_mps":1,"receiver":0})")["class"], "FAULT");  // after the clear
+}
+
 }  // namespace
 }  // namespace gpsemu::faults

@@ -216,5 +216,22 @@ TEST(FaultTimeline, ScenarioOrderAppliesAndOnlyActiveFaultsCount) {
   EXPECT_EQ(run.timeline.entries()[1].epochs, 1u);
 }
 
+TEST(FaultTimeline, ASpoofWithRampOutReturnsGraduallyInsteadOfSnappingBack) {
+  // 10 m/s east for 5 s, then back over 5 s: never more than one epoch's drag (10 m) at a time.
+  const Fault spoof = make_fault({{"kind", std::string("spoof")}, {"at", 0.0}, {"duration", 5.0}, {"speed_mps", 10.0},
+                                  {"bearing_deg", 90.0}, {"ramp_out_s", 5.0}});
+  Epochs run({spoof});
+  std::vector<double> east_m;
+  for (int s = 0; s <= 11; ++s) east_m.push_back(error_of(run.at(s), run.frame).east_m - kError.east_m);
+  EXPECT_NEAR(east_m[4], 40.0, 1e-3);
+  EXPECT_NEAR(east_m[5], 50.0, 1e-3);  // the fade starts where the drag had got to
+  EXPECT_NEAR(east_m[6], 40.0, 1e-3);
+  EXPECT_NEAR(east_m[8], 20.0, 1e-3);
+  EXPECT_NEAR(east_m[10], 0.0, 1e-3);
+  EXPECT_NEAR(east_m[11], 0.0, 1e-3);
+  for (std::size_t k = 1; k < east_m.size(); ++k) EXPECT_LE(std::abs(east_m[k] - east_m[k - 1]), 10.0 + 1e-3) << k;
+  EXPECT_EQ(run.timeline.entries()[0].epochs, 10u);  // 5 on, 5 fading (the last at strength 0 included)
+}
+
 }  // namespace
 }  // namespace gpsemu::faults

@@ -1,0 +1,131 @@
+// The control socket as an operator meets it, through the binary: a second gpsemu on the same
+// --control unix:PATH is refused (exit 2, naming the path) and leaves the first one reachable and
+// its socket in place; idle clients are closed after --control-idle-timeout, so eight silent
+// connections do not lock `gpsemu ctl` out; clients refused, closed idle and error answers are
+// logged and counted in the exit summary.
+#include <gtest/gtest.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "tests/support/process.hpp"
+#include "tests/support/scratch.hpp"
+
+namespace gpsemu {
+namespace {
+
+using std::chrono::milliseconds;
+using std::chrono::seconds;
+
+/// A client connected to the Unix socket at `path` (-1: none).
+int connect_unix(const std::string& path) {
+  const int fd = ::socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  std::memcpy(address.sun_path, path.data(), path.size());
+  if (::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0) {
+    ::close(fd);
+    return -1;
+  }
+  return fd;
+}
+
+/// The first line `fd` receives within `timeout` ("" if none).
+std::string read_line(int fd, milliseconds timeout) {
+  std::string text;
+  char c = 0;
+  pollfd p{fd, POLLIN, 0};
+  while (::poll(&p, 1, static_cast<int>(timeout.count())) > 0 && ::recv(fd, &c, 1, 0) == 1 && c != '\n') text += c;
+  return text;
+}
+
+TEST(FaultsControlSocket, ASecondGpsemuOnALiveSocketIsRefusedAndTheFirstStaysReachable) {
+  const auto dir = test::scratch_dir("faults", "control-taken");
+  const std::string socket = (dir / "ctl.sock").string();
+  test::Process first({GPSEMU_BINARY, "--rate", "10", "--duration", "4", "--output", "file:" + (dir / "a.nmea").string(),
+                       "--control", "unix:" + socket});
+  ASSERT_TRUE(first.wait_for_stderr("control socket", seconds(20))) << first.stderr_text();
+
+  const test::Result second = test::run({GPSEMU_BINARY, "--fast", "--duration", "1", "--output",
+                                         "file:" + (dir / "b.nmea").string(), "--control", "unix:" + socket},
+                                        seconds(20));
+  EXPECT_EQ(second.status, 2) << second.err;
+  EXPECT_TRUE(test::contains(second.err, socket)) << second.err;
+  EXPECT_TRUE(test::contains(second.err, "in use")) << second.err;
+
+  EXPECT_TRUE(std::filesystem::exists(socket)) << "the second gpsemu removed the first one's socket";
+  const test::Result status = test::run({GPSEMU_BINARY, "ctl", socket, "status"});
+  EXPECT_EQ(status.status, 0) << status.out << status.err;
+  EXPECT_TRUE(test::contains(status.out, R"("class":"STATUS")")) << status.out;
+
+  ASSERT_EQ(first.wait(seconds(20)), 0) << first.stderr_text();
+  EXPECT_FALSE(std::filesystem::exists(socket)) << "the first gpsemu left its socket behind";
+  std::filesystem::remove_all(dir);
+}
+
+TEST(FaultsControlSocket, IdleClientsAreClosedSoCtlGetsInAndEveryDropIsCounted) {
+  const auto dir = test::scratch_dir("faults", "control-idle");
+  const std::string socket = (dir / "ctl.sock").string();
+  test::Process gpsemu({GPSEMU_BINARY, "--rate", "10", "--duration", "4", "--output", "file:" + (dir / "a.nmea").string(),
+                        "--control", "unix:" + socket, "--control-idle-timeout", "0.5"});
+  ASSERT_TRUE(gpsemu.wait_for_stderr("control socket", seconds(20))) << gpsemu.stderr_text();
+
+  // Eight silent clients take every place; a ninth is refused.
+  std::vector<int> idle;
+  for (int i = 0; i < 8; ++i) idle.push_back(connect_unix(socket));
+  const int ninth = connect_unix(socket);
+  EXPECT_TRUE(test::contains(read_line(ninth, seconds(2)), "too many control clients"));
+  ::close(ninth);
+
+  // After the idle timeout they are told and closed, and ctl gets in.
+  for (const int fd : idle) EXPECT_TRUE(test::contains(read_line(fd, seconds(3)), "no request for 0.5 s"));
+  const test::Result status = test::run({GPSEMU_BINARY, "ctl", socket, "status"});
+  EXPECT_EQ(status.status, 0) << status.out << status.err;
+  const test::Result bad = test::run({GPSEMU_BINARY, "ctl", socket, "jam", "--db", "99"});
+  EXPECT_EQ(bad.status, 1) << bad.out << bad.err;
+  for (const int fd : idle) ::close(fd);
+
+  ASSERT_EQ(gpsemu.wait(seconds(20)), 0) << gpsemu.stderr_text();
+  const std::string err = gpsemu.stderr_text();
+  EXPECT_TRUE(test::contains(err, "1 client(s) refused")) << err;
+  EXPECT_TRUE(test::contains(err, "error answer to")) << err;
+  EXPECT_TRUE(test::contains(err, "2 requests answered (1 errors); 10 clients connected, 1 refused (too many), 8 closed idle"))
+      << err;
+  std::filesystem::remove_all(dir);
+}
+
+TEST(FaultsControlSocket, CtlHasAFlagForEveryParameterAndItsHelpNamesPathAndKind) {
+  const test::Result help = test::run({GPSEMU_BINARY, "ctl", "--help"});
+  EXPECT_EQ(help.status, 0) << help.err;
+  for (const char* text : {"PATH", "KIND", "spoof: --bearing-deg|--bearing", "latency: --delay-ms|--delay"})
+    EXPECT_TRUE(test::contains(help.out, text)) << text << "\n" << help.out;
+
+  const auto dir = test::scratch_dir("faults", "control-flags");
+  const std::string socket = (dir / "ctl.sock").string();
+  test::Process gpsemu({GPSEMU_BINARY, "--rate", "10", "--duration", "3", "--output", "file:" + (dir / "a.nmea").string(),
+                        "--control", "unix:" + socket});
+  ASSERT_TRUE(gpsemu.wait_for_stderr("control socket", seconds(20))) << gpsemu.stderr_text();
+  const test::Result spoof = test::run({GPSEMU_BINARY, "ctl", socket, "spoof", "--speed", "2", "--bearing", "45"});
+  EXPECT_EQ(spoof.status, 0) << spoof.out << spoof.err;
+  EXPECT_TRUE(test::contains(spoof.out, "spoof speed_mps=2 bearing_deg=45")) << spoof.out;
+  const test::Result latency = test::run({GPSEMU_BINARY, "ctl", socket, "latency", "--delay=300", "--duration", "1"});
+  EXPECT_EQ(latency.status, 0) << latency.out << latency.err;
+  // Right after the answer, before the next epoch: status shows the latency as pending.
+  const test::Result status = test::run({GPSEMU_BINARY, "ctl", socket, "status"});
+  EXPECT_TRUE(test::contains(status.out, "latency")) << status.out;
+  const test::Result extra = test::run({GPSEMU_BINARY, "ctl", socket, "status", "now"});
+  EXPECT_EQ(extra.status, 2) << extra.out;
+  EXPECT_TRUE(test::contains(extra.err, "unexpected word 'now'")) << extra.err;
+  ASSERT_EQ(gpsemu.wait(seconds(20)), 0) << gpsemu.stderr_text();
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace gpsemu
