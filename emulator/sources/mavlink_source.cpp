@@ -59,7 +59,7 @@ MavlinkPoseSource::MavlinkPoseSource(std::unique_ptr<transport::PoseSocket> sock
 }
 
 MavlinkPoseSource::~MavlinkPoseSource() {
-  spdlog::info("pose input {}: {}", describe(), counts_text());
+  spdlog::info("pose input mavlink:{}: {}", socket_->describe(), counts_text());
 }
 
 std::string MavlinkPoseSource::counts_text() const {
