@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/tcp_listener.hpp"
 #include "transport/input/pose_socket.hpp"
 
 namespace gpsemu::transport {
@@ -22,6 +23,7 @@ namespace {
 
 using namespace std::chrono;
 using Kind = ReceivedMessage::Kind;
+using test::Listener;
 
 struct Event {
   Kind kind;
@@ -51,37 +53,6 @@ std::string bytes_of(const std::vector<Event>& events) {
   }
   return all;
 }
-
-/// A listening TCP socket on 127.0.0.1 (`port` 0: a free one).
-class Listener {
- public:
-  explicit Listener(std::uint16_t port = 0) : fd_(socket(AF_INET, SOCK_STREAM, 0)) {
-    const int on = 1;
-    setsockopt(fd_, SOL_SOCKET, SO_REUSEADDR, &on, sizeof on);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_port = htons(port);
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    if (bind(fd_, reinterpret_cast<const sockaddr*>(&a), sizeof a) != 0 || listen(fd_, 4) != 0) {
-      throw std::runtime_error("cannot listen");
-    }
-    socklen_t len = sizeof a;
-    getsockname(fd_, reinterpret_cast<sockaddr*>(&a), &len);
-    port_ = ntohs(a.sin_port);
-  }
-  ~Listener() { ::close(fd_); }
-  /// The next connection, or -1 after `timeout`.
-  int accept_one(milliseconds timeout = milliseconds(5000)) const {
-    pollfd p{fd_, POLLIN, 0};
-    if (poll(&p, 1, static_cast<int>(timeout.count())) != 1) return -1;
-    return ::accept(fd_, nullptr, nullptr);
-  }
-  [[nodiscard]] std::uint16_t port() const { return port_; }
-
- private:
-  int fd_;
-  std::uint16_t port_ = 0;
-};
 
 void send_all(int fd, const std::string& bytes) { ASSERT_EQ(::send(fd, bytes.data(), bytes.size(), 0), static_cast<ssize_t>(bytes.size())); }
 
