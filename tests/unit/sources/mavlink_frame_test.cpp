@@ -1,7 +1,8 @@
 // The MAVLink frame reader (emulator/sources/mavlink/mavlink_frame.hpp): the X.25 CRC and the
 // CRC_EXTRA of our three messages from their definitions, two reference frames written by hand
-// from the spec, MAVLink 1 and 2, truncated payloads, garbage between frames, frames split over
-// reads, bad CRCs, unknown ids, signed frames and cut frames counted and skipped.
+// from the spec, six frames of an independent implementation (node-mavlink), MAVLink 1 and 2,
+// truncated payloads, garbage between frames, frames split over reads, bad CRCs, unknown ids,
+// signed frames and cut frames counted and skipped.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -154,6 +155,59 @@ TEST(MavlinkFrame, OurEncoderWritesTheHandWrittenFramesByteForByte) {
     const auto again = encode_frame(f.message_id, std::span<const std::uint8_t>(f.payload.data(), f.wire_length),
                                     {.version = f.version, .sequence = f.sequence});
     EXPECT_EQ(again, bytes_of(hex)) << hex;
+  }
+}
+
+// Frames of an independent implementation: encoded by node-mavlink 2.3.0 with mavlink-mappings
+// 1.0.0 (npm; used as a tool, only its output is kept here), system 1, component 1, sequence 5
+// (MAVLink 1) and 6 (MAVLink 2, not truncated, SIM_STATE without its extensions). Values: SIM_STATE
+// q = (0.9238795, 0, 0, 0.3826834) (yaw 45°), yaw field 0.7853982, zacc -9.81, lat 47.397742,
+// lon 8.545594, alt 488.25, vn 2.5, ve 2.5, vd -0.75; HIL_STATE_QUATERNION time_usec
+// 1700000000123456, the same quaternion, lat 473977420, lon 85455940, alt 488250, vx 250, vy 250,
+// vz -75, zacc -1000; SIMSTATE roll 0.1, pitch -0.05, yaw 0.7853982, zacc -9.81, lat 473977420,
+// lng 85455940.
+const char* kIndependentFrames[] = {
+    "fe540501016c5e836c3f000000000000000014efc33e0000000000000000db0f493f0000000000000000c3f51cc1000000000000"
+    "0000000000004a973d42c1ba08410020f44300000000000000000000204000002040000040bfb0c2",
+    "fd5400000601016c00005e836c3f000000000000000014efc33e0000000000000000db0f493f0000000000000000c3f51cc10000"
+    "000000000000000000004a973d42c1ba08410020f44300000000000000000000204000002040000040bfc2bc",
+    "fe400501017340222018240a06005e836c3f000000000000000014efc33e0000000000000000000000004c52401c44f417053a73"
+    "0700fa00fa00b5ff000000000000000018fc727f",
+    "fd40000006010173000040222018240a06005e836c3f000000000000000014efc33e0000000000000000000000004c52401c44f4"
+    "17053a730700fa00fa00b5ff000000000000000018fc933e",
+    "fe2c050101a4cdcccc3dcdcc4cbddb0f493f0000000000000000c3f51cc10000000000000000000000004c52401c44f41705bebd",
+    "fd2c0000060101a40000cdcccc3dcdcc4cbddb0f493f0000000000000000c3f51cc10000000000000000000000004c52401c44f417055db9",
+};
+
+TEST(MavlinkFrame, ReadsTheFramesOfAnIndependentImplementation) {
+  Bytes stream;
+  for (const char* hex : kIndependentFrames) stream = stream + bytes_of(hex);
+  FrameReader reader;
+  const auto frames = read_all(reader, stream);
+  ASSERT_EQ(frames.size(), 6u);
+  EXPECT_EQ(reader.counts().garbage_bytes, 0u);
+  const std::uint32_t ids[] = {kSimStateId, kSimStateId, kHilStateQuaternionId, kHilStateQuaternionId, kSimstateId,
+                               kSimstateId};
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    EXPECT_EQ(frames[i].message_id, ids[i]);
+    EXPECT_EQ(frames[i].version, i % 2 == 0 ? 1 : 2);
+    EXPECT_EQ(frames[i].sequence, i % 2 == 0 ? 5 : 6);
+    const auto s = std::get<VehicleState>(decode_state(frames[i]));
+    EXPECT_NEAR(s.lat_deg, 47.397742, 2e-6) << i;  // SIM_STATE's floats: about 7 digits
+    EXPECT_NEAR(s.lon_deg, 8.545594, 1e-6) << i;
+    EXPECT_NEAR(s.yaw_deg, 45.0, 1e-4) << i;
+    if (ids[i] == kSimstateId) {
+      EXPECT_NEAR(s.roll_deg, 5.729578, 1e-5);
+      EXPECT_NEAR(s.pitch_deg, -2.864789, 1e-5);
+      continue;
+    }
+    EXPECT_NEAR(*s.alt_msl_m, 488.25, 1e-6) << i;
+    EXPECT_NEAR(s.velocity->north_mps, 2.5, 1e-6) << i;
+    EXPECT_NEAR(s.velocity->east_mps, 2.5, 1e-6) << i;
+    EXPECT_NEAR(s.velocity->down_mps, -0.75, 1e-6) << i;
+    if (ids[i] == kHilStateQuaternionId) {
+      EXPECT_EQ(s.time_usec, 1'700'000'000'123'456u);
+    }
   }
 }
 
