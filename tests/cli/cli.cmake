@@ -79,6 +79,8 @@ gpsemu_cli_test(fleet_shared_output 2 "output 'pty:/tmp/gpsemu' would be shared 
                 --receivers 3 --fast --duration 1)
 gpsemu_cli_test(fleet_shared_source 2 "source 'udp:5600' would be shared by all 2 receivers.*udp:[{]5600[+]i[}]"
                 --receivers 2 --source udp:5600 --output pty:/tmp/gpsemu-cli-fleet{i} --duration 1)
+gpsemu_cli_test(fleet_shared_mavlink_source 2 "source 'mavlink:udp:14550' would be shared by all 2 receivers.*mavlink:udp:[{]14550[+]i[}]"
+                --receivers 2 --source mavlink:udp:14550 --output pty:/tmp/gpsemu-cli-fleet{i} --duration 1)
 gpsemu_cli_test(fleet_duplicate_port 2 "receiver 0 [(]source 'tcp:7001'[)] and receiver 1 [(]output 'tcp:7001'[)] would both listen on tcp port 7001"
                 --receivers 3 --output tcp:{7000+i} --source tcp:{7001+i} --duration 1)
 gpsemu_cli_test(fleet_bad_template 2 "output 'file:out[{]j[}]': '[{]j[}]' is not a receiver template"
