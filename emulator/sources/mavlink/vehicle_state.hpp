@@ -1,5 +1,5 @@
 // The vehicle's true state in the three MAVLink messages a simulator sends (pure): SIM_STATE
-// (id 108, ArduPilot SITL and PX4), HIL_STATE_QUATERNION (115, PX4's ground truth) and SIMSTATE
+// (id 108, ArduPilot SITL), HIL_STATE_QUATERNION (115, PX4's ground truth) and SIMSTATE
 // (164, ArduPilot), decoded from a checked frame (mavlink_frame.hpp) into one value with units in
 // its names, and encoded back (frames for tests, the fuzz corpus and tools).
 //
