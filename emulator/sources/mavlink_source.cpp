@@ -64,7 +64,7 @@ MavlinkPoseSource::~MavlinkPoseSource() {
 
 std::string MavlinkPoseSource::counts_text() const {
   std::string used;
-  for (std::size_t i = 0; i < mavlink::kMessages.size(); ++i) {
+  for (std::size_t i = 0; i < stats_.accepted_by_message.size(); ++i) {
     if (stats_.accepted_by_message[i] == 0) continue;
     used += fmt::format("{}{} {}", used.empty() ? " (" : ", ", mavlink::kMessages[i].name, stats_.accepted_by_message[i]);
   }
@@ -134,10 +134,11 @@ void MavlinkPoseSource::handle(const transport::ReceivedMessage& m) {
 
 void MavlinkPoseSource::drain(const transport::ReceivedMessage& m) {
   while (const auto frame = reader_.next()) use(*frame, m);
-  if (!warned_no_state_ && stats_.accepted == 0 && reader_.counts().unknown_message >= 500) {
+  const std::uint64_t seen = reader_.counts().unknown_message + reader_.counts().frames;
+  if (!warned_no_state_ && stats_.accepted == 0 && seen >= 500) {
     warned_no_state_ = true;
     spdlog::warn("pose input {}: {} MAVLink frames and none of SIM_STATE, HIL_STATE_QUATERNION or SIMSTATE: ask the "
-                 "simulator to stream one (docs/pose-input.md)", socket_->describe(), reader_.counts().unknown_message);
+                 "simulator to stream one (docs/pose-input.md)", socket_->describe(), seen);
   }
 }
 
@@ -166,6 +167,10 @@ void MavlinkPoseSource::report_frames(UtcNs now) {
 }
 
 void MavlinkPoseSource::use(const mavlink::Frame& frame, const transport::ReceivedMessage& m) {
+  if (const auto boot_ms = mavlink::attitude_time_boot_ms(frame)) {
+    attitude_ = Attitude{Owner{m.sender, frame.system_id}, *boot_ms, m.arrival};
+    return;
+  }
   const mavlink::StateDecodeResult decoded = mavlink::decode_state(frame);
   if (const auto* why = std::get_if<PoseReject>(&decoded)) return reject(*why, m);
   const auto& state = std::get<mavlink::VehicleState>(decoded);
@@ -202,6 +207,12 @@ void MavlinkPoseSource::use(const mavlink::Frame& frame, const transport::Receiv
   if (state.velocity) velocity = Enu{state.velocity->east_mps, state.velocity->north_mps, -state.velocity->down_mps};
   std::optional<double> sender_time_s;
   if (state.time_usec) sender_time_s = static_cast<double>(*state.time_usec) * 1e-6;
+  // SIMSTATE has no time of its own: ArduPilot sends it right after an ATTITUDE, whose time_boot_ms
+  // then times it (once), so speed from the track is right however bunched the arrivals are.
+  if (!sender_time_s && attitude_ && attitude_->from == sender && m.arrival - attitude_->arrival <= kAttitudeFreshness) {
+    sender_time_s = attitude_->time_boot_ms * 1e-3;
+    attitude_.reset();
+  }
   const TimedPose timed{m.arrival, sender_time_s, frame_.to_enu(where), velocity, state.yaw_deg,
                         Tilt{state.pitch_deg, state.roll_deg}};
   switch (history_.push(timed)) {

@@ -8,7 +8,9 @@
 //   cut by a datagram's end is dropped); `mavlink:tcp:HOST:PORT` connects (SITL's 5760) and
 //   reconnects after a drop, frames may span reads.
 // - Time base: arrival time on CLOCK_REALTIME, as JSON poses (UDP: the kernel's time stamp).
-//   HIL_STATE_QUATERNION's time_usec plays the role of a JSON pose's `t` (reordering, track speed).
+//   HIL_STATE_QUATERNION's time_usec plays the role of a JSON pose's `t` (reordering, track speed);
+//   a SIMSTATE's is the time_boot_ms of the ATTITUDE ArduPilot sends just before it (when one came
+//   from the same system within kAttitudeFreshness), so bursty links do not make its track speed wild.
 // - One vehicle: the first system (its MAVLink system id, from one UDP sender or TCP connection)
 //   that sends a state owns the stream; other systems' states are dropped (other_sender) until the
 //   owner has been silent for the pose timeout. Of the three messages, the most complete one the
@@ -21,6 +23,7 @@
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -96,6 +99,15 @@ class MavlinkPoseSource final : public PoseSource {
   std::string owner_name_;
   UtcNs owner_last_{};
   int owner_best_rank_ = 0;  ///< the most complete message the owner has sent (3 SIM_STATE .. 1 SIMSTATE)
+  /// The last ATTITUDE not yet used to time a state: who sent it, its time_boot_ms, its arrival.
+  struct Attitude {
+    Owner from;
+    std::uint32_t time_boot_ms = 0;
+    UtcNs arrival{};
+  };
+  std::optional<Attitude> attitude_;
+  /// An ATTITUDE times the state that arrives within this after it (sent in the same tick).
+  static constexpr std::chrono::milliseconds kAttitudeFreshness{100};
   std::array<transport::LogLimit, kPoseRejectCount> reject_log_;
   std::array<std::uint64_t, kPoseRejectCount> unreported_{};
   static constexpr std::size_t kFrameKinds = 6;  ///< bad_crc .. partial_frame, garbage

@@ -39,6 +39,8 @@ inline constexpr std::size_t kMaxFrameBytes = kHeaderV2Bytes + kMaxPayloadBytes 
 inline constexpr std::uint32_t kSimStateId = 108;            ///< SIM_STATE (common)
 inline constexpr std::uint32_t kHilStateQuaternionId = 115;  ///< HIL_STATE_QUATERNION (common)
 inline constexpr std::uint32_t kSimstateId = 164;            ///< SIMSTATE (ardupilotmega)
+/// ATTITUDE (common): read for its time_boot_ms, the sender time of the SIMSTATE sent with it.
+inline constexpr std::uint32_t kAttitudeId = 30;
 
 /// What the reader knows of a message: its CRC_EXTRA and payload lengths (bytes).
 struct MessageInfo {
@@ -49,12 +51,14 @@ struct MessageInfo {
   std::uint8_t full_length = 0;  ///< with extension fields: MAVLink 2's longest payload
 };
 
-/// SIM_STATE, HIL_STATE_QUATERNION, SIMSTATE. CRC_EXTRA computed from the XML definitions with the
-/// generator's rule (the name, then each base field's type and name in wire order).
-inline constexpr std::array<MessageInfo, 3> kMessages{{
+/// SIM_STATE, HIL_STATE_QUATERNION, SIMSTATE (the states, in this order), ATTITUDE. CRC_EXTRA
+/// computed from the XML definitions with the generator's rule (the name, then each base field's
+/// type and name in wire order).
+inline constexpr std::array<MessageInfo, 4> kMessages{{
     {kSimStateId, "SIM_STATE", 32, 84, 92},
     {kHilStateQuaternionId, "HIL_STATE_QUATERNION", 4, 64, 64},
     {kSimstateId, "SIMSTATE", 154, 44, 44},
+    {kAttitudeId, "ATTITUDE", 39, 28, 28},
 }};
 
 /// The entry of kMessages for `id`, or nothing.
@@ -78,7 +82,7 @@ struct Frame {
 
 /// What the reader skipped, by reason (running totals).
 struct FrameCounts {
-  std::uint64_t frames = 0;             ///< checked frames of known messages returned
+  std::uint64_t frames = 0;             ///< checked frames of known messages returned (ATTITUDE too)
   std::uint64_t unknown_message = 0;    ///< well-formed frames of other messages, skipped
   std::uint64_t bad_crc = 0;            ///< frames of known messages whose CRC did not match
   std::uint64_t bad_length = 0;         ///< a known message with a length it cannot have

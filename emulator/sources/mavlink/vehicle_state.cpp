@@ -89,6 +89,11 @@ std::array<double, 4> quaternion_of_euler(const Euler& a) {
           cr * cp * sy - sr * sp * cy};
 }
 
+std::optional<std::uint32_t> attitude_time_boot_ms(const Frame& frame) {
+  if (frame.message_id != kAttitudeId) return std::nullopt;
+  return get<std::uint32_t>(frame, 0);
+}
+
 StateDecodeResult decode_state(const Frame& f) {
   VehicleState s;
   s.message_id = f.message_id;

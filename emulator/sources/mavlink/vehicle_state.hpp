@@ -59,6 +59,9 @@ using StateDecodeResult = std::variant<VehicleState, PoseReject>;
 /// a simulator without a position yet).
 [[nodiscard]] StateDecodeResult decode_state(const Frame& frame);
 
+/// An ATTITUDE frame's time_boot_ms (milliseconds since the autopilot booted), or nothing for another frame.
+[[nodiscard]] std::optional<std::uint32_t> attitude_time_boot_ms(const Frame& frame);
+
 /// Euler angles (degrees; yaw in [0, 360)) of a unit quaternion w, x, y, z (NED body to earth).
 struct Euler {
   double roll_deg = 0.0;

@@ -1,6 +1,7 @@
 // A real ArduPilot SITL MAVLink stream (tests/data/mavlink/ardupilot-sitl-quadplane.tlog, with its
 // source and licence in the README beside it) through our frame reader: every SIMSTATE checks with
-// CRC_EXTRA 154, every other message is skipped by its length, nothing is garbage; the .tlog's
+// CRC_EXTRA 154 and every ATTITUDE with 39, every other message is skipped by its length, nothing
+// is garbage; the .tlog's
 // time stamps between the frames are skipped as garbage and the same SIMSTATEs found; the truth
 // decoded lies within a metre and a few degrees of the autopilot's own GLOBAL_POSITION_INT.
 #include <gtest/gtest.h>
@@ -71,23 +72,25 @@ TEST(MavlinkCapture, EverySimstateOfArduPilotSitlChecksAndTheOtherMessagesAreSki
   const std::vector<Record> records = records_of(read_capture());
   ASSERT_EQ(records.size(), 986u);
   Bytes frames_only;
-  std::size_t simstates = 0;
+  std::size_t simstates = 0, attitudes = 0;
   for (const Record& r : records) {
     frames_only.insert(frames_only.end(), r.frame.begin(), r.frame.end());
     if (r.id == kSimstateId) ++simstates;
+    if (r.id == kAttitudeId) ++attitudes;
   }
   EXPECT_EQ(simstates, 36u);
+  EXPECT_EQ(attitudes, 36u);
   FrameReader reader;
   const auto frames = read_all(reader, frames_only, 4096);
-  EXPECT_EQ(frames.size(), simstates);
+  EXPECT_EQ(frames.size(), simstates + attitudes);
   EXPECT_EQ(reader.counts().bad_crc, 0u);
   EXPECT_EQ(reader.counts().bad_length, 0u);
   EXPECT_EQ(reader.counts().garbage_bytes, 0u);
-  EXPECT_EQ(reader.counts().unknown_message, records.size() - simstates);
-  for (const Frame& f : frames) {
-    EXPECT_EQ(f.version, 1);
-    EXPECT_EQ(f.system_id, 1);
-    EXPECT_EQ(f.message_id, kSimstateId);
+  EXPECT_EQ(reader.counts().unknown_message, records.size() - simstates - attitudes);
+  for (std::size_t i = 0; i < frames.size(); ++i) {  // ArduPilot's EXTRA1 stream: ATTITUDE, then SIMSTATE
+    EXPECT_EQ(frames[i].version, 1);
+    EXPECT_EQ(frames[i].system_id, 1);
+    EXPECT_EQ(frames[i].message_id, i % 2 == 0 ? kAttitudeId : kSimstateId) << i;
   }
 }
 
@@ -96,7 +99,7 @@ TEST(MavlinkCapture, TheTlogTimeStampsBetweenFramesAreSkippedAsGarbage) {
   for (const std::size_t chunk : {1u, 61u, 1500u}) {
     FrameReader reader;
     const auto frames = read_all(reader, tlog, chunk);
-    EXPECT_EQ(frames.size(), 36u) << "chunks of " << chunk;
+    EXPECT_EQ(frames.size(), 72u) << "chunks of " << chunk;  // 36 ATTITUDE, 36 SIMSTATE
     EXPECT_EQ(reader.counts().bad_crc, 0u);
   }
 }

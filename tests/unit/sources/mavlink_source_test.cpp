@@ -102,6 +102,27 @@ TEST_F(MavlinkSourceTest, SimstateWithoutAltitudeHoldsAtTheOriginsAltitudeAndSpe
   EXPECT_NEAR(truth->velocity_mps.north_m, 2.0, 0.05);  // 1 m in 0.5 s
 }
 
+TEST_F(MavlinkSourceTest, SimstateIsTimedByTheAttitudeBeforeItSoBunchedArrivalsKeepTheirSpeed) {
+  // ArduPilot's EXTRA1 stream: ATTITUDE (time_boot_ms) then SIMSTATE, every 250 ms of autopilot
+  // time; a bursty link delivers three pairs within 4 ms. The track speed is 0.5 m per 250 ms.
+  make(true);
+  const auto attitude = [](std::uint32_t time_boot_ms) {
+    std::vector<std::uint8_t> p(28, 0);
+    for (int i = 0; i < 4; ++i) p[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(time_boot_ms >> (8 * i));
+    return text_of(mavlink::encode_frame(mavlink::kAttitudeId, p));
+  };
+  for (int k = 0; k < 3; ++k) {
+    send(0.002 * k, attitude(1000 + 250 * static_cast<std::uint32_t>(k)) +
+                        text_of(mavlink::encode_state(state(mavlink::kSimstateId, 0.0, 0.5 * k))));
+  }
+  source_->service();
+  EXPECT_EQ(source_->stats().accepted, 3u);
+  const auto truth = source_->truth_at(at_s(0.004));
+  ASSERT_TRUE(truth);
+  EXPECT_NEAR(truth->velocity_mps.north_m, 2.0, 0.05);
+  EXPECT_NEAR(truth->velocity_mps.east_m, 0.0, 0.05);
+}
+
 TEST_F(MavlinkSourceTest, TheMostCompleteMessageWinsOverSimstate) {
   // ArduPilot sends SIMSTATE and SIM_STATE back to back: SIM_STATE is used, SIMSTATE superseded.
   make(true);
