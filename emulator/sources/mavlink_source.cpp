@@ -215,15 +215,11 @@ void MavlinkPoseSource::use(const mavlink::Frame& frame, const transport::Receiv
   }
   const TimedPose timed{m.arrival, sender_time_s, frame_.to_enu(where), velocity, state.yaw_deg,
                         Tilt{state.pitch_deg, state.roll_deg}};
-  switch (history_.push(timed)) {
-    case PushResult::out_of_order: return reject(PoseReject::out_of_order, m);
-    case PushResult::flood: return reject(PoseReject::flood, m);
-    case PushResult::too_fast: return reject(PoseReject::too_fast, m);
-    case PushResult::restarted:
-      ++stats_.restarts;
-      spdlog::warn("pose input: MAVLink time or clock went back (simulator restarted?): pose history cleared");
-      break;
-    case PushResult::accepted: break;
+  const PushResult pushed = history_.push(timed);
+  if (const auto why = refusal_of(pushed)) return reject(*why, m);
+  if (pushed == PushResult::restarted) {
+    ++stats_.restarts;
+    spdlog::warn("pose input: MAVLink time or clock went back (simulator restarted?): pose history cleared");
   }
   ++stats_.accepted;
   ++stats_.accepted_by_message[message_index(frame.message_id)];
@@ -232,17 +228,7 @@ void MavlinkPoseSource::use(const mavlink::Frame& frame, const transport::Receiv
 
 std::optional<Truth> MavlinkPoseSource::truth_at(UtcNs t) {
   std::optional<Truth> truth = history_.sample(t);
-  const State now = truth ? State::fresh : (state_ == State::waiting ? State::waiting : State::stale);
-  if (now != state_) {
-    if (now == State::stale) {
-      spdlog::warn("pose input: no MAVLink state for {:.2f} s (timeout {} s): reporting no fix until states resume",
-                   history_.empty() ? 0.0 : seconds(t - history_.newest().time), seconds(options_.history.timeout));
-    } else {
-      spdlog::info("pose input: {} from {} at epoch {}", state_ == State::waiting ? "fix" : "states resumed: fix again",
-                   owner_name_, format_iso8601_utc(t));
-    }
-    state_ = now;
-  }
+  transitions_.note(truth.has_value(), t, history_, owner_name_);
   return truth;
 }
 

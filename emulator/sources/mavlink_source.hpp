@@ -31,6 +31,7 @@
 
 #include "emulator/model/geo.hpp"
 #include "emulator/sources/mavlink/mavlink_frame.hpp"
+#include "emulator/sources/fix_transitions.hpp"
 #include "emulator/sources/mavlink/vehicle_state.hpp"
 #include "emulator/sources/pose_history.hpp"
 #include "emulator/sources/pose_source.hpp"
@@ -81,7 +82,6 @@ class MavlinkPoseSource final : public PoseSource {
   /// Frame-level problems since the last call, logged at most once a second per kind.
   void report_frames(UtcNs now);
 
-  enum class State { waiting, fresh, stale };
   struct Owner {
     std::uint64_t sender = 0;
     std::uint8_t system_id = 0;
@@ -94,7 +94,7 @@ class MavlinkPoseSource final : public PoseSource {
   PoseHistory history_;
   mavlink::FrameReader reader_;
   MavlinkSourceStats stats_;
-  State state_ = State::waiting;
+  FixTransitions transitions_{"MAVLink state", "MAVLink states"};
   std::optional<Owner> owner_;
   std::string owner_name_;
   UtcNs owner_last_{};
