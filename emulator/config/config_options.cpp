@@ -76,7 +76,7 @@ std::vector<OptionDef> make_option_table() {
   };
   // Pose source
   scope = OptionScope::receiver;
-  add("source", "SPEC", "pose source: sim:stationary | sim:line | sim:circle | sim:waypoints:FILE | replay:FILE.csv (a recorded truth trajectory) | udp:[HOST:]PORT | tcp:[HOST:]PORT (JSON poses from a simulator; HOST default 127.0.0.1), e.g. sim:circle or "
+  add("source", "SPEC", "pose source: sim:stationary | sim:line | sim:circle | sim:waypoints:FILE | replay:FILE.csv (a recorded truth trajectory) | udp:[HOST:]PORT | tcp:[HOST:]PORT (JSON poses from a simulator; HOST default 127.0.0.1) | mavlink:udp:[HOST:]PORT | mavlink:tcp:HOST:PORT (SIM_STATE, HIL_STATE_QUATERNION or SIMSTATE from ArduPilot/PX4 SITL: listen for datagrams, or connect), e.g. sim:circle or "
       "udp:5005 (default sim:stationary)",
       [](ConfigDraft& d, V v) { d.receiver.source = v.back(); });
   add("origin", "LAT,LON,ALT", "local frame origin: degrees, degrees, metres above MSL (-10000..1000000), e.g. "

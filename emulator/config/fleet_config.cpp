@@ -72,8 +72,11 @@ std::optional<std::string> output_resource(const transport::OutputSpec& spec) {
 
 /// What a source holds, if anything (sim:, replay:FILE.csv, port 0: nothing shared).
 std::optional<std::string> source_resource(const sources::SourceSpec& spec) {
-  if (!spec.is_socket() || spec.endpoint.port == 0) return std::nullopt;
-  return fmt::format("{} port {}", spec.kind == sources::SourceKind::udp ? "udp" : "tcp", spec.endpoint.port);
+  // A mavlink:tcp source connects: several receivers may follow one simulator.
+  const bool listens = spec.is_socket() || spec.kind == sources::SourceKind::mavlink_udp;
+  if (!listens || spec.endpoint.port == 0) return std::nullopt;
+  const bool udp = spec.kind == sources::SourceKind::udp || spec.kind == sources::SourceKind::mavlink_udp;
+  return fmt::format("{} port {}", udp ? "udp" : "tcp", spec.endpoint.port);
 }
 
 /// `raw` with a template in it, for the message that asks for one.

@@ -146,7 +146,7 @@ void check_source_clock(const ReceiverSettings& receiver, const TimelineSettings
     throw std::invalid_argument(fmt::format("--clock lockstep follows a simulator's time stamps: it needs a udp: or "
                                             "tcp: source, not --source {}", spec.text));
   }
-  if (!spec.is_socket() || lockstep) return;
+  if (!spec.on_wall_clock() || lockstep) return;
   if (timeline.clock.kind != ClockKind::realtime) {
     throw std::invalid_argument(fmt::format("--source {}: a socket source runs on the wall clock (or, with --clock "
                                             "lockstep, on the simulator's); it cannot be used with --clock {}",

@@ -13,7 +13,7 @@
 
 namespace gpsemu::sources {
 
-/// `sim` applies to sim: scenarios, `socket` to udp:/tcp: sources; `first_epoch` is the time of the
+/// `sim` applies to sim: scenarios, `socket` to udp:/tcp: sources (its history options to mavlink: ones too); `first_epoch` is the time of the
 /// run's first epoch. Throws std::invalid_argument / std::runtime_error naming the source spec on
 /// failure (an unknown scenario, a missing file, a port in use).
 [[nodiscard]] std::unique_ptr<PoseSource> make_source(const SourceSpec& spec, const SimOptions& sim,

@@ -115,4 +115,15 @@ bool PoseHistory::fresh_at(UtcNs t) const {
   return n && t - at(*n).time <= options_.timeout;
 }
 
+std::optional<PoseReject> refusal_of(PushResult result) {
+  switch (result) {
+    case PushResult::out_of_order: return PoseReject::out_of_order;
+    case PushResult::flood: return PoseReject::flood;
+    case PushResult::too_fast: return PoseReject::too_fast;
+    case PushResult::accepted:
+    case PushResult::restarted: return std::nullopt;
+  }
+  return std::nullopt;
+}
+
 }  // namespace gpsemu::sources

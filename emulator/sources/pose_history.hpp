@@ -52,6 +52,9 @@ enum class PushResult {
   too_fast,      ///< refused: farther from the newest pose (within the timeout) than a vehicle can go
 };
 
+/// The reason a source counts for a pose push() refused; nothing when it was taken (accepted, restarted).
+[[nodiscard]] std::optional<PoseReject> refusal_of(PushResult result);
+
 class PoseHistory {
  public:
   /// Throws std::invalid_argument for a capacity below 2 or a non-positive timeout.

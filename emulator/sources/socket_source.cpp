@@ -169,15 +169,11 @@ void SocketPoseSource::handle_message(const transport::ReceivedMessage& m) {
                          : m.arrival;
   const TimedPose timed{time, pose.sender_time_s, to_local(pose), pose.velocity_mps, pose.yaw_deg,
                         Tilt{pose.pitch_deg, pose.roll_deg}};
-  switch (history_.push(timed)) {
-    case PushResult::out_of_order: return reject(PoseReject::out_of_order, m);
-    case PushResult::flood: return reject(PoseReject::flood, m);
-    case PushResult::too_fast: return reject(PoseReject::too_fast, m);
-    case PushResult::restarted:
-      ++stats_.restarts;
-      spdlog::warn("pose input: sender time or clock went back (simulator restarted?): pose history cleared");
-      break;
-    case PushResult::accepted: break;
+  const PushResult pushed = history_.push(timed);
+  if (const auto why = refusal_of(pushed)) return reject(*why, m);
+  if (pushed == PushResult::restarted) {
+    ++stats_.restarts;
+    spdlog::warn("pose input: sender time or clock went back (simulator restarted?): pose history cleared");
   }
   ++stats_.accepted;
   owner_last_ = m.arrival;
@@ -185,18 +181,7 @@ void SocketPoseSource::handle_message(const transport::ReceivedMessage& m) {
 
 std::optional<Truth> SocketPoseSource::truth_at(UtcNs t) {
   std::optional<Truth> truth = history_.sample(t);
-  const State now = truth ? State::fresh : (state_ == State::waiting ? State::waiting : State::stale);
-  if (now != state_) {
-    if (now == State::stale) {
-      spdlog::warn("pose input: no pose for {:.2f} s (timeout {} s): reporting no fix until poses resume",
-                   history_.empty() ? 0.0 : seconds(t - history_.newest().time), seconds(options_.history.timeout));
-    } else if (state_ == State::waiting) {
-      spdlog::info("pose input: fix from {} at epoch {}", owner_name_, format_iso8601_utc(t));
-    } else {
-      spdlog::info("pose input: poses resumed from {}: fix again at epoch {}", owner_name_, format_iso8601_utc(t));
-    }
-    state_ = now;
-  }
+  transitions_.note(truth.has_value(), t, history_, owner_name_);
   return truth;
 }
 

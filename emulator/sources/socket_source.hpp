@@ -25,6 +25,7 @@
 #include <string>
 
 #include "emulator/model/geo.hpp"
+#include "emulator/sources/fix_transitions.hpp"
 #include "emulator/sources/pose_history.hpp"
 #include "emulator/sources/pose_message.hpp"
 #include "emulator/sources/pose_source.hpp"
@@ -75,14 +76,12 @@ class SocketPoseSource final : public PoseSource {
   void note_connection(const transport::ReceivedMessage& m, std::uint64_t& total);
   [[nodiscard]] Enu to_local(const PoseMessage& pose) const;
 
-  enum class State { waiting, fresh, stale };
-
   std::unique_ptr<transport::PoseSocket> socket_;
   LocalFrame frame_;
   SocketSourceOptions options_;
   PoseHistory history_;
   SocketSourceStats stats_;
-  State state_ = State::waiting;
+  FixTransitions transitions_{"pose", "poses"};
   std::optional<std::uint64_t> owner_;  ///< sender of the history's poses
   std::string owner_name_;
   UtcNs owner_last_{};                  ///< arrival of the owner's newest accepted pose

@@ -31,6 +31,17 @@ gpsemu_cli_test(config_file_runs 0 "\\$GNRMC,120001\\.00,.*\\$GNGGA,120001\\.00"
                 ${CMAKE_CURRENT_BINARY_DIR}/good.toml --fast --duration 1 --start-time 2024-05-01T12:00:01Z)
 gpsemu_cli_test(unknown_source 2 "unknown simulator scenario 'sim:spiral'" --source sim:spiral --fast --output stdout)
 gpsemu_cli_test(missing_waypoints 2 "/nonexistent/route.csv" --source sim:waypoints:/nonexistent/route.csv --fast --output stdout)
+# --source mavlink:...: a malformed spec is one message naming it and exit status 2.
+gpsemu_cli_test(mavlink_no_transport 2 "--source mavlink:5760: a MAVLink source is mavlink:udp:.*PORT [(]listen[)] or mavlink:tcp:HOST:PORT [(]connect[)]"
+                --source mavlink:5760 --output stdout --duration 1)
+gpsemu_cli_test(mavlink_serial 2 "--source mavlink:serial:/dev/ttyACM0: a MAVLink source is" --source mavlink:serial:/dev/ttyACM0 --duration 1)
+gpsemu_cli_test(mavlink_bad_port 2 "--source mavlink:udp:70000:" --source mavlink:udp:70000 --duration 1)
+gpsemu_cli_test(mavlink_tcp_port_zero 2 "--source mavlink:tcp:127.0.0.1:0: mavlink:tcp connects to a port" --source mavlink:tcp:127.0.0.1:0 --duration 1)
+gpsemu_cli_test(mavlink_tcp_unknown_host 2 "cannot connect to tcp:no-such-host.invalid:5760: host 'no-such-host.invalid'"
+                --source mavlink:tcp:no-such-host.invalid:5760 --output stdout --duration 1)
+gpsemu_cli_test(mavlink_fast 2 "--source mavlink:udp:14550: a socket source runs on the wall clock" --source mavlink:udp:14550 --fast --duration 1)
+gpsemu_cli_test(mavlink_lockstep 2 "--clock lockstep follows a simulator's time stamps: it needs a udp: or tcp: source, not --source mavlink:udp:14550"
+                --source mavlink:udp:14550 --clock lockstep --duration 1)
 gpsemu_cli_test(bad_output_spec 2 "bogus:thing" --output bogus:thing --fast --duration 1)
 gpsemu_cli_test(pty_link_dir_missing 2 "/nonexistent/dir/gps" --output pty:/nonexistent/dir/gps --fast --duration 1)
 gpsemu_cli_test(pty_link_is_a_file 2 "not_a_link.txt" --output pty:${CMAKE_CURRENT_BINARY_DIR}/not_a_link.txt --duration 1)
@@ -75,6 +86,8 @@ gpsemu_cli_test(fleet_shared_output 2 "output 'pty:/tmp/gpsemu' would be shared 
                 --receivers 3 --fast --duration 1)
 gpsemu_cli_test(fleet_shared_source 2 "source 'udp:5600' would be shared by all 2 receivers.*udp:[{]5600[+]i[}]"
                 --receivers 2 --source udp:5600 --output pty:/tmp/gpsemu-cli-fleet{i} --duration 1)
+gpsemu_cli_test(fleet_shared_mavlink_source 2 "source 'mavlink:udp:14550' would be shared by all 2 receivers.*mavlink:udp:[{]14550[+]i[}]"
+                --receivers 2 --source mavlink:udp:14550 --output pty:/tmp/gpsemu-cli-fleet{i} --duration 1)
 gpsemu_cli_test(fleet_duplicate_port 2 "receiver 0 [(]source 'tcp:7001'[)] and receiver 1 [(]output 'tcp:7001'[)] would both listen on tcp port 7001"
                 --receivers 3 --output tcp:{7000+i} --source tcp:{7001+i} --duration 1)
 gpsemu_cli_test(fleet_bad_template 2 "output 'file:out[{]j[}]': '[{]j[}]' is not a receiver template"

@@ -3,7 +3,7 @@
 // both non-blocking behind ONE pollable file descriptor (the TCP server is posix::TcpServer, as
 // the NMEA tcp output's). A TCP client that sends no complete line for the idle timeout is closed,
 // and when every slot is taken a newcomer takes the slot of the client idle longest (idle for at
-// least the take-over time); docs/pose-input.md. They return raw messages with their arrival time and sender; decoding is
+// least the take-over time); docs/pose-input.md. A TCP client of a byte stream (MAVLink) too. They return raw messages with their arrival time and sender; decoding is
 // the caller's business.
 #pragma once
 
@@ -81,5 +81,14 @@ class PoseSocket {
 /// Listens for TCP clients. Throws std::runtime_error naming host:port when it cannot.
 [[nodiscard]] std::unique_ptr<PoseSocket> open_tcp_pose_server(const PoseEndpoint& endpoint,
                                                                const PoseSocketOptions& options = {});
+
+/// A TCP client of a byte stream (tcp_pose_client.cpp: a MAVLink port such as ArduPilot SITL's
+/// 5760): connects to `endpoint` without blocking, returns what each read() brought as one
+/// `message` (at most options.max_message_bytes; not lines), `connected` and `disconnected` events,
+/// and reconnects `retry` after a failed attempt or a dropped connection (failures are logged,
+/// once per streak). Throws std::runtime_error naming host:port when the host does not resolve.
+[[nodiscard]] std::unique_ptr<PoseSocket> open_tcp_pose_client(const PoseEndpoint& endpoint,
+                                                               const PoseSocketOptions& options = {},
+                                                               std::chrono::nanoseconds retry = std::chrono::seconds(1));
 
 }  // namespace gpsemu::transport

@@ -12,59 +12,19 @@
 #include <spdlog/spdlog.h>
 
 #include "emulator/sources/socket_source.hpp"
+#include "tests/support/scripted_pose_socket.hpp"
 
 namespace gpsemu::sources {
 namespace {
 
 using namespace std::chrono_literals;
 using Kind = transport::ReceivedMessage::Kind;
+using test::FakeSocket;
+using test::RecordingSink;
+using test::Scripted;
 
 const UtcNs kT0 = UtcNs{std::chrono::seconds(1'700'000'000)};
 UtcNs at_s(double s) { return kT0 + std::chrono::nanoseconds{std::llround(s * 1e9)}; }
-
-struct Scripted {
-  Kind kind;
-  std::string bytes;
-  UtcNs arrival;
-  std::uint64_t sender;
-  std::string name;
-};
-
-class FakeSocket final : public transport::PoseSocket {
- public:
-  explicit FakeSocket(std::deque<Scripted>* queue) : queue_(queue) {}
-  std::optional<transport::ReceivedMessage> receive() override {
-    if (queue_->empty()) return std::nullopt;
-    current_ = queue_->front();
-    queue_->pop_front();
-    transport::ReceivedMessage m;
-    m.kind = current_.kind;
-    m.bytes = current_.bytes;
-    m.arrival = current_.arrival;
-    m.sender = current_.sender;
-    m.sender_name = current_.name;
-    return m;
-  }
-  int poll_fd() const override { return -1; }
-  std::string describe() const override { return "fake:1"; }
-  std::uint16_t port() const override { return 1; }
-
- private:
-  std::deque<Scripted>* queue_;
-  Scripted current_;
-};
-
-class RecordingSink final : public spdlog::sinks::base_sink<std::mutex> {
- public:
-  std::string text;
-
- protected:
-  void sink_it_(const spdlog::details::log_msg& msg) override {
-    text.append(msg.payload.data(), msg.payload.size());
-    text += '\n';
-  }
-  void flush_() override {}
-};
 
 class SocketSourceTest : public ::testing::Test {
  protected:

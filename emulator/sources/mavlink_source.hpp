@@ -1,0 +1,125 @@
+// The mavlink: pose source: a simulator's MAVLink stream (ArduPilot SITL, PX4 SITL) carries the
+// vehicle's true state in SIM_STATE, HIL_STATE_QUATERNION or SIMSTATE (mavlink/vehicle_state.hpp);
+// each epoch reports the truth sampled from the same pose history the JSON poses use
+// (pose_history.hpp: interpolation, extrapolation up to the horizon, no fix after the timeout,
+// jumps, floods and reordering refused).
+//
+// - Input: `mavlink:udp:[HOST:]PORT` listens for datagrams (each a whole number of frames; a frame
+//   cut by a datagram's end is dropped); `mavlink:tcp:HOST:PORT` connects (SITL's 5760) and
+//   reconnects after a drop, frames may span reads.
+// - Time base: arrival time on CLOCK_REALTIME, as JSON poses (UDP: the kernel's time stamp).
+//   HIL_STATE_QUATERNION's time_usec plays the role of a JSON pose's `t` (reordering, track speed);
+//   a SIMSTATE's is the time_boot_ms of the ATTITUDE ArduPilot sends just before it (when one came
+//   from the same system within kAttitudeFreshness), so bursty links do not make its track speed wild.
+// - One vehicle: the first system (its MAVLink system id, from one UDP sender or TCP connection)
+//   that sends a state owns the stream; other systems' states are dropped (other_sender) until the
+//   owner has been silent for the pose timeout. Of the three messages, the most complete one the
+//   owner sends is used (SIM_STATE, then HIL_STATE_QUATERNION, then SIMSTATE): ArduPilot sends
+//   SIMSTATE and SIM_STATE together, and SIMSTATE carries no altitude or velocity.
+// - Bad input: frames with a bad CRC or length, signed frames, unknown incompat flags, partial
+//   frames and stray bytes are skipped and counted (mavlink_frame.hpp); states out of range are
+//   dropped by the JSON poses' reasons; every kind is logged at most once a second and listed in
+//   the summary when the source is destroyed. Frames of other messages are counted, not logged.
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "emulator/model/geo.hpp"
+#include "emulator/sources/mavlink/mavlink_frame.hpp"
+#include "emulator/sources/fix_transitions.hpp"
+#include "emulator/sources/mavlink/vehicle_state.hpp"
+#include "emulator/sources/pose_history.hpp"
+#include "emulator/sources/pose_source.hpp"
+#include "transport/input/pose_socket.hpp"
+#include "transport/log_limit.hpp"
+
+namespace gpsemu::sources {
+
+struct MavlinkSourceOptions {
+  PoseHistoryOptions history;                   ///< timeout, extrapolation horizon, capacity
+  std::size_t max_messages_per_service = 256;   ///< socket reads handled per service() call
+  bool datagrams = true;                        ///< UDP: each message ends its frames
+};
+
+/// Counters of a MAVLink pose source (the frame reader's are in frames()).
+struct MavlinkSourceStats {
+  std::uint64_t accepted = 0;                                ///< states put in the history
+  std::array<std::uint64_t, 3> accepted_by_message{};        ///< in mavlink::kMessages order
+  std::array<std::uint64_t, kPoseRejectCount> rejected{};    ///< dropped, by PoseReject
+  std::uint64_t superseded = 0;   ///< states of a less complete message than the owner also sends
+  std::uint64_t sender_changes = 0;
+  std::uint64_t restarts = 0;
+  std::uint64_t connections = 0;     ///< TCP connections made
+  std::uint64_t disconnections = 0;  ///< TCP connections lost
+};
+
+class MavlinkPoseSource final : public PoseSource {
+ public:
+  MavlinkPoseSource(std::unique_ptr<transport::PoseSocket> socket, const LocalFrame& frame,
+                    const MavlinkSourceOptions& options);
+  ~MavlinkPoseSource() override;  ///< logs the counters
+
+  std::optional<Truth> truth_at(UtcNs t) override;
+  void service() override;
+  int poll_fd() const override { return socket_->poll_fd(); }
+  std::string describe() const override;
+
+  [[nodiscard]] const MavlinkSourceStats& stats() const { return stats_; }
+  [[nodiscard]] const mavlink::FrameCounts& frames() const { return reader_.counts(); }
+  /// "SIM_STATE 120, ...; dropped ...; frames: ..." (the summary's counts).
+  [[nodiscard]] std::string counts_text() const;
+
+ private:
+  void handle(const transport::ReceivedMessage& m);
+  void drain(const transport::ReceivedMessage& m);
+  void use(const mavlink::Frame& frame, const transport::ReceivedMessage& m);
+  void reject(PoseReject reason, const transport::ReceivedMessage& m, std::uint64_t count = 1);
+  /// Frame-level problems since the last call, logged at most once a second per kind.
+  void report_frames(UtcNs now);
+
+  struct Owner {
+    std::uint64_t sender = 0;
+    std::uint8_t system_id = 0;
+    bool operator==(const Owner&) const = default;
+  };
+
+  std::unique_ptr<transport::PoseSocket> socket_;
+  LocalFrame frame_;
+  MavlinkSourceOptions options_;
+  PoseHistory history_;
+  mavlink::FrameReader reader_;
+  MavlinkSourceStats stats_;
+  FixTransitions transitions_{"MAVLink state", "MAVLink states"};
+  std::optional<Owner> owner_;
+  std::string owner_name_;
+  UtcNs owner_last_{};
+  int owner_best_rank_ = 0;  ///< the most complete message the owner has sent (3 SIM_STATE .. 1 SIMSTATE)
+  /// The last ATTITUDE not yet used to time a state: who sent it, its time_boot_ms, its arrival.
+  struct Attitude {
+    Owner from;
+    std::uint32_t time_boot_ms = 0;
+    UtcNs arrival{};
+  };
+  std::optional<Attitude> attitude_;
+  /// An ATTITUDE times the state that arrives within this after it (sent in the same tick).
+  static constexpr std::chrono::milliseconds kAttitudeFreshness{100};
+  std::array<transport::LogLimit, kPoseRejectCount> reject_log_;
+  std::array<std::uint64_t, kPoseRejectCount> unreported_{};
+  static constexpr std::size_t kFrameKinds = 6;  ///< bad_crc .. partial_frame, garbage
+  std::array<transport::LogLimit, kFrameKinds> frame_log_;
+  std::array<std::uint64_t, kFrameKinds> frame_reported_{};
+  bool warned_no_state_ = false;
+};
+
+/// Builds a source on `endpoint`: a UDP receiver (`udp`) or a TCP client that connects to it.
+/// Throws std::runtime_error naming host:port when the socket cannot be bound or the host resolved.
+[[nodiscard]] std::unique_ptr<PoseSource> make_mavlink_source(bool udp, const transport::PoseEndpoint& endpoint,
+                                                              const LocalFrame& frame,
+                                                              const PoseHistoryOptions& history);
+
+}  // namespace gpsemu::sources
