@@ -98,6 +98,8 @@ class SystemClockIo final : public ClockIo {
   /// Waits that returned because the deadline came or input arrived (a measure of wake-ups: one an
   /// epoch when no input arrives).
   [[nodiscard]] std::uint64_t wakeups() const { return waiter_.wakeups(); }
+  /// Waits not made: their deadline had passed already.
+  [[nodiscard]] std::uint64_t waits_already_due() const { return waiter_.already_due(); }
 
  private:
   posix::Waiter waiter_;

@@ -163,6 +163,7 @@ int Runner::run(const std::atomic<bool>& stop) {
   stats_.epochs_without_fix = 0;
   for (std::size_t i = 0; i < channels_->size(); ++i) stats_.epochs_without_fix += channels_->channel(i).stats().epochs_without_fix;
   stats_.wakeups = io_->wakeups();
+  stats_.waits_already_due = io_->waits_already_due();
   if (pps_) {
     stats_.pps_pulses = pps_->stats().pulses;
     stats_.pps_pulses_late_skipped = pps_->stats().pulses_late_skipped;

@@ -31,6 +31,7 @@ struct RunStats {
   std::uint64_t epochs_without_fix = 0;   ///< over all receivers
   /// Wake-ups while waiting: one an epoch (plus one a PPS edge) when no input arrives.
   std::uint64_t wakeups = 0;
+  std::uint64_t waits_already_due = 0;  ///< deadlines that had passed when the loop came to wait for them
   std::uint64_t pps_pulses = 0;               ///< leading edges driven
   std::uint64_t pps_pulses_late_skipped = 0;  ///< pulses not sent: their second had passed by over half the width
   /// Worst time from a leading edge's whole second to the return of the call that drove it.

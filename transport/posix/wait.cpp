@@ -59,7 +59,11 @@ bool Waiter::read_timer(const std::atomic<bool>& stop) {
 }
 
 void Waiter::sleep_until(WallTime deadline, const std::atomic<bool>& stop, const std::function<bool()>* woken) {
-  if (stop.load() || wall_clock_now() >= deadline) return;
+  if (stop.load()) return;
+  if (wall_clock_now() >= deadline) {
+    ++already_due_;  // no wait, no wake-up
+    return;
+  }
   const std::int64_t ns = deadline.time_since_epoch().count();
   itimerspec when{};
   when.it_value = {static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};

@@ -45,6 +45,9 @@ class Waiter {
   /// Waits that returned because the deadline came or input arrived (one an epoch when no input
   /// arrives).
   [[nodiscard]] std::uint64_t wakeups() const { return wakeups_; }
+  /// Waits not made: the deadline had already passed when the wait was asked for (a slow start-up,
+  /// a busy machine), so no wake-up either.
+  [[nodiscard]] std::uint64_t already_due() const { return already_due_; }
 
  private:
   /// Rebuilds the poll list: [timer] + the lister's descriptors (servicing may close or open one).
@@ -60,6 +63,7 @@ class Waiter {
   std::vector<int> fd_list_;       ///< reused: no allocation per wait
   std::vector<pollfd> poll_list_;  ///< reused
   std::uint64_t wakeups_ = 0;
+  std::uint64_t already_due_ = 0;
 };
 
 }  // namespace gpsemu::posix
