@@ -115,11 +115,15 @@ INSTANTIATE_TEST_SUITE_P(Rates, RoundTrip,
                                   "_seed" + std::to_string(info.param.seed);
                          });
 
+// The subcommands fit every noise model: seconds in a Release build, a minute or more under the
+// sanitizers beside other CPU-bound tests (tests/CMakeLists.txt), so their limit is generous.
+constexpr std::chrono::minutes kFitTimeout{4};
+
 TEST(CalibrateCommand, WritesALoadableConfigAndReportsWhatItSkipped) {
   const test::MessyLog made = test::make_log(1.0, 400, 5, true);
   const std::string log = temp_path("messy.nmea"), config = temp_path("messy.toml");
   write_file(log, made.text);
-  const auto r = test::run({GPSEMU_BINARY, "calibrate", log, "-o", config, "--runs", "2"});
+  const auto r = test::run({GPSEMU_BINARY, "calibrate", log, "-o", config, "--runs", "2"}, kFitTimeout);
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find(std::to_string(made.no_fix) + " GGA without fix"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find(std::to_string(made.bad_checksum) + " bad checksums"), std::string::npos) << r.out;
@@ -140,7 +144,7 @@ TEST(CalibrateCommand, WritesALoadableConfigAndReportsWhatItSkipped) {
     EXPECT_NE(out.find(",N,"), std::string::npos) << model;  // a position near 47.5 N
   }
   // Without -o the config goes to stdout, the summary to stderr.
-  const auto s = test::run({GPSEMU_BINARY, "calibrate", log, "--runs", "1"});
+  const auto s = test::run({GPSEMU_BINARY, "calibrate", log, "--runs", "1"}, kFitTimeout);
   ASSERT_EQ(s.status, 0) << s.err;
   EXPECT_EQ(s.out.rfind("# gpsemu calibrate", 0), 0u) << s.out;
   EXPECT_NE(s.err.find("cgrw statistics"), std::string::npos) << s.err;
@@ -151,7 +155,7 @@ TEST(CalibrateCommand, WritesALoadableConfigAndReportsWhatItSkipped) {
 TEST(CompareCommand, PrintsRealAndEveryModelSideBySide) {
   const std::string log = temp_path("compare.nmea"), csv = temp_path("compare.csv");
   write_file(log, test::make_log(1.0, 400, 5, true).text);
-  const auto r = test::run({GPSEMU_BINARY, "compare", log, "--runs", "2", "--csv", csv});
+  const auto r = test::run({GPSEMU_BINARY, "compare", log, "--runs", "2", "--csv", csv}, kFitTimeout);
   ASSERT_EQ(r.status, 0) << r.err;
   for (const char* text : {"real", "cgrw", "chrono", "gaussian", "gauss-markov", "gauss-markov-2", "max-min (m)",
                            "std (m)", "d1 std (m)", "lag-1 acf", "lag-10 acf", "adev 1 s (m)", "adev 100 s (m)",
@@ -171,10 +175,10 @@ TEST(CompareCommand, PrintsRealAndEveryModelSideBySide) {
 TEST(CalibrateCommand, UnusableLogsExitWithStatus2) {
   const std::string log = temp_path("nofix.nmea");
   write_file(log, "$GPGGA,,,,,,0,,,,M,,M,,*66\r\n\xb5\x62 junk\r\n");
-  const auto r = test::run({GPSEMU_BINARY, "calibrate", log});
+  const auto r = test::run({GPSEMU_BINARY, "calibrate", log}, kFitTimeout);
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("usable fixes"), std::string::npos) << r.err;
-  const auto missing = test::run({GPSEMU_BINARY, "compare", "/nonexistent/receiver.log"});
+  const auto missing = test::run({GPSEMU_BINARY, "compare", "/nonexistent/receiver.log"}, kFitTimeout);
   EXPECT_EQ(missing.status, 2);
   EXPECT_NE(missing.err.find("/nonexistent/receiver.log"), std::string::npos) << missing.err;
   std::remove(log.c_str());
@@ -183,7 +187,7 @@ TEST(CalibrateCommand, UnusableLogsExitWithStatus2) {
 TEST(JudgeCommand, PrintsTheTableAndWritesJsonAndPlotFiles) {
   const std::string log = temp_path("judge.nmea"), json = temp_path("judge.json"), dir = temp_path("judge_plots");
   write_file(log, test::make_log(1.0, 300, 5, false).text);
-  const auto r = test::run({GPSEMU_BINARY, "judge", log, "--runs", "2", "--json", json, "--plots", dir});
+  const auto r = test::run({GPSEMU_BINARY, "judge", log, "--runs", "2", "--json", json, "--plots", dir}, kFitTimeout);
   ASSERT_EQ(r.status, 0) << r.err;
   for (const char* text : {"NIS mean", "NIS p95", "innov rho1", "pos err m", "real", "composite", "gauss-markov-2"})
     EXPECT_NE(r.out.find(text), std::string::npos) << text << "\n" << r.out;
@@ -206,12 +210,12 @@ TEST(CalibrateCommand, ADrivingLogIsRefusedUnlessDetrended) {
   const std::string log = temp_path("circle.nmea");
   write_file(log, emulate({"--source", "sim:circle", "--duration", "300", "--sentences", "GGA"}));
   for (const char* sub : {"calibrate", "compare"}) {
-    const auto r = test::run({GPSEMU_BINARY, sub, log, "--runs", "1"});
+    const auto r = test::run({GPSEMU_BINARY, sub, log, "--runs", "1"}, kFitTimeout);
     EXPECT_EQ(r.status, 2) << sub << r.out;
     EXPECT_NE(r.err.find("net displacement"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("m/s"), std::string::npos) << r.err;
   }
-  const auto d = test::run({GPSEMU_BINARY, "calibrate", log, "--runs", "1", "--detrend"});
+  const auto d = test::run({GPSEMU_BINARY, "calibrate", log, "--runs", "1", "--detrend"}, kFitTimeout);
   EXPECT_EQ(d.status, 0) << d.err;
   EXPECT_NE(d.out.find("# detrended"), std::string::npos) << d.out;
   std::remove(log.c_str());
