@@ -3,7 +3,11 @@
 // its socket in place; idle clients are closed after --control-idle-timeout, so eight silent
 // connections do not lock `gpsemu ctl` out; clients refused, closed idle and error answers are
 // logged and counted in the exit summary.
+// Each gpsemu runs in real time at 10 Hz (a receiver an operator controls; the pending fault is
+// checked before the next epoch) only as long as the checks take: a SIGTERM ends it cleanly
+// (exit 0, summary written), --duration is only a bound.
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <poll.h>
 #include <sys/socket.h>
 #include <sys/un.h>
@@ -49,7 +53,7 @@ std::string read_line(int fd, milliseconds timeout) {
 TEST(FaultsControlSocket, ASecondGpsemuOnALiveSocketIsRefusedAndTheFirstStaysReachable) {
   const auto dir = test::scratch_dir("faults", "control-taken");
   const std::string socket = (dir / "ctl.sock").string();
-  test::Process first({GPSEMU_BINARY, "--rate", "10", "--duration", "4", "--output", "file:" + (dir / "a.nmea").string(),
+  test::Process first({GPSEMU_BINARY, "--rate", "10", "--duration", "60", "--output", "file:" + (dir / "a.nmea").string(),
                        "--control", "unix:" + socket});
   ASSERT_TRUE(first.wait_for_stderr("control socket", seconds(20))) << first.stderr_text();
 
@@ -65,6 +69,7 @@ TEST(FaultsControlSocket, ASecondGpsemuOnALiveSocketIsRefusedAndTheFirstStaysRea
   EXPECT_EQ(status.status, 0) << status.out << status.err;
   EXPECT_TRUE(test::contains(status.out, R"("class":"STATUS")")) << status.out;
 
+  first.signal(SIGTERM);
   ASSERT_EQ(first.wait(seconds(20)), 0) << first.stderr_text();
   EXPECT_FALSE(std::filesystem::exists(socket)) << "the first gpsemu left its socket behind";
   std::filesystem::remove_all(dir);
@@ -73,7 +78,7 @@ TEST(FaultsControlSocket, ASecondGpsemuOnALiveSocketIsRefusedAndTheFirstStaysRea
 TEST(FaultsControlSocket, IdleClientsAreClosedSoCtlGetsInAndEveryDropIsCounted) {
   const auto dir = test::scratch_dir("faults", "control-idle");
   const std::string socket = (dir / "ctl.sock").string();
-  test::Process gpsemu({GPSEMU_BINARY, "--rate", "10", "--duration", "4", "--output", "file:" + (dir / "a.nmea").string(),
+  test::Process gpsemu({GPSEMU_BINARY, "--rate", "10", "--duration", "60", "--output", "file:" + (dir / "a.nmea").string(),
                         "--control", "unix:" + socket, "--control-idle-timeout", "0.5"});
   ASSERT_TRUE(gpsemu.wait_for_stderr("control socket", seconds(20))) << gpsemu.stderr_text();
 
@@ -92,6 +97,7 @@ TEST(FaultsControlSocket, IdleClientsAreClosedSoCtlGetsInAndEveryDropIsCounted) 
   EXPECT_EQ(bad.status, 1) << bad.out << bad.err;
   for (const int fd : idle) ::close(fd);
 
+  gpsemu.signal(SIGTERM);
   ASSERT_EQ(gpsemu.wait(seconds(20)), 0) << gpsemu.stderr_text();
   const std::string err = gpsemu.stderr_text();
   EXPECT_TRUE(test::contains(err, "1 client(s) refused")) << err;
@@ -109,7 +115,7 @@ TEST(FaultsControlSocket, CtlHasAFlagForEveryParameterAndItsHelpNamesPathAndKind
 
   const auto dir = test::scratch_dir("faults", "control-flags");
   const std::string socket = (dir / "ctl.sock").string();
-  test::Process gpsemu({GPSEMU_BINARY, "--rate", "10", "--duration", "3", "--output", "file:" + (dir / "a.nmea").string(),
+  test::Process gpsemu({GPSEMU_BINARY, "--rate", "10", "--duration", "60", "--output", "file:" + (dir / "a.nmea").string(),
                         "--control", "unix:" + socket});
   ASSERT_TRUE(gpsemu.wait_for_stderr("control socket", seconds(20))) << gpsemu.stderr_text();
   const test::Result spoof = test::run({GPSEMU_BINARY, "ctl", socket, "spoof", "--speed", "2", "--bearing", "45"});
@@ -123,6 +129,7 @@ TEST(FaultsControlSocket, CtlHasAFlagForEveryParameterAndItsHelpNamesPathAndKind
   const test::Result extra = test::run({GPSEMU_BINARY, "ctl", socket, "status", "now"});
   EXPECT_EQ(extra.status, 2) << extra.out;
   EXPECT_TRUE(test::contains(extra.err, "unexpected word 'now'")) << extra.err;
+  gpsemu.signal(SIGTERM);
   ASSERT_EQ(gpsemu.wait(seconds(20)), 0) << gpsemu.stderr_text();
   std::filesystem::remove_all(dir);
 }
