@@ -2,12 +2,13 @@
 # installed Python module imported from the prefix), and the Python module's tests (pytest; its exit
 # status 5, "no tests collected", fails like any other).
 # In a GPSEMU_SANITIZE build the installed libraries are instrumented, so the consumer links the
-# sanitizer runtimes too.
+# sanitizer runtimes too, with the compiler that built them.
 add_test(NAME library.package_consumer
          COMMAND ${CMAKE_COMMAND} -DBUILD_DIR=${CMAKE_BINARY_DIR}
                  -DCONSUMER_SOURCE=${CMAKE_CURRENT_SOURCE_DIR}/package_consumer
                  -DWORK_DIR=${CMAKE_CURRENT_BINARY_DIR}/package_consumer
                  -DGENERATOR=${CMAKE_GENERATOR}
+                 -DCONSUMER_CXX=${CMAKE_CXX_COMPILER}
                  "-DCONSUMER_LINK_FLAGS=$<$<BOOL:${GPSEMU_SANITIZE}>:-fsanitize=address,undefined>"
                  "-DPYTHON=$<$<TARGET_EXISTS:gpsemu_python>:${GPSEMU_PYTHON_EXECUTABLE}>"
                  -P ${CMAKE_CURRENT_SOURCE_DIR}/package_consumer/run.cmake)

@@ -1,7 +1,7 @@
 // `gpsemu replay --speed N` on the real receivers' logs (tests/data/real). Every epoch comes
 // out, in order, content unchanged (the output is exactly the log's valid sentences, found here
-// by a scan of our own), each epoch's spacing is the log's spacing / N (100 ms at 1 Hz and speed
-// 10; the 11-minute F9P log goes at speed 40, 25 ms apart, to keep the suite short). The
+// by a scan of our own), each epoch's spacing is the log's spacing / N (the logs go at speed 40,
+// 25 ms apart at 1 Hz, to keep the suite short: the 11-minute F9P log in 16 s). The
 // spacing figures are reported (mean, 95th percentile, worst, share within +-5 ms); asserted are the
 // median spacing error and the span of the arrivals (the machine running the tests may be shared
 // and busy: the worst spacing is a measurement, not a test).
@@ -159,8 +159,10 @@ void replay_real_log(const std::string& name, std::size_t expected_epochs, doubl
   EXPECT_NEAR(span_s, log_span_s / speed, 0.01 * log_span_s + 0.05) << figures;
 }
 
-TEST(ReplayRealLogs, QuectelL76kAtSpeed10EveryEpochUnchangedAndOnTime) { replay_real_log("quectel-l76k-dual.log", 130); }
-TEST(ReplayRealLogs, TelitHe910AtSpeed10EveryEpochUnchangedAndOnTime) { replay_real_log("telit-he910.log", 224); }
+TEST(ReplayRealLogs, QuectelL76kAtSpeed40EveryEpochUnchangedAndOnTime) {
+  replay_real_log("quectel-l76k-dual.log", 130, 40.0);
+}
+TEST(ReplayRealLogs, TelitHe910AtSpeed40EveryEpochUnchangedAndOnTime) { replay_real_log("telit-he910.log", 224, 40.0); }
 TEST(ReplayRealLogs, UbloxZedF9pAtSpeed40EveryEpochUnchangedAndOnTime) {
   replay_real_log("ublox-zed-f9p_hpg1.11.log", 655, 40.0);
 }

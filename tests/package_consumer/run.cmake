@@ -1,7 +1,9 @@
-# cmake -DBUILD_DIR=... -DCONSUMER_SOURCE=... -DWORK_DIR=... -DGENERATOR=... [-DCONSUMER_LINK_FLAGS=...]
+# cmake -DBUILD_DIR=... -DCONSUMER_SOURCE=... -DWORK_DIR=... -DGENERATOR=... [-DCONSUMER_CXX=...]
+#       [-DCONSUMER_LINK_FLAGS=...]
 #       [-DPYTHON=python3] -P run.cmake
 # Installs the gpsemu build into WORK_DIR/prefix, then configures, builds and runs the example
 # consumer against it with find_package(gpsemu) (CMAKE_PREFIX_PATH = that prefix only).
+# CONSUMER_CXX: the C++ compiler of the gpsemu build (an instrumented library needs its own runtime).
 # CONSUMER_LINK_FLAGS: linker flags for the consumer (the sanitizer runtimes, for an instrumented build).
 # PYTHON (when the Python module is built): imports the installed module from
 # WORK_DIR/prefix/lib/python3/dist-packages with PYTHONPATH set to it, and checks its version.
@@ -26,9 +28,13 @@ file(GLOB config ${WORK_DIR}/prefix/lib/cmake/gpsemu/gpsemuConfig.cmake ${WORK_D
 if(NOT config)
   message(FATAL_ERROR "not installed: lib/[<multiarch>/]cmake/gpsemu/gpsemuConfig.cmake")
 endif()
+set(consumer_cxx)
+if(CONSUMER_CXX)
+  set(consumer_cxx -DCMAKE_CXX_COMPILER=${CONSUMER_CXX})
+endif()
 step(${CMAKE_COMMAND} -S ${CONSUMER_SOURCE} -B ${WORK_DIR}/build -G ${GENERATOR}
      -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DCMAKE_FIND_PACKAGE_NO_PACKAGE_REGISTRY=ON
-     "-DCMAKE_EXE_LINKER_FLAGS=${CONSUMER_LINK_FLAGS}")
+     "-DCMAKE_EXE_LINKER_FLAGS=${CONSUMER_LINK_FLAGS}" ${consumer_cxx})
 step(${CMAKE_COMMAND} --build ${WORK_DIR}/build -j 1)
 step(${WORK_DIR}/build/consumer)
 message("${step_output}")
