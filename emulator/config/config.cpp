@@ -202,7 +202,10 @@ Config build(const toml::table* file, const std::string& file_name, const RawOpt
   ConfigDraft config;
   std::set<std::string> given_on_command_line;
   for (const auto& [name, values] : command_line) given_on_command_line.insert(name);
-  if (const profiles::Profile* profile = named_profile(file, file_name, command_line)) apply_profile(config, *profile);
+  if (const profiles::Profile* profile = named_profile(file, file_name, command_line)) {
+    apply_profile(config, *profile);
+    config.process.profile = std::string(profile->name);
+  }
 
   if (file) {
     for (const auto& [key, node] : *file) {

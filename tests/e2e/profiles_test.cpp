@@ -81,6 +81,8 @@ TEST(Profiles, TheF9pProfileRunsAndMatchesTheF9pLog) {
   const auto by_name = test::run_fast(GPSEMU_BINARY, {"--profile", "ublox-zed-f9p", "--sentences", "RMC,GGA", "--seed", "7",
                                                        "--duration", std::to_string(8 * w)});
   ASSERT_EQ(by_name.status, 0) << by_name.err;
+  const auto logged = test::run_fast(GPSEMU_BINARY, {"--profile", "ublox-zed-f9p", "--duration", "1", "--log-level", "info"});
+  EXPECT_TRUE(test::contains(logged.err, "profile ublox-zed-f9p: u-blox ZED-F9P")) << logged.err;
   const auto by_file = test::run_fast(GPSEMU_BINARY, {"--config", (kProfiles / "ublox-zed-f9p.toml").string(), "--sentences",
                                                        "RMC,GGA", "--seed", "7", "--duration", std::to_string(8 * w)});
   ASSERT_EQ(by_file.status, 0) << by_file.err;

@@ -54,6 +54,8 @@ TEST(Profiles, EachProfileLoadsAndSetsItsRateNoiseAndReceiverModel) {
   }
   const Config f9p = build_config(std::nullopt, {{"profile", {"ublox-zed-f9p"}}});
   EXPECT_EQ(f9p.receiver().ublox_model, ubx::ReceiverModel::ublox_f9p);
+  EXPECT_EQ(f9p.process.profile, std::optional<std::string>("ublox-zed-f9p"));
+  EXPECT_FALSE(build_config(std::nullopt, {}).process.profile.has_value());
 }
 
 // A profile's own text is a config file: loaded with --config it is the same as --profile.
