@@ -13,6 +13,7 @@
 
 #include "emulator/config/config.hpp"
 #include "emulator/config/config_values.hpp"
+#include "emulator/config/profiles.hpp"
 #include "emulator/config/validate.hpp"
 #include "emulator/pipeline/runner.hpp"
 #include "emulator/app/command_line.hpp"
@@ -108,6 +109,11 @@ int main(int argc, char** argv) {
   std::unique_ptr<gpsemu::Runner> runner;
   try {
     gpsemu::check_emulator_run(config);
+    if (config.process.profile) {
+      const auto s = gpsemu::profiles::summary(gpsemu::profiles::get(*config.process.profile));
+      spdlog::info("profile {}: {}, calibrated from {} (the config file's keys and the flags override it)", s.name,
+                   s.receiver, s.log);
+    }
     runner = std::make_unique<gpsemu::Runner>(config);
   } catch (const std::exception& e) {
     fail(e.what());

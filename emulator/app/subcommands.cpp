@@ -14,6 +14,7 @@ std::vector<Subcommand> add_subcommands(CLI::App& app) {
   all.push_back(add_ctl_command(app));
   all.push_back(add_judge_command(app));
   all.push_back(add_ports_command(app));
+  all.push_back(add_profiles_command(app));
   all.push_back(add_replay_command(app));
   return all;
 }

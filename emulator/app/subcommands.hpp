@@ -21,6 +21,8 @@ struct Subcommand {
 
 /// `gpsemu ctl PATH ...`: the control socket's client (ctl_command.cpp).
 [[nodiscard]] Subcommand add_ctl_command(CLI::App& app);
+/// `gpsemu profiles [NAME]`: the receiver profiles (profiles_command.cpp).
+[[nodiscard]] Subcommand add_profiles_command(CLI::App& app);
 
 /// Adds every subcommand to `app`. Add a line here for a new one.
 [[nodiscard]] std::vector<Subcommand> add_subcommands(CLI::App& app);

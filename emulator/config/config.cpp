@@ -16,6 +16,7 @@
 #include "emulator/config/config_options.hpp"
 #include "emulator/config/config_values.hpp"
 #include "emulator/config/fleet_config.hpp"
+#include "emulator/config/profiles.hpp"
 #include "emulator/config/validate.hpp"
 #include "transport/posix/errors.hpp"
 #include "transport/posix/fd.hpp"
@@ -150,12 +151,61 @@ Config resolve(ConfigDraft& draft) {
   return config;
 }
 
-/// Defaults, then the config file's keys (`file`, named `file_name` in messages) except those the
-/// command line gives, then the command line's, then the derived settings.
+/// The receiver profile named on the command line (--profile) or else in the file (`profile = "NAME"`),
+/// or nullptr. Throws ConfigError for an unknown name.
+const profiles::Profile* named_profile(const toml::table* file, const std::string& file_name,
+                                       const RawOptions& command_line) {
+  try {
+    for (const auto& [name, values] : command_line) {
+      if (name == "profile") return &profiles::get(values.back());
+    }
+  } catch (const std::exception& e) {
+    throw ConfigError(fmt::format("--profile: {}", e.what()));
+  }
+  const toml::node* node = file ? file->get("profile") : nullptr;
+  if (!node || !node->is_string()) return nullptr;  // a [profile] table describes the file itself
+  try {
+    return &profiles::get(*node->value<std::string>());
+  } catch (const std::exception& e) {
+    throw ConfigError(fmt::format("config file {}:{}: key 'profile': {}", file_name, node->source().begin.line, e.what()));
+  }
+}
+
+/// A profile's keys onto `config` (before the file's and the command line's, which override them).
+void apply_profile(ConfigDraft& config, const profiles::Profile& profile) {
+  const std::string where = fmt::format("profile {}", profile.name);
+  toml::table keys;
+  try {
+    keys = toml::parse(profile.text, where);
+  } catch (const toml::parse_error& e) {
+    throw ConfigError(fmt::format("{}:{}: {}", where, e.source().begin.line, e.description()));
+  }
+  for (const auto& [key, node] : keys) {
+    const std::string name{key.str()};
+    if (name == "profile") continue;  // what `gpsemu profiles` lists
+    const OptionDef* option = find_option(name);
+    try {
+      if (!option || (option->scope != OptionScope::receiver && option->scope != OptionScope::timeline)) {
+        throw std::invalid_argument("not a receiver or timeline option");
+      }
+      option->apply(config, toml_to_strings(node, name));
+    } catch (const std::exception& e) {
+      throw ConfigError(fmt::format("{}:{}: key '{}': {}", where, node.source().begin.line, name, e.what()));
+    }
+  }
+}
+
+/// Defaults, then the receiver profile's keys (--profile or the file's `profile`), then the config
+/// file's keys (`file`, named `file_name` in messages) except those the command line gives, then the
+/// command line's, then the derived settings.
 Config build(const toml::table* file, const std::string& file_name, const RawOptions& command_line) {
   ConfigDraft config;
   std::set<std::string> given_on_command_line;
   for (const auto& [name, values] : command_line) given_on_command_line.insert(name);
+  if (const profiles::Profile* profile = named_profile(file, file_name, command_line)) {
+    apply_profile(config, *profile);
+    config.process.profile = std::string(profile->name);
+  }
 
   if (file) {
     for (const auto& [key, node] : *file) {
@@ -165,6 +215,7 @@ Config build(const toml::table* file, const std::string& file_name, const RawOpt
         config.receiver_tables = parse_receiver_tables(file_name, node);
         continue;
       }
+      if (name == "profile" && node.is_table()) continue;  // a profile's own description (profiles.hpp)
       if (name == "fault") {  // [[fault]] tables: the scenario (docs/faults.md)
         for (faults::Fault& f : parse_fault_tables("config file " + file_name, node)) config.timeline.faults.push_back(std::move(f));
         continue;

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "emulator/config/config_values.hpp"
+#include "emulator/config/profiles.hpp"
 #include "emulator/pipeline/control_socket.hpp"
 #include "emulator/sources/pose_message.hpp"
 #include "transport/pps.hpp"
@@ -149,6 +150,11 @@ std::vector<OptionDef> make_option_table() {
   add("retime", "", "replay: rewrite time and date fields to the present (or --start-time) and recompute "
       "checksums, so clients see a live receiver (default off: bytes sent unchanged)",
       [](ConfigDraft& d, V v) { d.replay.retime = parse_bool("retime", v.back()); });
+  // A receiver profile: its keys are applied first (config.cpp), so every other option overrides them.
+  scope = OptionScope::process;
+  add("profile", "NAME", "a real receiver's calibrated noise, state and model by name, e.g. ublox-zed-f9p "
+      "(`gpsemu profiles` lists them); the config file's keys and the flags override its own (default none)",
+      [](ConfigDraft&, V v) { (void)profiles::get(v.back()); });
   // Noise
   scope = OptionScope::receiver;
   add("noise", "MODEL", "noise model: cgrw | chrono | gaussian | gauss-markov | composite (smooth wander + white jitter + "

@@ -36,6 +36,7 @@ struct ProcessSettings {
   posix::RealtimeSettings realtime;  ///< SCHED_FIFO priority, mlockall, timer slack (realtime.hpp)
   std::optional<std::string> control_path;  ///< --control unix:PATH: the live fault socket (docs/faults.md)
   double control_idle_timeout_s = 30.0;     ///< a control client silent this long is closed (seconds; 0: never)
+  std::optional<std::string> profile;       ///< --profile NAME: the receiver profile applied first (config/profiles.hpp)
 };
 
 /// The one epoch timeline all receivers of a process share, and the PPS line that marks it.

@@ -28,6 +28,7 @@ std::string names_of(OptionScope scope) {
 
 const char* why_not_per_receiver(std::string_view name) {
   if (name == "config") return "a [[receiver]] table holds option keys only";
+  if (name == "profile") return "a profile sets the rate, which all receivers share";
   const OptionDef* option = find_option(name);
   if (!option) return nullptr;
   switch (option->scope) {
