@@ -154,8 +154,10 @@ TEST(ReplayEndToEnd, RetimeGivesValidChecksumsAndPresentDayTimesOneSecondApart) 
   EXPECT_EQ(lines, 30);
   ASSERT_EQ(rmc_times.size(), 6u);
   // The first is the log's first time moved to the next whole second from now: present day.
+  // (Bounded by the run's end, not by its start plus a margin: a loaded machine may take a while
+  // to start the binary, seen failing under the sanitizers beside the suite.)
   EXPECT_GT(rmc_times.front(), before);
-  EXPECT_LT(rmc_times.front(), before + 1.1);
+  EXPECT_LE(rmc_times.front(), std::ceil(after));
   for (std::size_t i = 1; i < rmc_times.size(); ++i) EXPECT_NEAR(rmc_times[i] - rmc_times[i - 1], 1.0, 1e-6);
   EXPECT_LT(rmc_times.back(), after + 6.0) << "times advance at the log's spacing (1 s), epochs every 100 ms";
   // With --start-time, the stamps start there.
