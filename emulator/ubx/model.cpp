@@ -3,7 +3,7 @@
 
 #include <array>
 
-#include "emulator/ubx/bytes.hpp"
+#include "emulator/ubx/layouts.hpp"
 
 namespace gpsemu::ubx {
 namespace {
@@ -52,10 +52,15 @@ bool dgnss_only(ReceiverModel model) { return model == ReceiverModel::ublox_m9n;
 
 std::string mon_ver_payload(ReceiverModel model) {
   const ModelInfo& info = model_info(model);
-  std::string p;
-  put_chars(p, info.sw_version, 30);
-  put_chars(p, info.hw_version, 10);
-  for (const std::string_view ext : info.extensions) put_chars(p, ext, 30);
+  PayloadWriter<layout::mon_ver> w;
+  w.set_text<"swVersion">(info.sw_version);
+  w.set_text<"hwVersion">(info.hw_version);
+  std::string p = std::move(w).bytes();
+  for (const std::string_view ext : info.extensions) {
+    PayloadWriter<layout::mon_ver_block> block;
+    block.set_text<"extension">(ext);
+    p += block.bytes();
+  }
   return p;
 }
 
