@@ -35,17 +35,6 @@ std::optional<ReceiverModel> receiver_model_from_name(std::string_view name) {
   return std::nullopt;
 }
 
-bool model_has_message(ReceiverModel model, MessageId id) {
-  const bool generation9 = model_info(model).key_value_config;
-  if (id == msg::nav_svinfo || id == msg::nav_sbas) return !generation9;
-  if (id == msg::nav_sig || id == msg::mon_rf) return generation9;
-  if (id == msg::rxm_rtcm) return generation9;  // reports RTCM3 input: M9N (DGNSS) and F9P (docs/rtk.md)
-  if (id == msg::nav_hpposllh || id == msg::nav_relposned || id == msg::nav_svin) {
-    return model == ReceiverModel::ublox_f9p;
-  }
-  return true;
-}
-
 bool dual_band(ReceiverModel model) { return model == ReceiverModel::ublox_f9p; }
 
 bool dgnss_only(ReceiverModel model) { return model == ReceiverModel::ublox_m9n; }

@@ -29,12 +29,6 @@ struct ModelInfo {
 [[nodiscard]] const ModelInfo& model_info(ReceiverModel model);
 /// The model named `name` ("ublox-f9p"), nullopt for an unknown name.
 [[nodiscard]] std::optional<ReceiverModel> receiver_model_from_name(std::string_view name);
-/// Whether `model` has message `id` in its interface description: an M8 (protocol 18) has
-/// NAV-SVINFO and NAV-SBAS but no NAV-SIG, MON-RF, NAV-HPPOSLLH, NAV-RELPOSNED, NAV-SVIN or
-/// RXM-RTCM; an M9N has NAV-SIG, MON-RF and RXM-RTCM but none of NAV-SVINFO, NAV-SBAS (both
-/// removed in protocol 27), HPPOSLLH, RELPOSNED, SVIN; an F9P has all but NAV-SVINFO and NAV-SBAS.
-/// Any other message: true (not modelled per model).
-[[nodiscard]] bool model_has_message(ReceiverModel model, MessageId id);
 /// Whether `model` tracks a second band (L2/E5b/B2I): the F9P.
 [[nodiscard]] bool dual_band(ReceiverModel model);
 /// Whether `model` uses RTCM3 corrections for DGNSS only, never RTK float/fixed: the M9N (SPG

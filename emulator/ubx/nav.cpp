@@ -413,37 +413,4 @@ std::string nav_eoe(const nmea::Fix& fix) {
   return std::move(w).bytes();
 }
 
-bool nav_encodes(MessageId id) {
-  for (const MessageId m : {msg::nav_pvt, msg::nav_posllh, msg::nav_velned, msg::nav_status, msg::nav_sol,
-                            msg::nav_posecef, msg::nav_velecef, msg::nav_dop, msg::nav_timeutc, msg::nav_timegps,
-                            msg::nav_sat, msg::nav_cov, msg::nav_eoe, msg::nav_clock, msg::nav_hpposllh,
-                            msg::nav_svinfo, msg::nav_sig, msg::nav_timels, msg::nav_relposned}) {
-    if (m == id) return true;
-  }
-  return false;
-}
-
-std::optional<std::string> nav_payload(MessageId id, const nmea::Fix& fix, const NavExtras& extras) {
-  if (id == msg::nav_pvt) return nav_pvt(fix, extras);
-  if (id == msg::nav_posllh) return nav_posllh(fix);
-  if (id == msg::nav_velned) return nav_velned(fix, extras);
-  if (id == msg::nav_status) return nav_status(fix, extras);
-  if (id == msg::nav_sol) return nav_sol(fix, extras);
-  if (id == msg::nav_posecef) return nav_posecef(fix);
-  if (id == msg::nav_velecef) return nav_velecef(fix, extras);
-  if (id == msg::nav_dop) return nav_dop(fix);
-  if (id == msg::nav_timeutc) return nav_timeutc(fix, extras);
-  if (id == msg::nav_timegps) return nav_timegps(fix, extras);
-  if (id == msg::nav_sat) return nav_sat(fix);
-  if (id == msg::nav_svinfo) return nav_svinfo(fix);
-  if (id == msg::nav_sig) return nav_sig(fix, extras.model);
-  if (id == msg::nav_clock) return nav_clock(fix, extras);
-  if (id == msg::nav_timels) return nav_timels(fix, extras);
-  if (id == msg::nav_hpposllh) return nav_hpposllh(fix);
-  if (id == msg::nav_cov) return nav_cov(fix, extras);
-  if (id == msg::nav_relposned) return nav_relposned(fix, extras.relpos);
-  if (id == msg::nav_eoe) return nav_eoe(fix);
-  return std::nullopt;
-}
-
 }  // namespace gpsemu::ubx
