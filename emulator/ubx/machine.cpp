@@ -28,10 +28,6 @@ constexpr std::uint8_t kTransactionNone = 0, kTransactionBegin = 1, kTransaction
 // reset after shutdown. The others (GNSS only, GNSS stop/start) keep RAM.
 bool reloads_configuration(std::uint8_t reset_mode) { return reset_mode == 0x00 || reset_mode == 0x01 || reset_mode == 0x04; }
 
-bool is_key_value_message(MessageId id) {
-  return id == msg::cfg_valset || id == msg::cfg_valget || id == msg::cfg_valdel;
-}
-
 /// Keys with the group or item wildcard (0xFF / 0xFFFF) of a VALGET: not supported here.
 bool is_wildcard(std::uint32_t key) { return (key & 0xFFFF) == 0xFFFF || ((key >> 16) & 0xFF) == 0xFF; }
 
@@ -150,8 +146,10 @@ void ConfigMachine::handle_frame(const Frame& frame, Answer& answer) {
     ++stats_.ignored;
     return;
   }
-  if (is_key_value_message(id) && !model_info(start_.model).key_value_config) {
-    ack(id, false, answer);  // an M8 does not know the generation-9 interface
+  // A configuration message the model lacks is NAKed: CFG-VAL* on an M8, the legacy CFG-*
+  // messages on an M10 (its interface is CFG-VALSET/VALGET/VALDEL, CFG-CFG and CFG-RST).
+  if (!model_has_message(start_.model, id) || (find_message(id) == nullptr && !model_info(start_.model).legacy_config)) {
+    ack(id, false, answer);
     return;
   }
   if (id == msg::cfg_rst) {  // never acknowledged: the receiver resets
@@ -389,6 +387,12 @@ void ConfigMachine::answer_valget(const Frame& frame, Answer& answer) {
 }
 
 bool ConfigMachine::model_has_key(std::uint32_t key) const {
+  // CFG-<port>INPROT-RTCM3X (group 0x71..0x7A odd, item 4): a model without RTCM3 input lacks it.
+  const std::uint32_t group = (key >> 16) & 0xFF;
+  if (!model_info(start_.model).rtcm_input && (key >> 24) == 0x10 && group >= 0x71 && group <= 0x7A &&
+      (group - 0x71) % 2 == 0 && (key & 0xFFFF) == 4) {
+    return false;
+  }
   const std::optional<MessageId> id = msgout_message(key);
   return !id || model_has_message(start_.model, *id);
 }

@@ -34,7 +34,8 @@ std::string enc_mon_hw2(const nmea::Fix&, const NavExtras&) { return mon_hw2(); 
 std::string enc_mon_rf(const nmea::Fix&, const NavExtras& x) { return mon_rf(x.rf, x.model); }
 
 constexpr ModelSet m8_only = m8;
-constexpr ModelSet gen9_rtcm = m9n | f9p;  // RTCM3 input reported (the M10 takes none)
+constexpr ModelSet gen9_rtcm = m9n | f9p;   // RTCM3 input reported (the M10, SPG 5.10, takes none)
+constexpr ModelSet no_m10 = m8 | m9n | f9p; // gone in the M10 (SPG 5.10): the legacy CFG messages, NAV-SOL, MON-HW...
 
 // clang-format off
 const std::array<MessageRow, 54> kTable = {{
@@ -42,7 +43,7 @@ const std::array<MessageRow, 54> kTable = {{
     {msg::nav_posllh, "NAV-POSLLH", all, solution, true, enc_posllh, layout::nav_posllh},
     {msg::nav_status, "NAV-STATUS", all, solution, true, nav_status, layout::nav_status},
     {msg::nav_dop, "NAV-DOP", all, solution, true, enc_dop, layout::nav_dop},
-    {msg::nav_sol, "NAV-SOL", all, solution, true, nav_sol, layout::nav_sol},
+    {msg::nav_sol, "NAV-SOL", no_m10, solution, true, nav_sol, layout::nav_sol},
     {msg::nav_pvt, "NAV-PVT", all, solution, true, nav_pvt, layout::nav_pvt},
     {msg::nav_velecef, "NAV-VELECEF", all, solution, true, nav_velecef, layout::nav_velecef},
     {msg::nav_velned, "NAV-VELNED", all, solution, true, nav_velned, layout::nav_velned},
@@ -52,7 +53,7 @@ const std::array<MessageRow, 54> kTable = {{
     {msg::nav_clock, "NAV-CLOCK", all, solution, true, nav_clock, layout::nav_clock},
     {msg::nav_timels, "NAV-TIMELS", all, solution, true, nav_timels, layout::nav_timels},
     {msg::nav_svinfo, "NAV-SVINFO", m8_only, solution, true, enc_svinfo, layout::nav_svinfo, layout::nav_svinfo_block},
-    {msg::nav_sbas, "NAV-SBAS", m8_only, output, true},
+    {msg::nav_sbas, "NAV-SBAS", m8 | m10, output, true},
     {msg::nav_sat, "NAV-SAT", all, solution, true, enc_sat, layout::nav_sat, layout::nav_sat_block},
     {msg::nav_cov, "NAV-COV", all, solution, true, nav_cov, layout::nav_cov},
     {msg::nav_svin, "NAV-SVIN", f9p, output, true},
@@ -60,24 +61,24 @@ const std::array<MessageRow, 54> kTable = {{
     {msg::nav_sig, "NAV-SIG", generation9, solution, true, enc_sig, layout::nav_sig, layout::nav_sig_block},
     {msg::nav_eoe, "NAV-EOE", all, solution, true, enc_eoe, layout::nav_eoe},
     {{0x02, 0x13}, "RXM-SFRBX", all, output, true},
-    {{0x02, 0x15}, "RXM-RAWX", all, output, true},
+    {{0x02, 0x15}, "RXM-RAWX", no_m10, output, true},
     {msg::rxm_rtcm, "RXM-RTCM", gen9_rtcm, report, true, nullptr, layout::rxm_rtcm},
     {msg::ack_nak, "ACK-NAK", all, report, false},
     {msg::ack_ack, "ACK-ACK", all, report, false},
-    {msg::cfg_prt, "CFG-PRT", all, input, false},
-    {msg::cfg_msg, "CFG-MSG", all, input, false},
+    {msg::cfg_prt, "CFG-PRT", no_m10, input, false},
+    {msg::cfg_msg, "CFG-MSG", no_m10, input, false},
     {msg::cfg_rst, "CFG-RST", all, input, false},
-    {msg::cfg_rate, "CFG-RATE", all, input, false},
+    {msg::cfg_rate, "CFG-RATE", no_m10, input, false},
     {msg::cfg_cfg, "CFG-CFG", all, input, false},
-    {msg::cfg_sbas, "CFG-SBAS", all, input, false},
-    {msg::cfg_nav5, "CFG-NAV5", all, input, false},
-    {msg::cfg_gnss, "CFG-GNSS", all, input, false},
+    {msg::cfg_sbas, "CFG-SBAS", no_m10, input, false},
+    {msg::cfg_nav5, "CFG-NAV5", no_m10, input, false},
+    {msg::cfg_gnss, "CFG-GNSS", no_m10, input, false},
     {msg::cfg_valset, "CFG-VALSET", generation9, input, false},
     {msg::cfg_valget, "CFG-VALGET", generation9, input, false},
     {msg::cfg_valdel, "CFG-VALDEL", generation9, input, false},
     {msg::mon_ver, "MON-VER", all, poll, false, nullptr, layout::mon_ver, layout::mon_ver_block},
-    {msg::mon_hw, "MON-HW", all, solution, true, enc_mon_hw, layout::mon_hw},
-    {msg::mon_hw2, "MON-HW2", all, solution, true, enc_mon_hw2, layout::mon_hw2},
+    {msg::mon_hw, "MON-HW", no_m10, solution, true, enc_mon_hw, layout::mon_hw},
+    {msg::mon_hw2, "MON-HW2", no_m10, solution, true, enc_mon_hw2, layout::mon_hw2},
     {msg::mon_rf, "MON-RF", generation9, solution, true, enc_mon_rf, layout::mon_rf, layout::mon_rf_block},
     {{0xF0, 0x00}, "NMEA-GGA", all, output, true},
     {{0xF0, 0x01}, "NMEA-GLL", all, output, true},
@@ -129,6 +130,7 @@ ModelSet model_bit(ReceiverModel model) {
   switch (model) {
     case ReceiverModel::ublox_m9n: return m9n;
     case ReceiverModel::ublox_f9p: return f9p;
+    case ReceiverModel::ublox_m10: return m10;
     default: return m8;
   }
 }

@@ -112,7 +112,10 @@ void Settings::set_rate(MessageId id, Port port, std::uint8_t rate) {
 Settings start_settings(const StartSettings& start) {
   Settings s;
   s.meas_period_ms = static_cast<std::uint16_t>(start.measurement_period.count());
-  for (std::size_t i = 0; i < port_count; ++i) s.ports[i] = PortSettings{};
+  for (std::size_t i = 0; i < port_count; ++i) {
+    s.ports[i] = PortSettings{};
+    if (!model_info(start.model).rtcm_input) s.ports[i].in_proto_mask &= static_cast<std::uint16_t>(~proto_rtcm3);
+  }
   const std::uint32_t default_baud = model_info(start.model).default_baud;
   s.ports[static_cast<std::size_t>(Port::uart1)].baud = default_baud;
   s.ports[static_cast<std::size_t>(Port::uart2)].baud = default_baud;

@@ -27,7 +27,8 @@ struct ModelColumn {
 };
 constexpr ModelColumn kColumns[] = {{"generic, `ublox-m8n`", ReceiverModel::ublox_m8n},
                                     {"`ublox-m9n`", ReceiverModel::ublox_m9n},
-                                    {"`ublox-f9p`", ReceiverModel::ublox_f9p}};
+                                    {"`ublox-f9p`", ReceiverModel::ublox_f9p},
+                                    {"`ublox-m10`", ReceiverModel::ublox_m10}};
 
 std::string role_text(MessageRole role) {
   switch (role) {
