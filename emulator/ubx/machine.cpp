@@ -387,12 +387,6 @@ void ConfigMachine::answer_valget(const Frame& frame, Answer& answer) {
 }
 
 bool ConfigMachine::model_has_key(std::uint32_t key) const {
-  // CFG-<port>INPROT-RTCM3X (group 0x71..0x7A odd, item 4): a model without RTCM3 input lacks it.
-  const std::uint32_t group = (key >> 16) & 0xFF;
-  if (!model_info(start_.model).rtcm_input && (key >> 24) == 0x10 && group >= 0x71 && group <= 0x7A &&
-      (group - 0x71) % 2 == 0 && (key & 0xFFFF) == 4) {
-    return false;
-  }
   const std::optional<MessageId> id = msgout_message(key);
   return !id || model_has_message(start_.model, *id);
 }

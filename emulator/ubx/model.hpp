@@ -22,7 +22,7 @@ struct ModelInfo {
   int protocol_version_x100 = 0;  ///< PROTVER times 100: 1800 is 18.00
   bool key_value_config = false;  ///< answers CFG-VALSET/VALGET/VALDEL (protocol 27+)
   bool legacy_config = true;      ///< takes the CFG-* messages beside CFG-VAL* (not the M10: VALSET only)
-  bool rtcm_input = true;         ///< its ports take RTCM3 corrections (not the M10, SPG 5.10)
+  bool rtcm_input = true;         ///< its ports use RTCM3 corrections (not the M10, SPG 5.10: ignored)
   std::uint32_t default_baud = 0; ///< UART1 baud after a factory reset (bits per second)
   std::string_view sw_version;    ///< MON-VER swVersion (30 characters at most)
   std::string_view hw_version;    ///< MON-VER hwVersion: "00080000" M8, "00190000" M9/F9

@@ -65,8 +65,9 @@ void Session::client_wrote(std::string_view bytes, ClientId id) {
 
 void Session::handle_rtcm(const rtk::Rtcm3Frame& frame, Client& c) {
   const Settings& s = machine_.settings();
-  if ((s.ports[static_cast<std::size_t>(machine_.port())].in_proto_mask & proto_rtcm3) == 0) {
-    ++stats_.rtcm_ignored;  // RTCM3 input off on this port: neither used nor reported
+  if ((s.ports[static_cast<std::size_t>(machine_.port())].in_proto_mask & proto_rtcm3) == 0 ||
+      !model_info(machine_.model()).rtcm_input) {
+    ++stats_.rtcm_ignored;  // RTCM3 input off on this port, or a model without it: neither used nor reported
     return;
   }
   rtk::Rtcm3Message message = rtk::decode_rtcm3(frame.payload);

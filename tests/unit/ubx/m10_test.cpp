@@ -1,14 +1,16 @@
 // `--receiver ublox-m10`: a u-blox M10 (MAX-M10S, SPG 5.10, protocol 34.10) as its interface
 // description has it: MON-VER as the module answers (PX4 and ArduPilot detect an M10 by hwVersion
 // 000A0000), configuration by CFG-VALSET/VALGET/VALDEL only (the legacy CFG-* messages NAKed, CFG-CFG
-// and CFG-RST kept), no RTCM3 input report (RXM-RTCM), MON-RF but not MON-HW, 9600 baud.
+// and CFG-RST kept), no RTCM3 input (ignored; no RXM-RTCM), MON-RF but not MON-HW, 9600 baud.
 #include <gtest/gtest.h>
 
 #include <string>
 
 #include "emulator/ubx/cfg_keys.hpp"
 #include "emulator/ubx/machine.hpp"
+#include "emulator/rtk/rtcm3_messages.hpp"
 #include "emulator/ubx/messages.hpp"
+#include "emulator/ubx/session.hpp"
 #include "tests/support/ubx_frames.hpp"
 
 namespace gpsemu::ubx {
@@ -71,16 +73,22 @@ TEST(UbxM10, HasMonRfButNeitherRxmRtcmNorMonHw) {
   EXPECT_TRUE(model_has_message(ReceiverModel::ublox_m10, msg::nav_sbas));  // documented again in SPG 5.10
 }
 
-TEST(UbxM10, TakesNoRtcm3Input) {
-  ConfigMachine m = m10();
-  EXPECT_EQ(m.settings().ports[static_cast<std::size_t>(Port::uart1)].in_proto_mask & proto_rtcm3, 0);
-  const auto got = send(m, msg::cfg_valset, valset({{0x10730004, 1}}));  // CFG-UART1INPROT-RTCM3X
-  EXPECT_EQ(got.frames.front(), nak_of(msg::cfg_valset));
-  EXPECT_EQ(m.settings().ports[static_cast<std::size_t>(Port::uart1)].in_proto_mask & proto_rtcm3, 0);
-  StartSettings f9p_start;
-  f9p_start.model = ReceiverModel::ublox_f9p;
-  ConfigMachine f9p(f9p_start);
-  EXPECT_EQ(send(f9p, msg::cfg_valset, valset({{0x10730004, 1}})).frames.front(), ack_of(msg::cfg_valset));
+TEST(UbxM10, IgnoresRtcm3ThoughItsInputKeyIsAcknowledged) {
+  // PX4 writes CFG-UART1INPROT-RTCM3X = 1 to every generation-9 receiver and requires the ACK.
+  SessionSettings settings;
+  settings.start.model = ReceiverModel::ublox_m10;
+  Session session(settings);
+  EXPECT_EQ(session.machine().settings().ports[static_cast<std::size_t>(Port::uart1)].in_proto_mask & proto_rtcm3, 0);
+  session.client_wrote(frame_bytes(msg::cfg_valset, valset({{0x10730004, 1}})));  // CFG-UART1INPROT-RTCM3X
+  const auto acks = test::frames_in(session.take_reply());
+  ASSERT_EQ(acks.size(), 1u);
+  EXPECT_EQ(acks[0], ack_of(msg::cfg_valset));
+  std::string corrections;
+  rtk::append_rtcm3_frame(corrections, rtk::encode_1230(77));
+  session.client_wrote(corrections);
+  EXPECT_TRUE(session.take_rtcm().empty());
+  EXPECT_TRUE(session.take_reply().empty());
+  EXPECT_EQ(session.stats().rtcm_ignored, 1u);
 }
 
 }  // namespace
