@@ -69,6 +69,11 @@ TEST(UbxM10, HasMonRfButNeitherRxmRtcmNorMonHw) {
     const auto got = send(m, msg::cfg_valset, valset({{*msgout_key(id, Port::uart1), 1}}));
     EXPECT_EQ(got.frames.front(), nak_of(msg::cfg_valset)) << message_name(id);
   }
+  // The summary names what the last NAK refused: here the key of a message the M10 lacks.
+  EXPECT_EQ(m.stats().last_nak,
+            "CFG-VALSET: CFG-MSGOUT-UBX_NAV_HPPOSLLH_UART1 (0x20910034): a message ublox-m10 lacks");
+  (void)send(m, msg::cfg_rate);
+  EXPECT_EQ(m.stats().last_nak, "CFG-RATE: a message ublox-m10 lacks");
   EXPECT_TRUE(model_has_message(ReceiverModel::ublox_m10, msg::nav_sig));
   EXPECT_TRUE(model_has_message(ReceiverModel::ublox_m10, msg::nav_sbas));  // documented again in SPG 5.10
 }
