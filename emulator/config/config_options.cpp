@@ -299,11 +299,11 @@ std::vector<OptionDef> make_option_table() {
         d.receiver.settings.protocol = p == "ubx" ? Protocol::ubx : p == "nmea" ? Protocol::nmea : Protocol::nmea_ubx;
         d.receiver.settings.protocol_given = true;
       });
-  add("receiver", "MODEL", "the u-blox receiver emulated: ublox-m8n | ublox-m9n | ublox-f9p (alone: the model's "
+  add("receiver", "MODEL", "the u-blox receiver emulated: ublox-m8n | ublox-m9n | ublox-f9p | ublox-m10 (alone: the model's "
       "factory state, its NMEA and baud, UBX answered) | generic (NMEA only unless --protocol says; answers as an M8) "
       "(default generic)",
       [](ConfigDraft& d, V v) {
-        const std::string m = parse_choice("receiver", v.back(), {"ublox-m8n", "ublox-m9n", "ublox-f9p", "generic"});
+        const std::string m = parse_choice("receiver", v.back(), {"ublox-m8n", "ublox-m9n", "ublox-f9p", "ublox-m10", "generic"});
         d.receiver.settings.ublox_model = *ubx::receiver_model_from_name(m);
       });
   add("receiver-state", "FILE", "a u-blox's stored configuration (BBR and flash layers: CFG-VALSET to them, "

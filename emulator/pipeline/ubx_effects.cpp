@@ -146,10 +146,11 @@ std::string client_input_summary(const Channel& channel) {
           : fmt::format(", {} ignored: the port's input protocols exclude RTCM3", folded.rtcm_ignored);
   return fmt::format("u-blox client input: {} UBX frames, {} bad ({} bad checksum, {} too long), {} NMEA sentences "
                      "({} bad), {} RTCM3 frames ({} bad CRC{}), {} garbage bytes; {} ACK, {} NAK, {} ignored; {} NAV "
-                     "polls folded into one answer, {} effects superseded by a newer one{}",
+                     "polls folded into one answer, {} effects superseded by a newer one{}{}",
                      in.frames_ok, in.bad_checksum + in.too_long, in.bad_checksum, in.too_long, in.sentences_ok,
                      in.bad_sentences, in.rtcm_ok, in.rtcm_bad_crc, rtcm_ignored, in.garbage_bytes, answered.acks, answered.naks,
-                     answered.ignored, folded.polls_merged, folded.effects_superseded, rtcm3);
+                     answered.ignored, folded.polls_merged, folded.effects_superseded, rtcm3,
+                     answered.last_nak.empty() ? std::string{} : fmt::format("; last NAK {}", answered.last_nak));
 }
 
 std::string ubx_config_summary(const Channel& channel) {

@@ -12,6 +12,7 @@
 #include <optional>
 #include <utility>
 
+#include "emulator/ubx/messages.hpp"
 #include "emulator/ubx/settings.hpp"
 
 namespace gpsemu::ubx {
@@ -43,11 +44,5 @@ inline constexpr std::uint32_t msgout_nmea_gga_i2c = 0x209100BA;
 [[nodiscard]] bool set_key(Settings& s, std::uint32_t key, std::uint64_t value);
 /// Calls `f` with every key that maps onto Settings (rates, ports, CFG-NAVSPG, CFG-MSGOUT).
 void for_each_modelled_key(const std::function<void(std::uint32_t)>& f);
-/// The message and port of a CFG-MSGOUT key, nullopt for another key.
-[[nodiscard]] std::optional<std::pair<MessageId, Port>> msgout_of(std::uint32_t key);
-/// The CFG-MSGOUT key of message `id` on `port`, nullopt for a message without one here.
-[[nodiscard]] std::optional<std::uint32_t> msgout_key(MessageId id, Port port);
-/// The message a CFG-MSGOUT key sets the rate of (any port), nullopt for another key.
-[[nodiscard]] std::optional<MessageId> msgout_message(std::uint32_t key);
 
 }  // namespace gpsemu::ubx

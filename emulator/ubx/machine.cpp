@@ -5,6 +5,8 @@
 #include <set>
 #include <utility>
 
+#include <fmt/format.h>
+
 #include "emulator/ubx/bytes.hpp"
 #include "emulator/ubx/cfg_key_catalogue.hpp"
 #include "emulator/ubx/cfg_keys.hpp"
@@ -27,10 +29,6 @@ constexpr std::uint8_t kTransactionNone = 0, kTransactionBegin = 1, kTransaction
 // CFG-RST resetMode: a hardware reset (watchdog) at once, a controlled software reset, a hardware
 // reset after shutdown. The others (GNSS only, GNSS stop/start) keep RAM.
 bool reloads_configuration(std::uint8_t reset_mode) { return reset_mode == 0x00 || reset_mode == 0x01 || reset_mode == 0x04; }
-
-bool is_key_value_message(MessageId id) {
-  return id == msg::cfg_valset || id == msg::cfg_valget || id == msg::cfg_valdel;
-}
 
 /// Keys with the group or item wildcard (0xFF / 0xFFFF) of a VALGET: not supported here.
 bool is_wildcard(std::uint32_t key) { return (key & 0xFFFF) == 0xFFFF || ((key >> 16) & 0xFF) == 0xFF; }
@@ -99,6 +97,8 @@ void ConfigMachine::ack(MessageId id, bool ok, Answer& answer) {
   const std::string payload{static_cast<char>(id.msg_class), static_cast<char>(id.msg_id)};
   reply(answer, ok ? msg::ack_ack : msg::ack_nak, payload);
   ++(ok ? stats_.acks : stats_.naks);
+  if (!ok) stats_.last_nak = message_name(id) + nak_reason_;
+  nak_reason_.clear();
 }
 
 ConfigMachine::Before ConfigMachine::before(std::vector<MessageId> touched, bool everything) const {
@@ -150,8 +150,11 @@ void ConfigMachine::handle_frame(const Frame& frame, Answer& answer) {
     ++stats_.ignored;
     return;
   }
-  if (is_key_value_message(id) && !model_info(start_.model).key_value_config) {
-    ack(id, false, answer);  // an M8 does not know the generation-9 interface
+  // A configuration message the model lacks is NAKed: CFG-VAL* on an M8, the legacy CFG-*
+  // messages on an M10 (its interface is CFG-VALSET/VALGET/VALDEL, CFG-CFG and CFG-RST).
+  if (!model_has_message(start_.model, id) || (find_message(id) == nullptr && !model_info(start_.model).legacy_config)) {
+    nak_reason_ = fmt::format(": a message {} lacks", model_info(start_.model).name);
+    ack(id, false, answer);
     return;
   }
   if (id == msg::cfg_rst) {  // never acknowledged: the receiver resets
@@ -259,7 +262,13 @@ bool ConfigMachine::apply_valset(std::string_view p, Before& before) {
                             transaction <= kTransactionApply;
   auto keys = valid_header ? valset_keys(p) : std::nullopt;
   // A message key the model does not have: the whole VALSET is NAKed, nothing changes.
-  if (keys && std::any_of(keys->begin(), keys->end(), [&](const auto& kv) { return !model_has_key(kv.first); })) keys.reset();
+  if (keys) {
+    const auto lacking = std::find_if(keys->begin(), keys->end(), [&](const auto& kv) { return !model_has_key(kv.first); });
+    if (lacking != keys->end()) {
+      nak_reason_ = fmt::format(": {}: a message {} lacks", key_label(lacking->first), model_info(start_.model).name);
+      keys.reset();
+    }
+  }
   if (!keys) {
     discard_transaction();
     return false;

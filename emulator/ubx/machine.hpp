@@ -74,6 +74,9 @@ struct MachineStats {
   std::uint64_t unsent_answers = 0;  ///< UBX answers not written: the port's output excludes UBX
   std::uint64_t resets = 0;      ///< CFG-RST that reloaded the configuration from the layers
   std::uint64_t transactions_discarded = 0;  ///< CFG-VALSET transactions begun and never applied
+  /// What the last ACK-NAK refused, for the summary: "CFG-VALSET: CFG-MSGOUT-UBX_RXM_RTCM_UART1
+  /// (0x20910269): a message ublox-m8n lacks", "CFG-RATE: a message ublox-m10 lacks", "CFG-RATE".
+  std::string last_nak;
 };
 
 class ConfigMachine {
@@ -147,6 +150,7 @@ class ConfigMachine {
   std::uint64_t stored_version_ = 0;
   FrameReader reader_;
   MachineStats stats_;
+  std::string nak_reason_;  ///< why the NAK being prepared refuses (" : ..."), empty when unknown
 };
 
 }  // namespace gpsemu::ubx

@@ -3,22 +3,26 @@
 
 #include <array>
 
-#include "emulator/ubx/bytes.hpp"
+#include "emulator/ubx/layouts.hpp"
 
 namespace gpsemu::ubx {
 namespace {
 
-const std::array<ModelInfo, 4>& models() {
-  static const std::array<ModelInfo, 4> all = {
-      ModelInfo{"generic", 1800, false, 9600, "ROM CORE 3.01 (107888)", "00080000",
+const std::array<ModelInfo, 5>& models() {
+  static const std::array<ModelInfo, 5> all = {
+      ModelInfo{"generic", 1800, false, true, true, 9600, "ROM CORE 3.01 (107888)", "00080000",
                 {"FWVER=SPG 3.01", "PROTVER=18.00", "GPS;GLO;GAL;BDS", "SBAS;IMES;QZSS"}},
-      ModelInfo{"ublox-m8n", 1800, false, 9600, "ROM CORE 3.01 (107888)", "00080000",
+      ModelInfo{"ublox-m8n", 1800, false, true, true, 9600, "ROM CORE 3.01 (107888)", "00080000",
                 {"FWVER=SPG 3.01", "PROTVER=18.00", "MOD=NEO-M8N-0", "GPS;GLO;GAL;BDS", "SBAS;IMES;QZSS"}},
-      ModelInfo{"ublox-m9n", 3201, true, 38400, "ROM SPG 4.04 (7f89f7)", "00190000",
+      ModelInfo{"ublox-m9n", 3201, true, true, true, 38400, "ROM SPG 4.04 (7f89f7)", "00190000",
                 {"ROM BASE 0x118B2060", "FWVER=SPG 4.04", "PROTVER=32.01", "MOD=NEO-M9N-00B", "GPS;GLO;GAL;BDS",
                  "SBAS;QZSS"}},
-      ModelInfo{"ublox-f9p", 2731, true, 38400, "EXT CORE 1.00 (61ce84)", "00190000",
+      ModelInfo{"ublox-f9p", 2731, true, true, true, 38400, "EXT CORE 1.00 (61ce84)", "00190000",
                 {"ROM BASE 0x118B2060", "FWVER=HPG 1.32", "PROTVER=27.31", "MOD=ZED-F9P", "GPS;GLO;GAL;BDS",
+                 "SBAS;QZSS"}},
+      // As a MAX-M10S (SPG 5.10) reports itself; PX4 and ArduPilot detect an M10 by hwVersion 000A0000.
+      ModelInfo{"ublox-m10", 3410, true, false, false, 9600, "ROM SPG 5.10 (7b202e)", "000A0000",
+                {"ROM BASE 0x118B2060", "FWVER=SPG 5.10", "PROTVER=34.10", "MOD=MAX-M10S", "GPS;GLO;GAL;BDS",
                  "SBAS;QZSS"}},
   };
   return all;
@@ -35,27 +39,21 @@ std::optional<ReceiverModel> receiver_model_from_name(std::string_view name) {
   return std::nullopt;
 }
 
-bool model_has_message(ReceiverModel model, MessageId id) {
-  const bool generation9 = model_info(model).key_value_config;
-  if (id == msg::nav_svinfo || id == msg::nav_sbas) return !generation9;
-  if (id == msg::nav_sig || id == msg::mon_rf) return generation9;
-  if (id == msg::rxm_rtcm) return generation9;  // reports RTCM3 input: M9N (DGNSS) and F9P (docs/rtk.md)
-  if (id == msg::nav_hpposllh || id == msg::nav_relposned || id == msg::nav_svin) {
-    return model == ReceiverModel::ublox_f9p;
-  }
-  return true;
-}
-
 bool dual_band(ReceiverModel model) { return model == ReceiverModel::ublox_f9p; }
 
 bool dgnss_only(ReceiverModel model) { return model == ReceiverModel::ublox_m9n; }
 
 std::string mon_ver_payload(ReceiverModel model) {
   const ModelInfo& info = model_info(model);
-  std::string p;
-  put_chars(p, info.sw_version, 30);
-  put_chars(p, info.hw_version, 10);
-  for (const std::string_view ext : info.extensions) put_chars(p, ext, 30);
+  PayloadWriter<layout::mon_ver> w;
+  w.set_text<"swVersion">(info.sw_version);
+  w.set_text<"hwVersion">(info.hw_version);
+  std::string p = std::move(w).bytes();
+  for (const std::string_view ext : info.extensions) {
+    PayloadWriter<layout::mon_ver_block> block;
+    block.set_text<"extension">(ext);
+    p += block.bytes();
+  }
   return p;
 }
 

@@ -1,7 +1,8 @@
 // The u-blox receiver models gpsemu can be (--receiver): what each answers to MON-VER, which
 // configuration interface it speaks (M8: protocol 18-23, CFG-* messages only; M9/F9: 27+, the
-// key/value interface CFG-VALSET/VALGET/VALDEL beside the deprecated CFG-* messages) and its
-// default baud rate. `generic` answers as an M8 does. Pure values.
+// key/value interface CFG-VALSET/VALGET/VALDEL beside the deprecated CFG-* messages; M10 SPG 5.10,
+// protocol 34.10: CFG-VALSET/VALGET/VALDEL, CFG-CFG and CFG-RST only) and its default baud rate.
+// `generic` answers as an M8 does. Which messages each has: messages.hpp. Pure values.
 #pragma once
 
 #include <cstdint>
@@ -14,12 +15,14 @@
 
 namespace gpsemu::ubx {
 
-enum class ReceiverModel { generic, ublox_m8n, ublox_m9n, ublox_f9p };
+enum class ReceiverModel { generic, ublox_m8n, ublox_m9n, ublox_f9p, ublox_m10 };
 
 struct ModelInfo {
   std::string_view name;          ///< "ublox-m8n" (the --receiver value)
   int protocol_version_x100 = 0;  ///< PROTVER times 100: 1800 is 18.00
   bool key_value_config = false;  ///< answers CFG-VALSET/VALGET/VALDEL (protocol 27+)
+  bool legacy_config = true;      ///< takes the CFG-* messages beside CFG-VAL* (not the M10: VALSET only)
+  bool rtcm_input = true;         ///< its ports use RTCM3 corrections (not the M10, SPG 5.10: ignored)
   std::uint32_t default_baud = 0; ///< UART1 baud after a factory reset (bits per second)
   std::string_view sw_version;    ///< MON-VER swVersion (30 characters at most)
   std::string_view hw_version;    ///< MON-VER hwVersion: "00080000" M8, "00190000" M9/F9
@@ -29,12 +32,6 @@ struct ModelInfo {
 [[nodiscard]] const ModelInfo& model_info(ReceiverModel model);
 /// The model named `name` ("ublox-f9p"), nullopt for an unknown name.
 [[nodiscard]] std::optional<ReceiverModel> receiver_model_from_name(std::string_view name);
-/// Whether `model` has message `id` in its interface description: an M8 (protocol 18) has
-/// NAV-SVINFO and NAV-SBAS but no NAV-SIG, MON-RF, NAV-HPPOSLLH, NAV-RELPOSNED, NAV-SVIN or
-/// RXM-RTCM; an M9N has NAV-SIG, MON-RF and RXM-RTCM but none of NAV-SVINFO, NAV-SBAS (both
-/// removed in protocol 27), HPPOSLLH, RELPOSNED, SVIN; an F9P has all but NAV-SVINFO and NAV-SBAS.
-/// Any other message: true (not modelled per model).
-[[nodiscard]] bool model_has_message(ReceiverModel model, MessageId id);
 /// Whether `model` tracks a second band (L2/E5b/B2I): the F9P.
 [[nodiscard]] bool dual_band(ReceiverModel model);
 /// Whether `model` uses RTCM3 corrections for DGNSS only, never RTK float/fixed: the M9N (SPG

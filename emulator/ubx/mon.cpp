@@ -3,7 +3,7 @@
 
 #include <array>
 
-#include "emulator/ubx/bytes.hpp"
+#include "emulator/ubx/layouts.hpp"
 
 namespace gpsemu::ubx {
 namespace {
@@ -23,67 +23,54 @@ constexpr std::uint32_t kMagnitudeI = 166, kMagnitudeQ = 162;
 }  // namespace
 
 std::string mon_hw(const RfState& rf) {
-  std::string p;
-  p.reserve(60);
-  put_u4(p, kPinSel);
-  put_u4(p, kPinBank);
-  put_u4(p, kPinDir);
-  put_u4(p, kPinVal);
-  put_u2(p, rf.noise_per_ms);
-  put_u2(p, rf.agc_count);
-  put_u1(p, rf.antenna_status);
-  put_u1(p, rf.antenna_power);
+  PayloadWriter<layout::mon_hw> w;
+  w.set<"pinSel">(kPinSel);
+  w.set<"pinBank">(kPinBank);
+  w.set<"pinDir">(kPinDir);
+  w.set<"pinVal">(kPinVal);
+  w.set<"noisePerMS">(rf.noise_per_ms);
+  w.set<"agcCnt">(rf.agc_count);
+  w.set<"aStatus">(rf.antenna_status);
+  w.set<"aPower">(rf.antenna_power);
   // flags: rtcCalib (the RTC is calibrated), jammingState in bits 2-3.
-  put_u1(p, 0x01u | (static_cast<std::uint32_t>(rf.jamming_state & 0x03) << 2));
-  put_u1(p, 0);  // reserved1
-  put_u4(p, kUsedMask);
-  for (const std::uint8_t vp : kVirtualPins) put_u1(p, vp);
-  put_u1(p, rf.jamming_indicator);
-  put_zeros(p, 2);  // reserved2
-  put_u4(p, 0);     // pinIrq
-  put_u4(p, 0);     // pullH
-  put_u4(p, 0);     // pullL
-  return p;
+  w.set<"flags">(0x01u | (static_cast<std::uint32_t>(rf.jamming_state & 0x03) << 2));
+  w.set<"usedMask">(kUsedMask);
+  for (std::size_t i = 0; i < kVirtualPins.size(); ++i) w.set<"VP">(kVirtualPins[i], i);
+  w.set<"jamInd">(rf.jamming_indicator);
+  return std::move(w).bytes();  // pinIrq, pullH, pullL 0
 }
 
 std::string mon_hw2() {
-  std::string p;
-  p.reserve(28);
-  put_i1(p, kOffsetI);
-  put_u1(p, kMagnitudeI);
-  put_i1(p, kOffsetQ);
-  put_u1(p, kMagnitudeQ);
-  put_u1(p, 114);   // cfgSource: 'r', ROM
-  put_zeros(p, 3);  // reserved0
-  put_u4(p, 0);     // lowLevCfg
-  put_zeros(p, 8);  // reserved1
-  put_u4(p, 0);     // postStatus
-  put_zeros(p, 4);  // reserved2
-  return p;
+  PayloadWriter<layout::mon_hw2> w;
+  w.set<"ofsI">(kOffsetI);
+  w.set<"magI">(kMagnitudeI);
+  w.set<"ofsQ">(kOffsetQ);
+  w.set<"magQ">(kMagnitudeQ);
+  w.set<"cfgSource">(114);      // 'r', ROM
+  return std::move(w).bytes();  // lowLevCfg, postStatus 0
 }
 
 std::string mon_rf(const RfState& rf, ReceiverModel model) {
   const int blocks = dual_band(model) ? 2 : 1;
-  std::string p;
-  p.reserve(4 + 24 * static_cast<std::size_t>(blocks));
-  put_u1(p, 0);  // version
-  put_u1(p, static_cast<std::uint32_t>(blocks));
-  put_zeros(p, 2);
+  PayloadWriter<layout::mon_rf> header;
+  header.set<"version">(0);
+  header.set<"nBlocks">(blocks);
+  std::string p = std::move(header).bytes();
   for (int b = 0; b < blocks; ++b) {
-    put_u1(p, static_cast<std::uint32_t>(b));  // blockId: 0 L1, 1 L2/L5
-    put_u1(p, rf.jamming_state & 0x03u);       // flags: jammingState
-    put_u1(p, rf.antenna_status);
-    put_u1(p, rf.antenna_power);
-    put_u4(p, 0);     // postStatus
-    put_zeros(p, 4);  // reserved1
-    put_u2(p, rf.noise_per_ms);
-    put_u2(p, rf.agc_count);
-    put_u1(p, rf.jamming_indicator);
-    put_i1(p, kOffsetI);
-    put_u1(p, kMagnitudeI);
-    put_i1(p, kOffsetQ);
-    put_u1(p, kMagnitudeQ);
-    put_zeros(p, 3);  // reserved2
+    PayloadWriter<layout::mon_rf_block> w;
+    w.set<"blockId">(b);                       // 0 L1, 1 L2/L5
+    w.set<"flags">(rf.jamming_state & 0x03u);  // jammingState
+    w.set<"antStatus">(rf.antenna_status);
+    w.set<"antPower">(rf.antenna_power);
+    w.set<"postStatus">(0);
+    w.set<"noisePerMS">(rf.noise_per_ms);
+    w.set<"agcCnt">(rf.agc_count);
+    w.set<"jamInd">(rf.jamming_indicator);
+    w.set<"ofsI">(kOffsetI);
+    w.set<"magI">(kMagnitudeI);
+    w.set<"ofsQ">(kOffsetQ);
+    w.set<"magQ">(kMagnitudeQ);
+    p += w.bytes();
   }
   return p;
 }

@@ -8,7 +8,7 @@
 #include <GeographicLib/Geocentric.hpp>
 
 #include "emulator/rtk/correction_age.hpp"
-#include "emulator/ubx/bytes.hpp"
+#include "emulator/ubx/layouts.hpp"
 
 namespace gpsemu::ubx {
 namespace {
@@ -124,24 +124,26 @@ UtcFields utc_fields(const nmea::Fix& fix) {
 }
 
 /// lon, lat (1e-7 deg), height above the ellipsoid and above mean sea level (mm), hAcc, vAcc (mm):
-/// the position block NAV-PVT and NAV-POSLLH share.
-void put_llh_position(std::string& p, const nmea::Fix& fix) {
-  put_i4(p, fix.has_fix() ? round_i32(fix.lon_deg * 1e7) : 0);
-  put_i4(p, fix.has_fix() ? round_i32(fix.lat_deg * 1e7) : 0);
-  put_i4(p, fix.has_fix() ? round_i32((fix.alt_msl_m + fix.geoid_sep_m) * 1000.0) : 0);
-  put_i4(p, fix.has_fix() ? round_i32(fix.alt_msl_m * 1000.0) : 0);
-  put_u4(p, h_acc_mm(fix));
-  put_u4(p, v_acc_mm(fix));
+/// the position fields NAV-PVT and NAV-POSLLH share.
+template <class Writer>
+void set_llh_position(Writer& w, const nmea::Fix& fix) {
+  w.template set<"lon">(fix.has_fix() ? round_i32(fix.lon_deg * 1e7) : 0);
+  w.template set<"lat">(fix.has_fix() ? round_i32(fix.lat_deg * 1e7) : 0);
+  w.template set<"height">(fix.has_fix() ? round_i32((fix.alt_msl_m + fix.geoid_sep_m) * 1000.0) : 0);
+  w.template set<"hMSL">(fix.has_fix() ? round_i32(fix.alt_msl_m * 1000.0) : 0);
+  w.template set<"hAcc">(h_acc_mm(fix));
+  w.template set<"vAcc">(v_acc_mm(fix));
 }
 
-/// Year (2 bytes), month, day, hour, minute, second: the date-time block NAV-PVT and NAV-TIMEUTC share.
-void put_date_time(std::string& p, const UtcFields& utc) {
-  put_u2(p, static_cast<std::uint32_t>(utc.year));
-  put_u1(p, utc.month);
-  put_u1(p, utc.day);
-  put_u1(p, utc.hour);
-  put_u1(p, utc.minute);
-  put_u1(p, utc.second);
+/// year, month, day, hour, min, sec: the date-time fields NAV-PVT and NAV-TIMEUTC share.
+template <class Writer>
+void set_date_time(Writer& w, const UtcFields& utc) {
+  w.template set<"year">(utc.year);
+  w.template set<"month">(utc.month);
+  w.template set<"day">(utc.day);
+  w.template set<"hour">(utc.hour);
+  w.template set<"min">(utc.minute);
+  w.template set<"sec">(utc.second);
 }
 
 /// WGS84 earth-centred, earth-fixed coordinates (metres) of the fix's position.
@@ -174,84 +176,85 @@ std::string nav_pvt(const nmea::Fix& fix, const NavExtras& extras) {
   const Solution s = solution_of(fix);
   const UtcFields utc = utc_fields(fix);
   const VelocityNed v = velocity_of(fix);
-  std::string p;
-  p.reserve(92);
-  put_u4(p, tow_ms(fix));
-  put_date_time(p, utc);
+  PayloadWriter<layout::nav_pvt> w;
+  w.set<"iTOW">(tow_ms(fix));
+  set_date_time(w, utc);
   // valid: validDate, validTime, fullyResolved
-  put_u1(p, (extras.time.valid ? 0x03u : 0u) | (extras.time.valid && extras.time.resolved ? 0x04u : 0u));
-  put_u4(p, fix.has_fix() ? kTimeAccuracyNs : kNoFixTimeAccuracyNs);
-  put_i4(p, utc.nano);
-  put_u1(p, s.fix_type);
-  put_u1(p, (s.fix_ok ? 0x01u : 0u) | (s.differential ? 0x02u : 0u) | (static_cast<unsigned>(s.carrier) << 6));
-  put_u1(p, 0x20u | (extras.time.confirmed ? 0xC0u : 0u));  // flags2: confirmedAvai, confirmedDate, confirmedTime
-  put_u1(p, static_cast<std::uint32_t>(fix.has_fix() ? fix.satellites_used : 0));
-  put_llh_position(p, fix);
-  put_i4(p, round_i32(v.north_mps * 1000.0));
-  put_i4(p, round_i32(v.east_mps * 1000.0));
-  put_i4(p, round_i32(v.down_mps * 1000.0));
-  put_i4(p, fix.has_fix() ? round_i32(fix.speed_mps * 1000.0) : 0);
-  put_i4(p, fix.has_fix() ? round_i32(fix.course_deg_true.value_or(0.0) * 1e5) : 0);
-  put_u4(p, s_acc_mm_s(fix, extras));
-  put_u4(p, round_u32(head_acc_deg(fix, extras) * 1e5));
-  put_u2(p, fix.has_fix() ? round_u16(fix.pdop * 100.0) : 9999);
-  put_u2(p, (fix.has_fix() ? 0u : 1u) | (rtk::last_correction_age_code(fix.diff_age_s) << 1));  // flags3: invalidLlh, lastCorrectionAge
-  put_zeros(p, 4);                      // reserved
-  put_i4(p, 0);                         // headVeh (headVehValid is not set)
-  put_i2(p, 0);                         // magDec
-  put_u2(p, 0);                         // magAcc
-  return p;
+  w.set<"valid">((extras.time.valid ? 0x03u : 0u) | (extras.time.valid && extras.time.resolved ? 0x04u : 0u));
+  w.set<"tAcc">(fix.has_fix() ? kTimeAccuracyNs : kNoFixTimeAccuracyNs);
+  w.set<"nano">(utc.nano);
+  w.set<"fixType">(s.fix_type);
+  w.set<"flags">((s.fix_ok ? 0x01u : 0u) | (s.differential ? 0x02u : 0u) | (static_cast<unsigned>(s.carrier) << 6));
+  w.set<"flags2">(0x20u | (extras.time.confirmed ? 0xC0u : 0u));  // confirmedAvai, confirmedDate, confirmedTime
+  w.set<"numSV">(fix.has_fix() ? fix.satellites_used : 0);
+  set_llh_position(w, fix);
+  w.set<"velN">(round_i32(v.north_mps * 1000.0));
+  w.set<"velE">(round_i32(v.east_mps * 1000.0));
+  w.set<"velD">(round_i32(v.down_mps * 1000.0));
+  w.set<"gSpeed">(fix.has_fix() ? round_i32(fix.speed_mps * 1000.0) : 0);
+  w.set<"headMot">(fix.has_fix() ? round_i32(fix.course_deg_true.value_or(0.0) * 1e5) : 0);
+  w.set<"sAcc">(s_acc_mm_s(fix, extras));
+  w.set<"headAcc">(round_u32(head_acc_deg(fix, extras) * 1e5));
+  w.set<"pDOP">(fix.has_fix() ? round_u16(fix.pdop * 100.0) : 9999);
+  // flags3: invalidLlh, lastCorrectionAge; headVeh 0 (headVehValid is not set), magDec, magAcc 0
+  w.set<"flags3">((fix.has_fix() ? 0u : 1u) | (rtk::last_correction_age_code(fix.diff_age_s) << 1));
+  return std::move(w).bytes();
 }
 
 std::string nav_posllh(const nmea::Fix& fix) {
-  std::string p;
-  put_u4(p, tow_ms(fix));
-  put_llh_position(p, fix);
-  return p;
+  PayloadWriter<layout::nav_posllh> w;
+  w.set<"iTOW">(tow_ms(fix));
+  set_llh_position(w, fix);
+  return std::move(w).bytes();
 }
 
 std::string nav_velned(const nmea::Fix& fix, const NavExtras& extras) {
   const VelocityNed v = velocity_of(fix);
   const double speed_mps = fix.has_fix() ? fix.speed_mps : 0.0;
-  std::string p;
-  put_u4(p, tow_ms(fix));
-  put_i4(p, round_i32(v.north_mps * 100.0));
-  put_i4(p, round_i32(v.east_mps * 100.0));
-  put_i4(p, round_i32(v.down_mps * 100.0));
-  put_u4(p, round_u32(std::hypot(speed_mps, v.down_mps) * 100.0));
-  put_u4(p, round_u32(speed_mps * 100.0));
-  put_i4(p, fix.has_fix() ? round_i32(fix.course_deg_true.value_or(0.0) * 1e5) : 0);
-  put_u4(p, (s_acc_mm_s(fix, extras) + 5) / 10);
-  put_u4(p, round_u32(head_acc_deg(fix, extras) * 1e5));
-  return p;
+  PayloadWriter<layout::nav_velned> w;
+  w.set<"iTOW">(tow_ms(fix));
+  w.set<"velN">(round_i32(v.north_mps * 100.0));
+  w.set<"velE">(round_i32(v.east_mps * 100.0));
+  w.set<"velD">(round_i32(v.down_mps * 100.0));
+  w.set<"speed">(round_u32(std::hypot(speed_mps, v.down_mps) * 100.0));
+  w.set<"gSpeed">(round_u32(speed_mps * 100.0));
+  w.set<"heading">(fix.has_fix() ? round_i32(fix.course_deg_true.value_or(0.0) * 1e5) : 0);
+  w.set<"sAcc">((s_acc_mm_s(fix, extras) + 5) / 10);
+  w.set<"cAcc">(round_u32(head_acc_deg(fix, extras) * 1e5));
+  return std::move(w).bytes();
 }
 
 std::string nav_status(const nmea::Fix& fix, const NavExtras& extras) {
   const Solution s = solution_of(fix);
-  std::string p;
-  put_u4(p, tow_ms(fix));
-  put_u1(p, s.fix_type);
-  put_u1(p, status_flags(s, extras.time));
-  put_u1(p, (s.differential ? 0x01u : 0u) | (s.carrier != 0 ? 0x02u : 0u));  // fixStat: diffCorr, carrSolnValid
+  PayloadWriter<layout::nav_status> w;
+  w.set<"iTOW">(tow_ms(fix));
+  w.set<"gpsFix">(s.fix_type);
+  w.set<"flags">(status_flags(s, extras.time));
+  w.set<"fixStat">((s.differential ? 0x01u : 0u) | (s.carrier != 0 ? 0x02u : 0u));  // diffCorr, carrSolnValid
   // flags2: carrSoln, spoofDetState
-  put_u1(p, static_cast<std::uint32_t>(s.carrier) << 6 | (extras.rf.spoof_detection_state & 3u) << 3);
-  put_u4(p, static_cast<std::uint32_t>(extras.time_to_first_fix.count()));
-  put_u4(p, static_cast<std::uint32_t>(extras.since_start.count()));
-  return p;
+  w.set<"flags2">(static_cast<std::uint32_t>(s.carrier) << 6 | (extras.rf.spoof_detection_state & 3u) << 3);
+  w.set<"ttff">(static_cast<std::uint32_t>(extras.time_to_first_fix.count()));
+  w.set<"msss">(static_cast<std::uint32_t>(extras.since_start.count()));
+  return std::move(w).bytes();
 }
 
+namespace {
+
 /// The ECEF position (cm) and its accuracy (cm): NAV-SOL's and NAV-POSECEF's fields.
-void put_ecef_position(std::string& p, const nmea::Fix& fix) {
+template <class Writer>
+void set_ecef_position(Writer& w, const nmea::Fix& fix) {
   const Ecef e = fix.has_fix() ? ecef_of(fix) : Ecef{};
-  put_i4(p, round_i32(e.x_m * 100.0));
-  put_i4(p, round_i32(e.y_m * 100.0));
-  put_i4(p, round_i32(e.z_m * 100.0));
-  put_u4(p, fix.has_fix() ? round_u32(std::hypot(h_acc_m(fix), v_acc_m(fix)) * 100.0) : no_fix_accuracy_mm / 10);
+  w.template set<"ecefX">(round_i32(e.x_m * 100.0));
+  w.template set<"ecefY">(round_i32(e.y_m * 100.0));
+  w.template set<"ecefZ">(round_i32(e.z_m * 100.0));
+  w.template set<"pAcc">(fix.has_fix() ? round_u32(std::hypot(h_acc_m(fix), v_acc_m(fix)) * 100.0)
+                                       : no_fix_accuracy_mm / 10);
 }
 
 /// The ECEF velocity (cm/s, rotated from NED) and the speed accuracy (cm/s): NAV-SOL's and
 /// NAV-VELECEF's fields.
-void put_ecef_velocity(std::string& p, const nmea::Fix& fix, const NavExtras& extras) {
+template <class Writer>
+void set_ecef_velocity(Writer& w, const nmea::Fix& fix, const NavExtras& extras) {
   const VelocityNed v = velocity_of(fix);
   const double lat = fix.lat_deg * kDegToRad;
   const double lon = fix.lon_deg * kDegToRad;
@@ -260,42 +263,42 @@ void put_ecef_velocity(std::string& p, const nmea::Fix& fix, const NavExtras& ex
   const double vy = -std::sin(lat) * std::sin(lon) * v.north_mps + std::cos(lon) * v.east_mps -
                     std::cos(lat) * std::sin(lon) * v.down_mps;
   const double vz = std::cos(lat) * v.north_mps - std::sin(lat) * v.down_mps;
-  put_i4(p, round_i32(vx * 100.0));
-  put_i4(p, round_i32(vy * 100.0));
-  put_i4(p, round_i32(vz * 100.0));
-  put_u4(p, (s_acc_mm_s(fix, extras) + 5) / 10);
+  w.template set<"ecefVX">(round_i32(vx * 100.0));
+  w.template set<"ecefVY">(round_i32(vy * 100.0));
+  w.template set<"ecefVZ">(round_i32(vz * 100.0));
+  w.template set<"sAcc">((s_acc_mm_s(fix, extras) + 5) / 10);
 }
+
+}  // namespace
 
 std::string nav_sol(const nmea::Fix& fix, const NavExtras& extras) {
   const Solution s = solution_of(fix);
   const GpsTime t = gps_time(fix);
-  std::string p;
-  put_u4(p, t.tow_ms);
-  put_i4(p, 0);  // fTOW: epochs lie on whole milliseconds
-  put_i2(p, t.week);
-  put_u1(p, s.fix_type);
-  put_u1(p, status_flags(s, extras.time));
-  put_ecef_position(p, fix);
-  put_ecef_velocity(p, fix, extras);
-  put_u2(p, fix.has_fix() ? round_u16(fix.pdop * 100.0) : 9999);
-  put_u1(p, 0);  // reserved1
-  put_u1(p, static_cast<std::uint32_t>(fix.has_fix() ? fix.satellites_used : 0));
-  put_zeros(p, 4);  // reserved2
-  return p;
+  PayloadWriter<layout::nav_sol> w;
+  w.set<"iTOW">(t.tow_ms);
+  w.set<"fTOW">(0);  // epochs lie on whole milliseconds
+  w.set<"week">(t.week);
+  w.set<"gpsFix">(s.fix_type);
+  w.set<"flags">(status_flags(s, extras.time));
+  set_ecef_position(w, fix);
+  set_ecef_velocity(w, fix, extras);
+  w.set<"pDOP">(fix.has_fix() ? round_u16(fix.pdop * 100.0) : 9999);
+  w.set<"numSV">(fix.has_fix() ? fix.satellites_used : 0);
+  return std::move(w).bytes();
 }
 
 std::string nav_posecef(const nmea::Fix& fix) {
-  std::string p;
-  put_u4(p, tow_ms(fix));
-  put_ecef_position(p, fix);
-  return p;
+  PayloadWriter<layout::nav_posecef> w;
+  w.set<"iTOW">(tow_ms(fix));
+  set_ecef_position(w, fix);
+  return std::move(w).bytes();
 }
 
 std::string nav_velecef(const nmea::Fix& fix, const NavExtras& extras) {
-  std::string p;
-  put_u4(p, tow_ms(fix));
-  put_ecef_velocity(p, fix, extras);
-  return p;
+  PayloadWriter<layout::nav_velecef> w;
+  w.set<"iTOW">(tow_ms(fix));
+  set_ecef_velocity(w, fix, extras);
+  return std::move(w).bytes();
 }
 
 std::string nav_dop(const nmea::Fix& fix) {
@@ -303,70 +306,71 @@ std::string nav_dop(const nmea::Fix& fix) {
   const double tdop = fix.tdop > 0.0 ? fix.tdop : 0.6 * fix.pdop;
   const double gdop = fix.gdop > 0.0 ? fix.gdop : std::hypot(fix.pdop, tdop);
   const auto dop = [ok](double value) { return ok ? round_u16(value * 100.0) : 9999u; };
-  std::string p;
-  put_u4(p, tow_ms(fix));
-  put_u2(p, dop(gdop));
-  put_u2(p, dop(fix.pdop));
-  put_u2(p, dop(tdop));
-  put_u2(p, dop(fix.vdop));
-  put_u2(p, dop(fix.hdop));
-  put_u2(p, dop(fix.hdop / std::numbers::sqrt2));  // nDOP
-  put_u2(p, dop(fix.hdop / std::numbers::sqrt2));  // eDOP
-  return p;
+  PayloadWriter<layout::nav_dop> w;
+  w.set<"iTOW">(tow_ms(fix));
+  w.set<"gDOP">(dop(gdop));
+  w.set<"pDOP">(dop(fix.pdop));
+  w.set<"tDOP">(dop(tdop));
+  w.set<"vDOP">(dop(fix.vdop));
+  w.set<"hDOP">(dop(fix.hdop));
+  w.set<"nDOP">(dop(fix.hdop / std::numbers::sqrt2));
+  w.set<"eDOP">(dop(fix.hdop / std::numbers::sqrt2));
+  return std::move(w).bytes();
 }
 
 std::string nav_timeutc(const nmea::Fix& fix, const NavExtras& extras) {
   const UtcFields utc = utc_fields(fix);
-  std::string p;
-  put_u4(p, tow_ms(fix));
-  put_u4(p, fix.has_fix() ? kTimeAccuracyNs : kNoFixTimeAccuracyNs);
-  put_i4(p, utc.nano);
-  put_date_time(p, utc);
+  PayloadWriter<layout::nav_timeutc> w;
+  w.set<"iTOW">(tow_ms(fix));
+  w.set<"tAcc">(fix.has_fix() ? kTimeAccuracyNs : kNoFixTimeAccuracyNs);
+  w.set<"nano">(utc.nano);
+  set_date_time(w, utc);
   // validTOW, validWKN, validUTC; utcStandard 3 (USNO) once UTC is known
   const bool utc_known = extras.time.valid && extras.time.resolved;
-  put_u1(p, (extras.time.valid ? 0x03u : 0u) | (utc_known ? 0x34u : 0u));
-  return p;
+  w.set<"valid">((extras.time.valid ? 0x03u : 0u) | (utc_known ? 0x34u : 0u));
+  return std::move(w).bytes();
 }
 
 std::string nav_timegps(const nmea::Fix& fix, const NavExtras& extras) {
   const GpsTime t = gps_time(fix);
-  std::string p;
-  put_u4(p, t.tow_ms);
-  put_i4(p, 0);  // fTOW
-  put_i2(p, t.week);
-  put_i1(p, fix.leap.gps_minus_utc_s);
+  PayloadWriter<layout::nav_timegps> w;
+  w.set<"iTOW">(t.tow_ms);
+  w.set<"fTOW">(0);
+  w.set<"week">(t.week);
+  w.set<"leapS">(fix.leap.gps_minus_utc_s);
   // towValid, weekValid, leapSValid
-  put_u1(p, (extras.time.valid ? 0x03u : 0u) | (extras.time.valid && extras.time.resolved ? 0x04u : 0u));
-  put_u4(p, fix.has_fix() ? kTimeAccuracyNs : kNoFixTimeAccuracyNs);
-  return p;
+  w.set<"valid">((extras.time.valid ? 0x03u : 0u) | (extras.time.valid && extras.time.resolved ? 0x04u : 0u));
+  w.set<"tAcc">(fix.has_fix() ? kTimeAccuracyNs : kNoFixTimeAccuracyNs);
+  return std::move(w).bytes();
 }
 
 std::string nav_cov(const nmea::Fix& fix, const NavExtras& extras) {
   const bool ok = fix.has_fix();
-  const auto sq = [](double v) { return static_cast<float>(v * v); };
-  std::string p;
-  put_u4(p, tow_ms(fix));
-  put_u1(p, 0);  // version
-  put_u1(p, ok ? 1u : 0u);  // posCovValid
-  put_u1(p, ok ? 1u : 0u);  // velCovValid
-  put_zeros(p, 9);
+  const auto sq = [ok](double v) { return ok ? static_cast<float>(v * v) : 0.0f; };
   const Sigmas sigma = sigmas_of(fix, extras.speed_sigma_mps);
-  for (const float v : {sq(sigma.north_m), 0.0f, 0.0f, sq(sigma.east_m), 0.0f, sq(sigma.down_m)}) {
-    put_r4(p, ok ? v : 0.0f);
-  }
-  const float s2 = sq(sigma.speed_mps);
-  for (const float v : {s2, 0.0f, 0.0f, s2, 0.0f, s2}) put_r4(p, ok ? v : 0.0f);
-  return p;
+  PayloadWriter<layout::nav_cov> w;
+  w.set<"iTOW">(tow_ms(fix));
+  w.set<"version">(0);
+  w.set<"posCovValid">(ok ? 1u : 0u);
+  w.set<"velCovValid">(ok ? 1u : 0u);
+  // Off-diagonal terms 0.
+  w.set<"posCovNN">(sq(sigma.north_m));
+  w.set<"posCovEE">(sq(sigma.east_m));
+  w.set<"posCovDD">(sq(sigma.down_m));
+  w.set<"velCovNN">(sq(sigma.speed_mps));
+  w.set<"velCovEE">(sq(sigma.speed_mps));
+  w.set<"velCovDD">(sq(sigma.speed_mps));
+  return std::move(w).bytes();
 }
 
 std::string nav_clock(const nmea::Fix& fix, const NavExtras& extras) {
-  std::string p;
-  put_u4(p, tow_ms(fix));
-  put_i4(p, extras.clock.bias_ns);
-  put_i4(p, extras.clock.drift_ns_per_s);
-  put_u4(p, extras.clock.time_accuracy_ns);
-  put_u4(p, extras.clock.frequency_accuracy_ps_per_s);
-  return p;
+  PayloadWriter<layout::nav_clock> w;
+  w.set<"iTOW">(tow_ms(fix));
+  w.set<"clkB">(extras.clock.bias_ns);
+  w.set<"clkD">(extras.clock.drift_ns_per_s);
+  w.set<"tAcc">(extras.clock.time_accuracy_ns);
+  w.set<"fAcc">(extras.clock.frequency_accuracy_ps_per_s);
+  return std::move(w).bytes();
 }
 
 std::string nav_hpposllh(const nmea::Fix& fix) {
@@ -386,61 +390,27 @@ std::string nav_hpposllh(const nmea::Fix& fix) {
     split((fix.alt_msl_m + fix.geoid_sep_m) * 1e4, 10, height, height_hp);
     split(fix.alt_msl_m * 1e4, 10, msl, msl_hp);
   }
-  std::string p;
-  put_u1(p, 0);  // version
-  put_zeros(p, 2);
-  put_u1(p, ok ? 0u : 1u);  // flags: invalidLlh
-  put_u4(p, tow_ms(fix));
-  put_i4(p, lon);
-  put_i4(p, lat);
-  put_i4(p, height);
-  put_i4(p, msl);
-  put_i1(p, lon_hp);
-  put_i1(p, lat_hp);
-  put_i1(p, height_hp);
-  put_i1(p, msl_hp);
-  put_u4(p, ok ? round_u32(h_acc_m(fix) * 1e4) : no_fix_accuracy_mm);  // 0.1 mm
-  put_u4(p, ok ? round_u32(v_acc_m(fix) * 1e4) : no_fix_accuracy_mm);
-  return p;
+  PayloadWriter<layout::nav_hpposllh> w;
+  w.set<"version">(0);
+  w.set<"flags">(ok ? 0u : 1u);  // invalidLlh
+  w.set<"iTOW">(tow_ms(fix));
+  w.set<"lon">(lon);
+  w.set<"lat">(lat);
+  w.set<"height">(height);
+  w.set<"hMSL">(msl);
+  w.set<"lonHp">(lon_hp);
+  w.set<"latHp">(lat_hp);
+  w.set<"heightHp">(height_hp);
+  w.set<"hMSLHp">(msl_hp);
+  w.set<"hAcc">(ok ? round_u32(h_acc_m(fix) * 1e4) : no_fix_accuracy_mm);  // 0.1 mm
+  w.set<"vAcc">(ok ? round_u32(v_acc_m(fix) * 1e4) : no_fix_accuracy_mm);
+  return std::move(w).bytes();
 }
 
 std::string nav_eoe(const nmea::Fix& fix) {
-  std::string p;
-  put_u4(p, tow_ms(fix));
-  return p;
-}
-
-bool nav_encodes(MessageId id) {
-  for (const MessageId m : {msg::nav_pvt, msg::nav_posllh, msg::nav_velned, msg::nav_status, msg::nav_sol,
-                            msg::nav_posecef, msg::nav_velecef, msg::nav_dop, msg::nav_timeutc, msg::nav_timegps,
-                            msg::nav_sat, msg::nav_cov, msg::nav_eoe, msg::nav_clock, msg::nav_hpposllh,
-                            msg::nav_svinfo, msg::nav_sig, msg::nav_timels, msg::nav_relposned}) {
-    if (m == id) return true;
-  }
-  return false;
-}
-
-std::optional<std::string> nav_payload(MessageId id, const nmea::Fix& fix, const NavExtras& extras) {
-  if (id == msg::nav_pvt) return nav_pvt(fix, extras);
-  if (id == msg::nav_posllh) return nav_posllh(fix);
-  if (id == msg::nav_velned) return nav_velned(fix, extras);
-  if (id == msg::nav_status) return nav_status(fix, extras);
-  if (id == msg::nav_sol) return nav_sol(fix, extras);
-  if (id == msg::nav_posecef) return nav_posecef(fix);
-  if (id == msg::nav_velecef) return nav_velecef(fix, extras);
-  if (id == msg::nav_dop) return nav_dop(fix);
-  if (id == msg::nav_timeutc) return nav_timeutc(fix, extras);
-  if (id == msg::nav_timegps) return nav_timegps(fix, extras);
-  if (id == msg::nav_sat) return nav_sat(fix);
-  if (id == msg::nav_svinfo) return nav_svinfo(fix);
-  if (id == msg::nav_sig) return nav_sig(fix, extras.model);
-  if (id == msg::nav_clock) return nav_clock(fix, extras);
-  if (id == msg::nav_timels) return nav_timels(fix, extras);
-  if (id == msg::nav_hpposllh) return nav_hpposllh(fix);
-  if (id == msg::nav_cov) return nav_cov(fix, extras);
-  if (id == msg::nav_relposned) return nav_relposned(fix, extras.relpos);
-  if (id == msg::nav_eoe) return nav_eoe(fix);
-  return std::nullopt;
+  PayloadWriter<layout::nav_eoe> w;
+  w.set<"iTOW">(tow_ms(fix));
+  return std::move(w).bytes();
 }
 
 }  // namespace gpsemu::ubx

@@ -101,9 +101,4 @@ inline constexpr std::uint32_t no_fix_speed_accuracy_mm_s = 20000;
 /// every other NAV message and the NMEA sentences of the epoch.
 [[nodiscard]] std::string nav_eoe(const nmea::Fix& fix);
 
-/// Whether `id` is one of the NAV messages above or of nav_sat.hpp.
-[[nodiscard]] bool nav_encodes(MessageId id);
-/// The payload of NAV message `id` (one of the above), or nullopt for a message not encoded.
-[[nodiscard]] std::optional<std::string> nav_payload(MessageId id, const nmea::Fix& fix, const NavExtras& extras);
-
 }  // namespace gpsemu::ubx

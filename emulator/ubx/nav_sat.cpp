@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <array>
 
-#include "emulator/ubx/bytes.hpp"
+#include "emulator/ubx/layouts.hpp"
 #include "emulator/ubx/nav.hpp"
 
 namespace gpsemu::ubx {
@@ -47,7 +47,7 @@ std::uint8_t first_band_sig_id(std::uint8_t gnss_id, std::uint8_t sv_id) {
   return gnss_id == kBeidou && (sv_id <= 5 || sv_id >= 59) ? 1 : 0;
 }
 
-void put_signal(std::string& p, const nmea::Fix& fix, const nmea::SatelliteInView& sat, UbxSatId id,
+void append_signal(std::string& p, const nmea::Fix& fix, const nmea::SatelliteInView& sat, UbxSatId id,
                 std::uint8_t sig_id, int cno_dbhz, bool dual) {
   const bool used = sat.used && fix.has_fix();
   const bool diff = used && differential(fix);
@@ -60,17 +60,18 @@ void put_signal(std::string& p, const nmea::Fix& fix, const nmea::SatelliteInVie
   if (used) flags |= 0x08 | 0x20;                  // prUsed, doUsed
   if (used && carrier(fix)) flags |= 0x10 | 0x80;  // crUsed, crCorrUsed
   if (diff) flags |= 0x40 | 0x100;                 // prCorrUsed, doCorrUsed
-  put_u1(p, id.gnss_id);
-  put_u1(p, id.sv_id);
-  put_u1(p, sig_id);
-  put_u1(p, freq_id);
-  put_i2(p, 0);  // prRes (0.1 m)
-  put_u1(p, static_cast<std::uint32_t>(std::clamp(cno_dbhz, 0, 255)));
-  put_u1(p, used ? 7u : 4u);  // qualityInd: code and carrier locked / code locked
-  put_u1(p, corr_source);
-  put_u1(p, iono_model);
-  put_u2(p, flags);
-  put_zeros(p, 4);
+  PayloadWriter<layout::nav_sig_block> w;
+  w.set<"gnssId">(id.gnss_id);
+  w.set<"svId">(id.sv_id);
+  w.set<"sigId">(sig_id);
+  w.set<"freqId">(freq_id);
+  w.set<"prRes">(0);
+  w.set<"cno">(std::clamp(cno_dbhz, 0, 255));
+  w.set<"qualityInd">(used ? 7u : 4u);  // code and carrier locked / code locked
+  w.set<"corrSource">(corr_source);
+  w.set<"ionoModel">(iono_model);
+  w.set<"sigFlags">(flags);
+  p += w.bytes();
 }
 
 }  // namespace
@@ -107,12 +108,12 @@ int glonass_frequency_channel(int slot) {
 std::string nav_sat(const nmea::Fix& fix) {
   const int count = satellite_count(fix);
   const bool diff = differential(fix);
-  std::string p;
+  PayloadWriter<layout::nav_sat> header;
+  header.set<"iTOW">(gps_time(fix).tow_ms);
+  header.set<"version">(1);
+  header.set<"numSvs">(count);
+  std::string p = std::move(header).bytes();
   p.reserve(8 + 12 * static_cast<std::size_t>(count));
-  put_u4(p, gps_time(fix).tow_ms);
-  put_u1(p, 1);  // version
-  put_u1(p, static_cast<std::uint32_t>(count));
-  put_zeros(p, 2);
   for (int i = 0; i < count; ++i) {
     const nmea::SatelliteInView& sat = fix.satellites[static_cast<std::size_t>(i)];
     const UbxSatId id = ubx_sat_id(sat);
@@ -123,13 +124,15 @@ std::string nav_sat(const nmea::Fix& fix) {
     std::uint32_t flags = quality | (used ? 0x08u : 0u) | 0x10u;  // health 1: healthy
     if (used && diff) flags |= 0x40u;                             // diffCorr
     if (used) flags |= 0x100u | 0x800u;                           // orbitSource ephemeris, ephAvail
-    put_u1(p, id.gnss_id);
-    put_u1(p, id.sv_id);
-    put_u1(p, static_cast<std::uint32_t>(sat.snr_dbhz.value_or(0)));
-    put_i1(p, sat.elevation_deg);
-    put_i2(p, sat.azimuth_deg);
-    put_i2(p, 0);  // prRes
-    put_u4(p, flags);
+    PayloadWriter<layout::nav_sat_block> w;
+    w.set<"gnssId">(id.gnss_id);
+    w.set<"svId">(id.sv_id);
+    w.set<"cno">(sat.snr_dbhz.value_or(0));
+    w.set<"elev">(sat.elevation_deg);
+    w.set<"azim">(sat.azimuth_deg);
+    w.set<"prRes">(0);
+    w.set<"flags">(flags);
+    p += w.bytes();
   }
   return p;
 }
@@ -137,12 +140,12 @@ std::string nav_sat(const nmea::Fix& fix) {
 std::string nav_svinfo(const nmea::Fix& fix) {
   const int count = satellite_count(fix);
   const bool diff = differential(fix);
-  std::string p;
+  PayloadWriter<layout::nav_svinfo> header;
+  header.set<"iTOW">(gps_time(fix).tow_ms);
+  header.set<"numCh">(count);
+  header.set<"globalFlags">(4);  // chipGen 4, u-blox 8
+  std::string p = std::move(header).bytes();
   p.reserve(8 + 12 * static_cast<std::size_t>(count));
-  put_u4(p, gps_time(fix).tow_ms);
-  put_u1(p, static_cast<std::uint32_t>(count));  // numCh
-  put_u1(p, 4);                                  // globalFlags: chipGen 4, u-blox 8
-  put_zeros(p, 2);
   int channel = 0;
   for (int i = 0; i < count; ++i) {
     const nmea::SatelliteInView& sat = fix.satellites[static_cast<std::size_t>(i)];
@@ -153,14 +156,16 @@ std::string nav_svinfo(const nmea::Fix& fix) {
     if (used) flags |= 0x01 | 0x04 | 0x08;
     if (used && diff) flags |= 0x02;
     if (tracked && !used) flags |= 0x04;
-    put_u1(p, tracked ? static_cast<std::uint32_t>(channel++) : 255u);  // chn: 255 without a channel
-    put_u1(p, svinfo_svid(ubx_sat_id(sat)));
-    put_u1(p, flags);
-    put_u1(p, used ? 7u : tracked ? 4u : 1u);
-    put_u1(p, static_cast<std::uint32_t>(sat.snr_dbhz.value_or(0)));
-    put_i1(p, sat.elevation_deg);
-    put_i2(p, sat.azimuth_deg);
-    put_i4(p, 0);  // prRes (cm)
+    PayloadWriter<layout::nav_svinfo_block> w;
+    w.set<"chn">(tracked ? channel++ : 255);  // 255 without a channel
+    w.set<"svid">(svinfo_svid(ubx_sat_id(sat)));
+    w.set<"flags">(flags);
+    w.set<"quality">(used ? 7u : tracked ? 4u : 1u);
+    w.set<"cno">(sat.snr_dbhz.value_or(0));
+    w.set<"elev">(sat.elevation_deg);
+    w.set<"azim">(sat.azimuth_deg);
+    w.set<"prRes">(0);
+    p += w.bytes();
   }
   return p;
 }
@@ -179,20 +184,20 @@ int signal_count(const nmea::Fix& fix, ReceiverModel model) {
 std::string nav_sig(const nmea::Fix& fix, ReceiverModel model) {
   const int signals = signal_count(fix, model);
   const bool dual = dual_band(model);
-  std::string p;
+  PayloadWriter<layout::nav_sig> header;
+  header.set<"iTOW">(gps_time(fix).tow_ms);
+  header.set<"version">(0);
+  header.set<"numSigs">(signals);
+  std::string p = std::move(header).bytes();
   p.reserve(8 + 16 * static_cast<std::size_t>(signals));
-  put_u4(p, gps_time(fix).tow_ms);
-  put_u1(p, 0);  // version
-  put_u1(p, static_cast<std::uint32_t>(signals));
-  put_zeros(p, 2);
   for (int i = 0; i < satellite_count(fix); ++i) {
     const nmea::SatelliteInView& sat = fix.satellites[static_cast<std::size_t>(i)];
     if (!sat.snr_dbhz) continue;
     const UbxSatId id = ubx_sat_id(sat);
     const SecondBand second = second_band(id.gnss_id, id.sv_id);
     const bool two = dual && second.has;
-    put_signal(p, fix, sat, id, first_band_sig_id(id.gnss_id, id.sv_id), *sat.snr_dbhz, two);
-    if (two) put_signal(p, fix, sat, id, second.sig_id, *sat.snr_dbhz + second.cno_offset_db, true);
+    append_signal(p, fix, sat, id, first_band_sig_id(id.gnss_id, id.sv_id), *sat.snr_dbhz, two);
+    if (two) append_signal(p, fix, sat, id, second.sig_id, *sat.snr_dbhz + second.cno_offset_db, true);
   }
   return p;
 }

@@ -3,7 +3,7 @@
 #include <chrono>
 #include <cstdint>
 
-#include "emulator/ubx/bytes.hpp"
+#include "emulator/ubx/layouts.hpp"
 #include "emulator/ubx/nav.hpp"
 
 namespace gpsemu::ubx {
@@ -37,22 +37,20 @@ std::string nav_timels(const nmea::Fix& fix, const NavExtras& extras) {
     week = static_cast<std::uint32_t>(since / 7);
     day = static_cast<std::uint32_t>(since % 7 + 1);
   }
-  std::string p;
-  put_u4(p, gps_time(fix).tow_ms);
-  put_u1(p, 0);  // version
-  put_zeros(p, 3);
-  put_u1(p, known ? kSourceGps : kSourceUnknown);
-  put_i1(p, leap.gps_minus_utc_s);  // currLs: the firmware's default until it is known
-  put_u1(p, known ? kSourceGps : 0);
-  put_i1(p, known ? leap.change_s : 0);  // lsChange: +1 / -1 announced, 0 none
+  PayloadWriter<layout::nav_timels> w;
+  w.set<"iTOW">(gps_time(fix).tow_ms);
+  w.set<"version">(0);
+  w.set<"srcOfCurrLs">(known ? kSourceGps : kSourceUnknown);
+  w.set<"currLs">(leap.gps_minus_utc_s);  // the firmware's default until it is known
+  w.set<"srcOfLsChange">(known ? kSourceGps : 0);
+  w.set<"lsChange">(known ? leap.change_s : 0);  // +1 / -1 announced, 0 none
   // timeToLsEvent (s), held within its 32 bits for an event centuries away
   const std::int64_t to_event_s = std::clamp<std::int64_t>(leap.time_to_event_s, INT32_MIN, INT32_MAX);
-  put_i4(p, known && leap.event_day ? static_cast<std::int32_t>(to_event_s) : 0);
-  put_u2(p, known ? week : 0);
-  put_u2(p, known ? day : 0);
-  put_zeros(p, 3);
-  put_u1(p, known ? 0x03u : 0u);  // valid: validCurrLs, validTimeToLsEvent
-  return p;
+  w.set<"timeToLsEvent">(known && leap.event_day ? static_cast<std::int32_t>(to_event_s) : 0);
+  w.set<"dateOfLsGpsWn">(known ? week : 0);
+  w.set<"dateOfLsGpsDn">(known ? day : 0);
+  w.set<"valid">(known ? 0x03u : 0u);  // validCurrLs, validTimeToLsEvent
+  return std::move(w).bytes();
 }
 
 }  // namespace gpsemu::ubx

@@ -3,8 +3,8 @@
 
 #include <algorithm>
 
+#include "emulator/ubx/layouts.hpp"
 #include "emulator/ubx/model.hpp"
-#include "emulator/ubx/mon.hpp"
 
 namespace gpsemu::ubx {
 namespace {
@@ -16,17 +16,6 @@ bool outputs(const Settings& s, Port port, std::uint16_t protocol) {
 }
 
 }  // namespace
-
-bool solution_encodes(MessageId id) {
-  return nav_encodes(id) || id == msg::mon_hw || id == msg::mon_hw2 || id == msg::mon_rf;
-}
-
-std::optional<std::string> solution_payload(MessageId id, const nmea::Fix& fix, const NavExtras& extras) {
-  if (id == msg::mon_hw) return mon_hw(extras.rf);
-  if (id == msg::mon_hw2) return mon_hw2();
-  if (id == msg::mon_rf) return mon_rf(extras.rf, extras.model);
-  return nav_payload(id, fix, extras);
-}
 
 std::vector<MessageId> due_messages(const Settings& s, Port port, std::uint64_t solution_index) {
   std::vector<MessageId> ids;
@@ -63,7 +52,7 @@ std::size_t widest_solution_ubx_bytes(const Settings& s, Port port, ReceiverMode
     bytes += frame_overhead_bytes + solution_payload(id, widest, extras)->size();
   }
   // RXM-RTCM (session.cpp): an 8-byte report for each RTCM3 message the port takes.
-  constexpr std::size_t kRxmRtcmPayloadBytes = 8;
+  constexpr std::size_t kRxmRtcmPayloadBytes = layout_bytes(layout::rxm_rtcm);
   if (outputs(s, port, proto_ubx) && (s.ports[static_cast<std::size_t>(port)].in_proto_mask & proto_rtcm3) != 0 &&
       s.rate(msg::rxm_rtcm, port) != 0 && model_has_message(model, msg::rxm_rtcm)) {
     bytes += rtcm_messages_per_solution_budget * (frame_overhead_bytes + kRxmRtcmPayloadBytes);

@@ -16,17 +16,12 @@
 #include <string>
 #include <vector>
 
+#include "emulator/ubx/messages.hpp"
 #include "emulator/ubx/nav.hpp"
 #include "emulator/ubx/settings.hpp"
 #include "nmea/sentence_set.hpp"
 
 namespace gpsemu::ubx {
-
-/// Whether `id` is a message written with a solution: the NAV messages (nav.hpp), MON-HW, MON-HW2,
-/// MON-RF.
-[[nodiscard]] bool solution_encodes(MessageId id);
-/// The payload of solution message `id`, nullopt for a message not encoded.
-[[nodiscard]] std::optional<std::string> solution_payload(MessageId id, const nmea::Fix& fix, const NavExtras& extras);
 
 /// UBX messages this library encodes that are due with solution `solution_index` (0, 1, ...).
 [[nodiscard]] std::vector<MessageId> due_messages(const Settings& s, Port port, std::uint64_t solution_index);

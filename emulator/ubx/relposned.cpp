@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "emulator/ubx/bytes.hpp"
+#include "emulator/ubx/layouts.hpp"
 #include "emulator/ubx/nav.hpp"
 
 namespace gpsemu::ubx {
@@ -31,31 +32,29 @@ std::int32_t e5_deg(double deg) { return static_cast<std::int32_t>(std::lround(d
 std::string nav_relposned(const nmea::Fix& fix, const RelPosNed& rel) {
   const bool fix_ok = fix.has_fix();
   const bool valid = fix_ok && rel.rel_pos_valid;
-  std::string p;
-  p.reserve(kPayloadBytes);
-  put_u1(p, 1);  // version
-  put_u1(p, 0);
-  put_u2(p, rel.ref_station_id);
-  put_u4(p, gps_time(fix).tow_ms);
+  static_assert(layout_bytes(layout::nav_relposned) == kPayloadBytes);
+  PayloadWriter<layout::nav_relposned> w;
+  w.set<"version">(1);
+  w.set<"refStationId">(rel.ref_station_id);
+  w.set<"iTOW">(gps_time(fix).tow_ms);
   const CmAndHp n = split_cm(valid ? rel.north_m : 0.0), e = split_cm(valid ? rel.east_m : 0.0),
                 d = split_cm(valid ? rel.down_m : 0.0), len = split_cm(valid ? rel.length_m : 0.0);
   const bool heading = valid && rel.heading_valid;
-  put_i4(p, n.cm);
-  put_i4(p, e.cm);
-  put_i4(p, d.cm);
-  put_i4(p, len.cm);
-  put_i4(p, heading ? e5_deg(rel.heading_deg) : 0);
-  put_zeros(p, 4);
-  put_i1(p, n.hp);
-  put_i1(p, e.hp);
-  put_i1(p, d.hp);
-  put_i1(p, len.hp);
-  put_u4(p, valid ? tenth_mm(rel.acc_north_m) : 0);
-  put_u4(p, valid ? tenth_mm(rel.acc_east_m) : 0);
-  put_u4(p, valid ? tenth_mm(rel.acc_down_m) : 0);
-  put_u4(p, valid ? tenth_mm(rel.acc_length_m) : 0);
-  put_u4(p, heading ? static_cast<std::uint32_t>(std::clamp(std::round(rel.acc_heading_deg * 1e5), 0.0, 1.8e7)) : 0);
-  put_zeros(p, 4);
+  w.set<"relPosN">(n.cm);
+  w.set<"relPosE">(e.cm);
+  w.set<"relPosD">(d.cm);
+  w.set<"relPosLength">(len.cm);
+  w.set<"relPosHeading">(heading ? e5_deg(rel.heading_deg) : 0);
+  w.set<"relPosHPN">(n.hp);
+  w.set<"relPosHPE">(e.hp);
+  w.set<"relPosHPD">(d.hp);
+  w.set<"relPosHPLength">(len.hp);
+  w.set<"accN">(valid ? tenth_mm(rel.acc_north_m) : 0);
+  w.set<"accE">(valid ? tenth_mm(rel.acc_east_m) : 0);
+  w.set<"accD">(valid ? tenth_mm(rel.acc_down_m) : 0);
+  w.set<"accLength">(valid ? tenth_mm(rel.acc_length_m) : 0);
+  w.set<"accHeading">(
+      heading ? static_cast<std::uint32_t>(std::clamp(std::round(rel.acc_heading_deg * 1e5), 0.0, 1.8e7)) : 0);
   std::uint32_t flags = 0;
   if (fix_ok) flags |= 1u << 0;
   if (fix_ok && rel.diff_soln) flags |= 1u << 1;
@@ -65,8 +64,8 @@ std::string nav_relposned(const nmea::Fix& fix, const RelPosNed& rel) {
   if (fix_ok && rel.ref_pos_miss) flags |= 1u << 6;
   if (fix_ok && rel.ref_obs_miss) flags |= 1u << 7;
   if (heading) flags |= 1u << 8;
-  put_u4(p, flags);
-  return p;
+  w.set<"flags">(flags);
+  return std::move(w).bytes();
 }
 
 RelPosNedFields read_relposned(const std::string& p) {

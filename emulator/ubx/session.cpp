@@ -1,6 +1,8 @@
 // One u-blox port (see session.hpp).
 #include "emulator/ubx/session.hpp"
 
+#include "emulator/ubx/layouts.hpp"
+
 #include <algorithm>
 #include <utility>
 
@@ -63,22 +65,23 @@ void Session::client_wrote(std::string_view bytes, ClientId id) {
 
 void Session::handle_rtcm(const rtk::Rtcm3Frame& frame, Client& c) {
   const Settings& s = machine_.settings();
-  if ((s.ports[static_cast<std::size_t>(machine_.port())].in_proto_mask & proto_rtcm3) == 0) {
-    ++stats_.rtcm_ignored;  // RTCM3 input off on this port: neither used nor reported
+  if ((s.ports[static_cast<std::size_t>(machine_.port())].in_proto_mask & proto_rtcm3) == 0 ||
+      !model_info(machine_.model()).rtcm_input) {
+    ++stats_.rtcm_ignored;  // RTCM3 input off on this port, or a model without it: neither used nor reported
     return;
   }
   rtk::Rtcm3Message message = rtk::decode_rtcm3(frame.payload);
   const bool ubx_out = (s.ports[static_cast<std::size_t>(machine_.port())].out_proto_mask & proto_ubx) != 0;
   if (ubx_out && s.rate(msg::rxm_rtcm, machine_.port()) != 0 && model_has_message(machine_.model(), msg::rxm_rtcm)) {
     // RXM-RTCM version 2: flags (crcFailed 0; msgUsed 2 used, 1 not used), subType, refStation, msgType.
-    std::string p;
-    put_u1(p, 0x02);
-    put_u1(p, (message.valid ? 2u : 1u) << 1);
-    put_u2(p, message.subtype.value_or(0));
-    put_u2(p, message.station_id.value_or(0));
-    put_u2(p, message.type);
+    PayloadWriter<layout::rxm_rtcm> w;
+    w.set<"version">(0x02);
+    w.set<"flags">((message.valid ? 2u : 1u) << 1);
+    w.set<"subType">(message.subtype.value_or(0));
+    w.set<"refStation">(message.station_id.value_or(0));
+    w.set<"msgType">(message.type);
     Answer answer;
-    append_frame(answer.bytes, msg::rxm_rtcm, p);
+    append_frame(answer.bytes, msg::rxm_rtcm, w.bytes());
     handle(std::move(answer), c);
   }
   if (rtcm_.size() >= max_pending_rtcm) {

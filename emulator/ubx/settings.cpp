@@ -2,19 +2,14 @@
 #include "emulator/ubx/settings.hpp"
 
 #include "emulator/ubx/bytes.hpp"
+#include "emulator/ubx/cfg_key_catalogue.hpp"
+#include "emulator/ubx/messages.hpp"
 
 namespace gpsemu::ubx {
 namespace {
 
-struct NmeaName {
-  std::string_view name;
-  std::uint8_t id;
-};
-constexpr std::array<NmeaName, 13> kNmeaIds = {{{"GGA", 0x00}, {"GLL", 0x01}, {"GSA", 0x02}, {"GSV", 0x03},
-                                               {"RMC", 0x04}, {"VTG", 0x05}, {"GRS", 0x06}, {"GST", 0x07},
-                                               {"ZDA", 0x08}, {"GBS", 0x09}, {"DTM", 0x0A}, {"GNS", 0x0D},
-                                               {"VLW", 0x0F}}};
 constexpr std::uint8_t kNmeaClass = 0xF0;
+constexpr std::string_view kNmeaPrefix = "NMEA-";  // the message table's names of class 0xF0
 
 std::string default_nav5() {
   std::string p;
@@ -76,30 +71,30 @@ std::string default_sbas() {
 /// Generation-9 keys without a modelled effect that drivers read back (CFG-VALGET), with the
 /// values of a factory-default M9/F9.
 struct DefaultKey {
-  std::uint32_t key;
+  std::string_view name;
   std::uint64_t value;
 };
 constexpr std::array<DefaultKey, 20> kDefaultKeys = {{
-    {0x20030001, 0},  // CFG-TMODE-MODE: disabled
-    {0x20520002, 1},  // CFG-UART1-STOPBITS: 1
-    {0x20520003, 0},  // CFG-UART1-DATABITS: 8
-    {0x20520004, 0},  // CFG-UART1-PARITY: none
-    {0x10520005, 1},  // CFG-UART1-ENABLED
-    {0x201100A3, 6},  // CFG-NAVSPG-INFIL_MINCNO (dBHz)
-    {0x10220001, 0},  // CFG-ODO-USE_ODO
-    {0x10220002, 0},  // CFG-ODO-USE_COG
-    {0x10220003, 0},  // CFG-ODO-OUTLPVEL
-    {0x10220004, 0},  // CFG-ODO-OUTLPCOG
-    {0x1041000D, 0},  // CFG-ITFM-ENABLE
-    {0x20140011, 3},  // CFG-NAVHPG-DGNSSMODE: RTK fixed
-    {0x1031001F, 1},  // CFG-SIGNAL-GPS_ENA
-    {0x10310001, 1},  // CFG-SIGNAL-GPS_L1CA_ENA
-    {0x10310020, 1},  // CFG-SIGNAL-SBAS_ENA
-    {0x10310021, 1},  // CFG-SIGNAL-GAL_ENA
-    {0x10310022, 1},  // CFG-SIGNAL-BDS_ENA
-    {0x10310024, 1},  // CFG-SIGNAL-QZSS_ENA
-    {0x10310025, 1},  // CFG-SIGNAL-GLO_ENA
-    {0x10310018, 1},  // CFG-SIGNAL-GLO_L1_ENA
+    {"CFG-TMODE-MODE", 0},  // disabled
+    {"CFG-UART1-STOPBITS", 1},  // 1
+    {"CFG-UART1-DATABITS", 0},  // 8
+    {"CFG-UART1-PARITY", 0},  // none
+    {"CFG-UART1-ENABLED", 1},
+    {"CFG-NAVSPG-INFIL_MINCNO", 6},  // dBHz
+    {"CFG-ODO-USE_ODO", 0},
+    {"CFG-ODO-USE_COG", 0},
+    {"CFG-ODO-OUTLPVEL", 0},
+    {"CFG-ODO-OUTLPCOG", 0},
+    {"CFG-ITFM-ENABLE", 0},
+    {"CFG-NAVHPG-DGNSSMODE", 3},  // RTK fixed
+    {"CFG-SIGNAL-GPS_ENA", 1},
+    {"CFG-SIGNAL-GPS_L1CA_ENA", 1},
+    {"CFG-SIGNAL-SBAS_ENA", 1},
+    {"CFG-SIGNAL-GAL_ENA", 1},
+    {"CFG-SIGNAL-BDS_ENA", 1},
+    {"CFG-SIGNAL-QZSS_ENA", 1},
+    {"CFG-SIGNAL-GLO_ENA", 1},
+    {"CFG-SIGNAL-GLO_L1_ENA", 1},
 }};
 
 }  // namespace
@@ -117,7 +112,10 @@ void Settings::set_rate(MessageId id, Port port, std::uint8_t rate) {
 Settings start_settings(const StartSettings& start) {
   Settings s;
   s.meas_period_ms = static_cast<std::uint16_t>(start.measurement_period.count());
-  for (std::size_t i = 0; i < port_count; ++i) s.ports[i] = PortSettings{};
+  for (std::size_t i = 0; i < port_count; ++i) {
+    s.ports[i] = PortSettings{};
+    if (!model_info(start.model).rtcm_input) s.ports[i].in_proto_mask &= static_cast<std::uint16_t>(~proto_rtcm3);
+  }
   const std::uint32_t default_baud = model_info(start.model).default_baud;
   s.ports[static_cast<std::size_t>(Port::uart1)].baud = default_baud;
   s.ports[static_cast<std::size_t>(Port::uart2)].baud = default_baud;
@@ -134,7 +132,7 @@ Settings start_settings(const StartSettings& start) {
   s.gnss = default_gnss();
   s.sbas = default_sbas();
   if (model_info(start.model).key_value_config) {
-    for (const DefaultKey& k : kDefaultKeys) s.other_keys[k.key] = k.value;
+    for (const DefaultKey& k : kDefaultKeys) s.other_keys[key_id(k.name)] = k.value;
   }
   return s;
 }
@@ -144,18 +142,15 @@ std::optional<MessageId> nmea_message(nmea::SentenceType type) {
 }
 
 std::optional<nmea::SentenceType> sentence_of(MessageId id) {
-  if (id.msg_class != kNmeaClass) return std::nullopt;
-  for (const NmeaName& n : kNmeaIds) {
-    if (n.id == id.msg_id) return nmea::sentence_type_from_name(n.name);
-  }
-  return std::nullopt;
+  const MessageRow* row = id.msg_class == kNmeaClass ? find_message(id) : nullptr;
+  if (row == nullptr) return std::nullopt;
+  return nmea::sentence_type_from_name(row->name.substr(kNmeaPrefix.size()));
 }
 
 std::optional<MessageId> nmea_message_from_name(std::string_view name) {
-  for (const NmeaName& n : kNmeaIds) {
-    if (n.name == name) return MessageId{kNmeaClass, n.id};
-  }
-  return std::nullopt;
+  const MessageRow* row = find_message(std::string(kNmeaPrefix) + std::string(name));
+  if (row == nullptr || row->id.msg_class != kNmeaClass) return std::nullopt;
+  return row->id;
 }
 
 }  // namespace gpsemu::ubx

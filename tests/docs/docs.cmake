@@ -11,3 +11,9 @@ add_test(NAME docs.cli_reference_covers_help
          COMMAND ${CMAKE_COMMAND} -DGPSEMU=$<TARGET_FILE:gpsemu> -DDOC=${PROJECT_SOURCE_DIR}/docs/cli.md
                  -P ${CMAKE_CURRENT_LIST_DIR}/cli_doc_covers_help.cmake)
 set_tests_properties(docs.cli_reference_covers_help PROPERTIES LABELS e2e)
+
+add_test(NAME docs.ublox_tables_are_current
+         COMMAND ${CMAKE_COMMAND} -DGENERATOR=$<TARGET_FILE:gpsemu-ublox-doc>
+                 -DDOC=${PROJECT_SOURCE_DIR}/docs/ublox.md -DOUT=${CMAKE_CURRENT_BINARY_DIR}/ublox.md.generated
+                 -P ${CMAKE_CURRENT_LIST_DIR}/ublox_doc_current.cmake)
+set_tests_properties(docs.ublox_tables_are_current PROPERTIES LABELS unit)

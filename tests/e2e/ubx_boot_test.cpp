@@ -8,7 +8,8 @@
 // rate. A configuration that would have made PX4 retry (a required ACK missing, or no NAV-PVT
 // within 500 ms) is counted: none of 20 may. Before a boot the receiver is power-cycled with
 // CFG-RST (a hardware reset: RAM reloaded from the layers, here the defaults). Four receivers
-// boot in parallel, five times each, to keep the run short.
+// boot in parallel, five times each, to keep the run short. An M10 boots three times on its own
+// (the VALSET path only).
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -284,6 +285,21 @@ TEST(UbxBoot, Px4ConfiguresAFactoryStateReceiverWithoutARetryAtAnyPhaseOfTheSeco
   RecordProperty("worst_ack_to_first_pvt_ms", static_cast<int>(worst.count()));
   std::printf("%d boots, %d retries, %d on the legacy path; worst last ACK to first NAV-PVT: %lld ms\n", total,
               retries, legacy, static_cast<long long>(worst.count()));
+}
+
+TEST(UbxBoot, Px4ConfiguresAnM10OnTheValsetPath) {
+  // --receiver ublox-m10: PX4's probe VALSET is ACKed (an M10 has no legacy CFG-PRT path), every
+  // required VALSET too (its RTCM3 input key included), and 5 Hz NAV-PVT follows.
+  const std::vector<double> phases = {0.1, 0.45, 0.8};
+  const std::vector<Boot> got = boot_receiver("ublox-m10", 9, phases);
+  ASSERT_EQ(got.size(), phases.size());
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    EXPECT_FALSE(got[i].retry) << "phase " << phases[i] << " s: PX4 would retry: " << got[i].why;
+    EXPECT_FALSE(got[i].legacy);
+    if (!got[i].retry) {
+      EXPECT_EQ(got[i].pvt_spacing_ms, 200u) << "phase " << phases[i];
+    }
+  }
 }
 
 }  // namespace

@@ -24,6 +24,7 @@
 #include "emulator/ubx/bytes.hpp"
 #include "emulator/ubx/cfg_legacy.hpp"
 #include "emulator/ubx/machine.hpp"
+#include "emulator/ubx/messages.hpp"
 #include "emulator/ubx/nav.hpp"
 #include "emulator/ubx/model.hpp"
 #include "emulator/ubx/output.hpp"
@@ -199,7 +200,7 @@ void fuzz_nav(std::string_view input) {
                                                      {msg::nav_status, 16}, {msg::nav_sol, 52},    {msg::nav_dop, 18},
                                                      {msg::nav_timeutc, 20}, {msg::nav_timegps, 16}, {msg::nav_cov, 64},
                                                      {msg::nav_clock, 20},   {msg::nav_hpposllh, 36}};
-  for (const auto& [id, bytes] : sizes) GPSEMU_FUZZ_CHECK(nav_payload(id, fix, extras)->size() == bytes);
+  for (const auto& [id, bytes] : sizes) GPSEMU_FUZZ_CHECK(solution_payload(id, fix, extras)->size() == bytes);
   const std::size_t sats = nav_sat(fix).size();
   GPSEMU_FUZZ_CHECK(sats >= 8 && (sats - 8) % 12 == 0 && sats <= 8 + 12 * nmea::max_satellites);
   GPSEMU_FUZZ_CHECK(nav_svinfo(fix).size() == sats);

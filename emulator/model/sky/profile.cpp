@@ -18,6 +18,13 @@ ReceiverProfile profile_of(ubx::ReceiverModel model) {
       p.channels = 92;
       p.uere_m = 1.3;
       break;
+    case ubx::ReceiverModel::ublox_m10:
+      // Four concurrent systems (GPS, GLONASS, Galileo, BeiDou) and QZSS, SBAS; single band, as the
+      // M9N, with the lower power of the M10 platform.
+      p.systems = {S::gps, S::glonass, S::galileo, S::beidou, S::qzss, S::sbas};
+      p.channels = 72;
+      p.uere_m = 1.3;
+      break;
     case ubx::ReceiverModel::ublox_f9p:
       p.systems = {S::gps, S::glonass, S::galileo, S::beidou, S::qzss, S::sbas};
       p.channels = 184;

@@ -13,6 +13,7 @@
 
 #include "emulator/ubx/bytes.hpp"
 #include "emulator/ubx/nav.hpp"
+#include "emulator/ubx/messages.hpp"
 #include "tests/support/ubx_frames.hpp"
 
 namespace gpsemu::ubx {
@@ -87,7 +88,7 @@ const Golden goldens[] = {
 
 TEST(UbxNav, EachMessageOfTheFixedFixIsByteExact) {
   for (const Golden& g : goldens) {
-    const auto payload = nav_payload(g.id, fixed_fix(), fixed_extras());
+    const auto payload = solution_payload(g.id, fixed_fix(), fixed_extras());
     ASSERT_TRUE(payload.has_value());
     EXPECT_EQ(payload->size(), g.payload_bytes) << hex(std::string{char(g.id.msg_class), char(g.id.msg_id)});
     EXPECT_EQ(hex(frame_bytes(g.id, *payload)), g.frame_hex)
