@@ -223,16 +223,22 @@ void PtyOutput::discard_stale_input() {
   send_waiting();
   // Answers alone, written since the last check, are never stale: that check may have been a
   // moment ago (an epoch with nothing to send writes nothing: a u-blox being configured, all its
-  // messages off), and the client is reading them now (PX4 lost its ACKs so, and restarted).
+  // messages off), and the client is reading them now. Nor are they when the client opened the
+  // device after an epoch went in, read it and asked: what is unread is its answers. (PX4 lost
+  // ACKs and MON-VER both ways, and restarted its configuration.)
   const int now_unread = unread();
   const std::uint64_t taken = taken_ - taken_at_check_;
-  const bool aged = unread_at_check_ > 0 || epoch_bytes_taken_ != epoch_bytes_taken_at_check_;
+  const std::uint64_t epoch_taken = epoch_bytes_taken_ - epoch_bytes_taken_at_check_;
+  const bool aged = unread_at_check_ > 0 || epoch_taken > 0;
+  const bool read_nothing = static_cast<std::uint64_t>(unread_at_check_) + taken <= static_cast<std::uint64_t>(now_unread);
   bool stale = false;
-  if (nobody_open() || std::exchange(taken_unopened_, false)) {
+  if (nobody_open()) {
     stale = true;
+  } else if (std::exchange(taken_unopened_, false)) {
+    stale = taken == epoch_taken || read_nothing || now_unread >= kLineDisciplineBytes;
   } else if (now_unread > 0 || !waiting_.empty()) {
     if (now_unread < kLineDisciplineBytes && unread_at_check_ < kLineDisciplineBytes) {
-      stale = aged && static_cast<std::uint64_t>(unread_at_check_) + taken <= static_cast<std::uint64_t>(now_unread);
+      stale = aged && read_nothing;
     } else {
       stale = taken == 0 && !waiting_.empty();
     }
