@@ -12,7 +12,7 @@
 // satellite_info), "rel" (sensor_gnss_relative), "timeout" (receive() failed), "inject" (bytes
 // written to the receiver), "end". Usage:
 //   px4-harness --driver ubx|nmea --device PATH --seconds S [--ubx-mode normal|rover-mb-uart1]
-//               [--ubx-rate HZ] [--no-sat-info] [--trace FILE]
+//               [--ubx-rate HZ] [--baud B] [--no-sat-info] [--trace FILE]
 #include <fcntl.h>
 #include <poll.h>
 #include <termios.h>
@@ -45,6 +45,7 @@ struct Options {
   double seconds = 10;
   std::string ubx_mode = "normal";
   int ubx_rate_hz = 0;
+  unsigned baud = 0;  // PX4's SER_GPSx_BAUD: 0 auto-detect
   bool sat_info = true;
   std::string trace;
 };
@@ -232,6 +233,7 @@ bool parse_args(int argc, char** argv, Options& o) {
     else if (a == "--ubx-mode") o.ubx_mode = value("--ubx-mode");
     else if (a == "--ubx-rate") o.ubx_rate_hz = std::atoi(value("--ubx-rate"));
     else if (a == "--no-sat-info") o.sat_info = false;
+    else if (a == "--baud") o.baud = static_cast<unsigned>(std::atoi(value("--baud")));
     else if (a == "--trace") o.trace = value("--trace");
     else {
       std::fprintf(stderr, "harness: unknown argument %s\n", argv[i]);
@@ -294,7 +296,7 @@ int main(int argc, char** argv) {
     config.gnss_systems = GPSHelper::GNSSSystemsMask::RECEIVER_DEFAULTS;
     config.interface_protocols = GPSHelper::InterfaceProtocolsMask::ALL_DISABLED;
     config.cfg_wipe = false;
-    unsigned baud = 0;
+    unsigned baud = opt.baud;
     const gps_abstime t0 = gps_absolute_time();
     const int cret = helper->configure(baud, config);
     ++attempts;
