@@ -31,10 +31,12 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 SKIP = 77
 DRIVER_SOURCES = ["ubx.cpp", "nmea.cpp", "gps_helper.cpp", "rtcm.cpp", "unicore.cpp", "crc.cpp"]
-MODELS = {"ublox-m8n": 8, "ublox-m9n": 9, "ublox-f9p": 10}  # PX4's GPSDriverUBX::Board
+# PX4's GPSDriverUBX::Board of each model; `generic` answers as a u-blox 8 (with --protocol: it has
+# no factory state of a u-blox, it is an NMEA receiver).
+MODELS = {"ublox-m8n": 8, "ublox-m9n": 9, "ublox-f9p": 10, "generic": 8}
 # PX4's solution period with GPS_UBX_RATE 0: the legacy path's CFG-RATE 200 ms on an M8, 125 ms on
 # a u-blox 9 (M9N), 200 ms on an F9P (ubx.cpp configureDevice()).
-DRIVER_PERIOD_S = {"ublox-m8n": 0.2, "ublox-m9n": 0.125, "ublox-f9p": 0.2}
+DRIVER_PERIOD_S = {"ublox-m8n": 0.2, "ublox-m9n": 0.125, "ublox-f9p": 0.2, "generic": 0.2}
 ORIGIN = (43.0725, -89.4125, 260.0)
 SIGMA = (0.6, 0.8, 1.2)  # gaussian noise east, north, up (m): hAcc 1.0, vAcc 1.2, above the floors
 VEL = (3.0, 4.0, 1.0)  # the truth's velocity east, north, up (m/s): a climb, so velD is checked
@@ -376,7 +378,12 @@ def position_checks(run, c, gps, skip_s=1.0, vertical_velocity=True, sigma_scale
         stats["vel"] = max(stats["vel"], dv)
         c.check(dv <= 0.06, "horizontal velocity off by %.3f m/s" % dv)
         c.check(abs(g["vel"] - math.hypot(VEL[0], VEL[1])) <= 0.06, "ground speed %.3f m/s" % g["vel"])
-        if vertical_velocity:
+        cog_err = abs((g["cog"] - math.atan2(VEL[0], VEL[1]) + math.pi) % (2 * math.pi) - math.pi)
+        c.check(cog_err <= 0.01, "course over ground %.2f deg, truth %.2f" %
+                (math.degrees(g["cog"]), math.degrees(math.atan2(VEL[0], VEL[1]))))
+        c.check(g["vel_ned_valid"] == 1, "vel_ned_valid 0 with a 3-D fix")
+        if vertical_velocity:  # u-blox: sAcc, and the vertical velocity NMEA does not have
+            c.check(g["s_var"] > 0, "s_variance_m_s 0 (NAV-PVT sAcc)")
             stats["veld"] = max(stats["veld"], abs(g["vel_d"] + VEL[2]))
             c.check(abs(g["vel_d"] + VEL[2]) <= 0.06, "vel_d %.3f m/s, truth %.3f" % (g["vel_d"], -VEL[2]))
         late = g["wall"] - g["time_utc_usec"] / 1e6
@@ -469,17 +476,22 @@ def fmt_max(x):
 
 # ---------------------------------------------------------------- the cases
 
-def matrix_case(ctx, model, state, rate, boot):
-    name = "%s %s %dHz #%d" % (model, state, rate, boot)
+def matrix_case(ctx, model, state, rate, boot, ubx_rate=0):
+    """`ubx_rate`: PX4's GPS_UBX_RATE (0: the driver's choice per model)."""
+    label = state if not ubx_rate else "%s, GPS_UBX_RATE %d" % (state, ubx_rate)
+    name = "%s %s %dHz #%d" % (model, label, rate, boot)
     emu = ["--receiver", model, "--rate", str(rate), "--noise", "gaussian",
            "--gaussian-sigma", "%g,%g,%g" % SIGMA, "--seed", str(ctx.rng.randrange(1, 10 ** 6))]
     if state != "factory":
         emu += ["--protocol", state]
-    run = Run(ctx, name, emu, ["--driver", "ubx"], ctx.seconds)
+    harness = ["--driver", "ubx"] + (["--ubx-rate", str(ubx_rate)] if ubx_rate else [])
+    run = Run(ctx, name, emu, harness, ctx.seconds)
     run.start()
     run.finish()
     c = Checks()
-    gps = common_checks(run, c, DRIVER_PERIOD_S[model], MODELS[model])
+    # The M8's CFG-RATE path ignores GPS_UBX_RATE (200 ms); the VALSET path takes it.
+    period = 1.0 / ubx_rate if ubx_rate and MODELS[model] != 8 else DRIVER_PERIOD_S[model]
+    gps = common_checks(run, c, period, MODELS[model])
     st = position_checks(run, c, gps)
     accuracy_checks(run, c, gps)
     if st["eph"]:
@@ -495,11 +507,11 @@ def matrix_case(ctx, model, state, rate, boot):
     # The RF state without a fault: MON-RF (u-blox 9) or MON-HW (M8).
     for g in gps[2:]:
         c.check(g["noise"] == 89 and g["jam_ind"] == 9, "noise %d jamInd %d without a jam" % (g["noise"], g["jam_ind"]))
-        if model != "ublox-m8n":
+        if MODELS[model] != 8:
             c.check(g["jam_state"] == 1, "jamming_state %d without a jam" % g["jam_state"])
         break
     conf = run.of("configure")
-    row = [model, state, str(rate), "yes" if conf and conf[0]["ret"] == 0 and len(conf) == 1 else "NO",
+    row = [model, label, str(rate), "yes" if conf and conf[0]["ret"] == 0 and len(conf) == 1 else "NO",
            "%.0f" % conf[0]["ms"] if conf else "-", str(len(run.of("timeout"))), str(len(gps)),
            fmt_max(st["pos"]), fmt_max(st["alt"]), "%.3f" % st["vel"], "%.3f" % st["veld"],
            "%.2f/%.2f" % (st.get("eph_med", 0), st.get("epv_med", 0)), "%.1f" % p95(st.get("ratio", [])),
@@ -542,7 +554,7 @@ def fault_case(ctx, model):
                     (j["jam_ind"], base["jam_ind"]))
             c.check(j["noise"] > base["noise"], "noise_per_ms %d under a jam (clean %d)" % (j["noise"], base["noise"]))
             c.check(j["sats"] < base["sats"], "satellites %d under a jam (clean %d)" % (j["sats"], base["sats"]))
-            if model == "ublox-m8n":
+            if MODELS[model] == 8:
                 c.check(j["agc"] < base["agc"], "AGC %d under a jam (clean %d)" % (j["agc"], base["agc"]))
                 res["jam"] += " agc %d→%d" % (base["agc"], j["agc"])
             else:
@@ -775,10 +787,16 @@ def main(argv):
     plan = []
     for model in MODELS:
         for state in states:
+            if model == "generic" and state == "factory":
+                continue
             for rate in rates:
                 for boot in range(1, boots + 1):
                     plan.append(("matrix", lambda m=model, s=state, r=rate, b=boot: matrix_case(ctx, m, s, r, b),
                                  "%s %s %dHz #%d" % (model, state, rate, boot)))
+    for model in ["ublox-m9n", "ublox-f9p"]:  # PX4 asked for 10 Hz (GPS_UBX_RATE 10): all its messages at 10 Hz
+        for boot in range(1, boots + 1):
+            plan.append(("matrix", lambda m=model, b=boot: matrix_case(ctx, m, "ubx", 1, b, ubx_rate=10),
+                         "%s ubx, GPS_UBX_RATE 10 1Hz #%d" % (model, boot)))
     for model in MODELS:
         plan.append(("faults", lambda m=model: fault_case(ctx, m), "%s faults" % model))
     for model in ["ublox-f9p", "ublox-m9n"]:
