@@ -26,6 +26,7 @@ import sys
 import tempfile
 import threading
 import time
+import tty
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -658,7 +659,6 @@ def heading_case(ctx):
             if fd is None:
                 try:
                     fd = os.open(run.base, os.O_RDONLY | os.O_NOCTTY | os.O_NONBLOCK)
-                    import tty
                     tty.setraw(fd)
                 except OSError:
                     time.sleep(0.05)
