@@ -221,14 +221,24 @@ void PtyOutput::discard_stale_input() {
   // flight inside the kernel too, which FIONREAD does not see yet).
   notice_clients();
   send_waiting();
+  // Answers alone, written since the last check, are never stale: that check may have been a
+  // moment ago (an epoch with nothing to send writes nothing: a u-blox being configured, all its
+  // messages off), and the client is reading them now. Nor are they when the client opened the
+  // device after an epoch went in, read it and asked: what is unread is its answers. (PX4 lost
+  // ACKs and MON-VER both ways, and restarted its configuration.)
   const int now_unread = unread();
   const std::uint64_t taken = taken_ - taken_at_check_;
+  const std::uint64_t epoch_taken = epoch_bytes_taken_ - epoch_bytes_taken_at_check_;
+  const bool aged = unread_at_check_ > 0 || epoch_taken > 0;
+  const bool read_nothing = static_cast<std::uint64_t>(unread_at_check_) + taken <= static_cast<std::uint64_t>(now_unread);
   bool stale = false;
-  if (nobody_open() || std::exchange(taken_unopened_, false)) {
+  if (nobody_open()) {
     stale = true;
+  } else if (std::exchange(taken_unopened_, false)) {
+    stale = taken == epoch_taken || read_nothing || now_unread >= kLineDisciplineBytes;
   } else if (now_unread > 0 || !waiting_.empty()) {
     if (now_unread < kLineDisciplineBytes && unread_at_check_ < kLineDisciplineBytes) {
-      stale = static_cast<std::uint64_t>(unread_at_check_) + taken <= static_cast<std::uint64_t>(now_unread);
+      stale = aged && read_nothing;
     } else {
       stale = taken == 0 && !waiting_.empty();
     }
@@ -236,6 +246,7 @@ void PtyOutput::discard_stale_input() {
   if (stale) discard_all(now_unread);
   unread_at_check_ = stale ? 0 : now_unread;
   taken_at_check_ = taken_;
+  epoch_bytes_taken_at_check_ = epoch_bytes_taken_;
 }
 
 void PtyOutput::notice_clients() {
@@ -283,6 +294,7 @@ void PtyOutput::send_waiting() {
     if (n <= 0) break;  // no room (EAGAIN), or an error the next epoch's write reports
     w.sent += static_cast<std::size_t>(n);
     taken_ += static_cast<std::uint64_t>(n);
+    if (w.epoch) epoch_bytes_taken_ += static_cast<std::uint64_t>(n);
     taken_unopened_ = taken_unopened_ || nobody_open();
     waiting_bytes_ -= static_cast<std::size_t>(n);
     if (w.sent == w.bytes.size()) waiting_.pop_front();
@@ -299,6 +311,7 @@ WriteStatus PtyOutput::send(std::string_view bytes, bool epoch, std::string& err
       if (n >= 0) {
         sent = static_cast<std::size_t>(n);
         taken_ += sent;
+        if (epoch) epoch_bytes_taken_ += sent;
         taken_unopened_ = taken_unopened_ || nobody_open();
         break;
       }

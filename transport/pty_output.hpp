@@ -108,6 +108,8 @@ class PtyOutput final : public Output {
   bool watching_room_ = false;
   std::uint64_t taken_ = 0;           ///< bytes the pty took, in all
   std::uint64_t taken_at_check_ = 0;  ///< at the last discard_stale_input()
+  std::uint64_t epoch_bytes_taken_ = 0;           ///< of taken_, the epochs' (the rest: answers)
+  std::uint64_t epoch_bytes_taken_at_check_ = 0;  ///< at the last discard_stale_input()
   int unread_at_check_ = 0;           ///< unread bytes then
   bool taken_unopened_ = false;       ///< the pty took bytes while nobody had it open, since then
   PtyStats pty_stats_;

@@ -1,0 +1,165 @@
+// PX4's u-blox driver configuring a NEO-M8N through a real pseudo-terminal (issue 35: found by
+// tools/driver-check, PX4-GPSDrivers' own driver over gpsemu's pty). The frames PX4 wrote
+// (tests/data/px4/neo_m8n_configure.txt, recorded from its wire trace) are replayed in order
+// against the receiver channel behind a PtyOutput, with the epoch loop's steps around each as the
+// trace showed them: the loop's check of the pty (prepare) before the frame, the answer written,
+// then the next epoch's check before the driver read the answer (PX4 waits for 32 characters
+// after poll() wakes, 2.8 ms at 115200 baud), an epoch with nothing to send (a u-blox being
+// configured has its messages off). PX4 waits 250 ms for each ACK and restarts its whole
+// configuration without it: every frame must get its answer (ACK-ACK; ACK-NAK for the VALSET
+// probe an M8 does not know; MON-VER for the poll). The check took the answer, the only thing
+// written since the previous check, for bytes no client had read for a whole period and
+// discarded it (8 of 54 boots restarted); and when the driver had opened the port after an
+// epoch went in while nobody had it open, the next check discarded everything unread, the
+// answers to the frames it wrote since (MON-VER lost: board unknown, a restart).
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "emulator/pipeline/channel.hpp"
+#include "emulator/pipeline/sink.hpp"
+#include "emulator/pipeline/ubx_encoder.hpp"
+#include "emulator/ubx/bytes.hpp"
+#include "tests/support/read_deadline.hpp"
+#include "tests/support/ubx_frames.hpp"
+#include "transport/pty_output.hpp"
+
+namespace gpsemu {
+namespace {
+
+using namespace std::chrono_literals;
+using ubx::test::frames_in;
+
+/// The recorded frames: one hex line each, '#' comments.
+std::vector<std::string> recorded_frames(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::string> frames;
+  std::string line;
+  while (std::getline(in, line)) {
+    line = line.substr(0, line.find('#'));
+    while (!line.empty() && line.back() == ' ') line.pop_back();
+    if (line.empty()) continue;
+    std::string bytes;
+    for (std::size_t k = 0; k + 1 < line.size(); k += 2) {
+      bytes.push_back(static_cast<char>(std::stoi(line.substr(k, 2), nullptr, 16)));
+    }
+    frames.push_back(bytes);
+  }
+  return frames;
+}
+
+/// The receiver channel of `gpsemu --receiver ublox-m8n --protocol ubx --rate 5` behind a real pty.
+class Px4ConfigurePty : public ::testing::Test {
+ protected:
+  Px4ConfigurePty() : channel(channel_settings(), t0) {
+    ubx::SessionSettings ubx_settings;  // NAV-PVT every solution, no NMEA from the u-blox part
+    ubx_settings.start.model = ubx::ReceiverModel::ublox_m8n;
+    ubx_settings.start.sentences = {};
+    ubx_settings.start.measurement_period = 200ms;
+    channel.add_encoder(std::make_unique<UbxEncoder>(ubx_settings));
+    std::vector<std::unique_ptr<transport::Output>> outputs;
+    auto pty = std::make_unique<transport::PtyOutput>();
+    out = pty.get();
+    outputs.push_back(std::move(pty));
+    i = sink.add(std::move(outputs));
+    sink.attach_client_input(i, &channel);
+  }
+  ~Px4ConfigurePty() override {
+    if (client >= 0) ::close(client);
+  }
+  static ChannelSettings channel_settings() {
+    ChannelSettings settings;
+    settings.origin = {43.0725, -89.4125, 260.0};
+    return settings;
+  }
+  void open_client() {
+    client = ::open(out->device_path().c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK);
+    ASSERT_GE(client, 0);
+    termios tio{};
+    ASSERT_EQ(::tcgetattr(client, &tio), 0);
+    ::cfmakeraw(&tio);
+    ASSERT_EQ(::tcsetattr(client, TCSANOW, &tio), 0);
+  }
+  /// The driver writes `frame`; the loop services the readable pty and writes the answer at once.
+  void driver_writes(const std::string& frame) {
+    const std::uint64_t before = out->stats().replies_written;
+    ASSERT_EQ(::write(client, frame.data(), frame.size()), static_cast<ssize_t>(frame.size()));
+    const auto until = std::chrono::steady_clock::now() + 2s;
+    while (out->stats().replies_written == before && std::chrono::steady_clock::now() < until) {
+      sink.service_all();
+      std::this_thread::sleep_for(1ms);
+    }
+    ASSERT_EQ(out->stats().replies_written, before + 1);
+  }
+  /// What PX4 waits for after `sent`: MON-VER for the poll, ACK-NAK for the VALSET an M8 does not
+  /// know, else ACK-ACK of that message; checked against the first frame the driver reads.
+  static void expect_answer(const ubx::Frame& sent, const std::vector<ubx::Frame>& got, std::size_t line) {
+    const ubx::MessageId want = sent.id == ubx::msg::mon_ver      ? ubx::msg::mon_ver
+                                : sent.id == ubx::msg::cfg_valset ? ubx::msg::ack_nak
+                                                                  : ubx::msg::ack_ack;
+    ASSERT_FALSE(got.empty()) << "no answer to line " << line;
+    EXPECT_EQ(got[0].id, want) << "line " << line;
+    if (want != ubx::msg::mon_ver) {
+      EXPECT_EQ(got[0].payload, std::string({static_cast<char>(sent.id.msg_class), static_cast<char>(sent.id.msg_id)}))
+          << "line " << line;
+    }
+  }
+
+  const UtcNs t0 = parse_iso8601_utc("2026-11-28T05:36:46Z");
+  Channel channel;
+  Sink sink;
+  transport::PtyOutput* out = nullptr;
+  std::size_t i = 0;
+  int client = -1;
+  const std::vector<std::string> frames =
+      recorded_frames(std::string(GPSEMU_SOURCE_DIR) + "/tests/data/px4/neo_m8n_configure.txt");
+};
+
+TEST_F(Px4ConfigurePty, EveryFramePx4WaitsForIsAnsweredThoughTheLoopChecksThePtyBeforeItReads) {
+  ASSERT_EQ(frames.size(), 12u);
+  open_client();
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const auto sent = frames_in(frames[k]);
+    ASSERT_EQ(sent.size(), 1u) << "line " << k;
+    sink.prepare(i);  // the loop's check at an epoch: the client has read everything
+    driver_writes(frames[k]);
+    sink.prepare(i);    // the next epoch's check, before the driver has read the answer
+    sink.write(i, "");  // an epoch with nothing to send: every message off while PX4 configures
+    const auto got = frames_in(test::read_available(client, 20ms, 1s));
+    expect_answer(sent[0], got, k);
+    EXPECT_EQ(got.size(), 1u) << "line " << k;
+  }
+  EXPECT_EQ(out->pty_stats().stale_bytes_discarded, 0u);
+}
+
+TEST_F(Px4ConfigurePty, ThePortOpenedAfterAnEpochWentInLosesNoAnswerAtTheNextCheck) {
+  // PX4 opens the port between epochs: an epoch went into the pty while nobody had it open. The
+  // driver reads it (its 20 ms flush), then probes: the VALSET's NAK, the CFG-PRTs' ACKs and the
+  // MON-VER answer come while the loop checks the pty for the next epoch.
+  ASSERT_GE(frames.size(), 4u);
+  sink.prepare(i);
+  (void)channel.step(t0, sources::Truth{});
+  sink.write(i, channel.bytes());
+  open_client();
+  EXPECT_FALSE(test::read_available(client, 20ms, 1s).empty());  // the epoch written before it opened
+  for (std::size_t k = 0; k < 4; ++k) {
+    const auto sent = frames_in(frames[k]);
+    ASSERT_EQ(sent.size(), 1u) << "line " << k;
+    driver_writes(frames[k]);
+    sink.prepare(i);  // the next epoch's check, before the driver has read the answer
+    (void)channel.step(t0 + std::chrono::milliseconds(200 * (k + 1)), sources::Truth{});
+    sink.write(i, channel.bytes());
+    expect_answer(sent[0], frames_in(test::read_available(client, 20ms, 1s)), k);
+  }
+}
+
+}  // namespace
+}  // namespace gpsemu
