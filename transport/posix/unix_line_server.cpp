@@ -1,5 +1,7 @@
 #include "transport/posix/unix_line_server.hpp"
 
+#include <algorithm>
+
 #include <poll.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
@@ -88,7 +90,7 @@ UnixLineServer::~UnixLineServer() {
 void UnixLineServer::close_idle(std::chrono::steady_clock::time_point now) {
   if (settings_.idle_timeout <= std::chrono::milliseconds::zero()) return;
   std::erase_if(clients_, [&](const Client& c) {
-    if (now - c.last_line < settings_.idle_timeout) return false;
+    if (c.watch || now - c.last_line < settings_.idle_timeout) return false;
     (void)send_line(c.fd.get(), settings_.messages.idle_closed);
     ++stats_.clients_idle_closed;
     return true;
@@ -108,6 +110,26 @@ bool UnixLineServer::send_line(int fd, std::string_view text) {
 }
 
 void UnixLineServer::service(const Handler& handle) {
+  service(WatchHandler([&handle](std::string_view line, std::optional<std::int64_t>&) { return handle(line); }));
+}
+
+void UnixLineServer::push(std::string_view line, std::int64_t tag) {
+  std::erase_if(clients_, [&](const Client& c) {
+    if (!c.watch || (*c.watch != -1 && *c.watch != tag)) return false;
+    if (send_line(c.fd.get(), line)) {
+      ++stats_.lines_pushed;
+      return false;
+    }
+    ++stats_.clients_not_reading;
+    return true;
+  });
+}
+
+std::size_t UnixLineServer::watchers() const {
+  return static_cast<std::size_t>(std::count_if(clients_.begin(), clients_.end(), [](const Client& c) { return c.watch.has_value(); }));
+}
+
+void UnixLineServer::service(const WatchHandler& handle) {
   const auto now = std::chrono::steady_clock::now();
   close_idle(now);
   while (true) {
@@ -119,7 +141,7 @@ void UnixLineServer::service(const Handler& handle) {
       continue;
     }
     ++stats_.clients_accepted;
-    clients_.push_back({std::move(fd), now, {}, false});
+    clients_.push_back({std::move(fd), now, {}, false, std::nullopt});
   }
   char buffer[4096];
   for (auto it = clients_.begin(); it != clients_.end();) {
@@ -157,7 +179,7 @@ void UnixLineServer::service(const Handler& handle) {
           c.last_line = now;
           if (!line.empty()) {
             ++stats_.lines_answered;
-            if (!send_line(c.fd.get(), handle(line))) {
+            if (!send_line(c.fd.get(), handle(line, c.watch))) {
               gone = true;
               ++stats_.clients_not_reading;
             }
