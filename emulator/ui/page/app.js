@@ -6,7 +6,7 @@ const COLORS = { GPS: "#2c6fbb", GLONASS: "#c0392b", Galileo: "#27ae60", BeiDou:
 const TRAIL = 60;      // epochs in the position trail
 const HISTORY = 300;   // epochs in the error trace
 const token = new URLSearchParams(location.hash.slice(1)).get("token");
-const view = { receiver: 0, last: null, epochs: 0, history: [], trail: [], source: null, info: null };
+const view = { receiver: 0, last: null, epochs: 0, history: [], trail: [], source: null, info: null, raw: new Map() };
 window.gpsemuView = view;  // for the browser tests and the console
 
 const $ = (id) => document.getElementById(id);
@@ -25,12 +25,17 @@ async function start() {
 
 function connect(receiver) {
   if (view.source) view.source.close();
-  Object.assign(view, { receiver, last: null, epochs: 0, history: [], trail: [] });
+  Object.assign(view, { receiver, last: null, epochs: 0, history: [], trail: [], raw: new Map() });
   const source = new EventSource(`/api/events?receiver=${receiver}`);
   view.source = source;
   source.onopen = () => setConnection(true);
   source.onerror = () => setConnection(false);
-  source.onmessage = (event) => update(JSON.parse(event.data));
+  source.onmessage = (event) => {
+    const s = JSON.parse(event.data);
+    view.raw.set(s.epoch, event.data);  // the last epochs as received (two pages compare them)
+    if (view.raw.size > 100) view.raw.delete(view.raw.keys().next().value);
+    update(s);
+  };
 }
 
 function setConnection(on) {
