@@ -151,4 +151,14 @@ std::string control_request(const std::string& spec, std::string_view line, std:
   return posix::unix_request(spec.rfind("unix:", 0) == 0 ? spec.substr(5) : spec, line, timeout);
 }
 
+void control_watch(const std::string& spec, std::string_view line, std::chrono::milliseconds timeout,
+                   const posix::LineSink& sink) {
+  if (spec.rfind("tcp:", 0) == 0) {
+    const posix::Endpoint e = posix::parse_endpoint(spec.substr(4));
+    posix::tcp_exchange(e.host, e.port, line, timeout, sink);
+    return;
+  }
+  posix::unix_exchange(spec.rfind("unix:", 0) == 0 ? spec.substr(5) : spec, line, timeout, sink);
+}
+
 }  // namespace gpsemu

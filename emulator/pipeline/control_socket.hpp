@@ -64,5 +64,9 @@ class ControlSocket final : public LoopInput {
 /// gpsemu ctl's exchange: one request line to a control socket given as parse_control_spec()
 /// accepts it (or a bare PATH), its answer line. Throws std::runtime_error.
 [[nodiscard]] std::string control_request(const std::string& spec, std::string_view line, std::chrono::milliseconds timeout);
+/// gpsemu ctl watch's exchange: `line`, then every answer line to `sink` until it returns false or
+/// gpsemu closes. Throws std::runtime_error (no socket, nothing for `timeout`).
+void control_watch(const std::string& spec, std::string_view line, std::chrono::milliseconds timeout,
+                   const posix::LineSink& sink);
 
 }  // namespace gpsemu

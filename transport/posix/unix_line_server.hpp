@@ -107,5 +107,13 @@ class UnixLineServer {
 /// The same over TCP to `host`:`port` ("control socket tcp:HOST:PORT: ...").
 [[nodiscard]] std::string tcp_request(const std::string& host, std::uint16_t port, std::string_view line,
                                       std::chrono::milliseconds timeout);
+/// Takes each line of an answer; false: no more.
+using LineSink = std::function<bool(std::string_view line)>;
+/// A client's exchange that goes on (a watcher): sends `line`, gives `sink` every line that comes
+/// back until it returns false or the server closes; throws like unix_request, or when no line
+/// comes for `timeout`.
+void unix_exchange(const std::string& path, std::string_view line, std::chrono::milliseconds timeout, const LineSink& sink);
+void tcp_exchange(const std::string& host, std::uint16_t port, std::string_view line, std::chrono::milliseconds timeout,
+                  const LineSink& sink);
 
 }  // namespace gpsemu::posix
