@@ -11,12 +11,14 @@
 #include <spdlog/spdlog.h>
 
 #include "emulator/ui/assets.hpp"
+#include "transport/posix/sockets.hpp"
 
 namespace gpsemu::ui {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 constexpr int kTimeoutS = 2;  ///< read, write and keep-alive timeouts (seconds)
+constexpr int kSendBufferBytes = 32 * 1024;  ///< each connection's (the kernel doubles it)
 
 /// 32 hex digits from the system's random source.
 std::string random_token() {
@@ -76,6 +78,10 @@ HttpServer::HttpServer(Hub& hub, HttpSettings settings)
   if (settings_.token && settings_.token->size() < 8) throw std::invalid_argument("ui-token: expected at least 8 characters");
   if (settings_.token) token_ = settings_.token;
   server_->new_task_queue = [this] { return new CountingPool(*counters_); };
+  // Many clients at once (a flood is refused by the server, not by accept() running out of
+  // descriptors); a small send buffer, so an event stream nobody reads is found out in seconds.
+  (void)posix::raise_open_files_limit();
+  server_->set_socket_options([](int fd) { posix::configure_listening_socket(fd, kSendBufferBytes); });
   server_->set_read_timeout(kTimeoutS, 0);
   server_->set_write_timeout(kTimeoutS, 0);
   server_->set_keep_alive_timeout(kTimeoutS);
@@ -230,8 +236,12 @@ void HttpServer::routes() {
                       "application/json");
       return;
     }
-    if (const std::string origin = req.get_header_value("Origin");
-        !origin.empty() && origin != "http://" + req.get_header_value("Host")) {
+    // A browser names the page's origin: this server's (as the Host it asked), or on loopback any
+    // of its loopback names with this port.
+    const std::string origin = req.get_header_value("Origin");
+    const bool same_origin = origin.empty() || origin == "http://" + req.get_header_value("Host") ||
+                             (!token_ && origin.rfind("http://", 0) == 0 && loopback_host_header(origin.substr(7), port_));
+    if (!same_origin) {
       counters_->refused_cross_site.fetch_add(1, std::memory_order_relaxed);
       res.status = 403;
       res.set_content(R"j({"class":"ERROR","message":"a request from another origin"})j", "application/json");
