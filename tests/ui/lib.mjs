@@ -20,11 +20,13 @@ export async function until(predicate, what, timeoutMs = 15000) {
   }
 }
 
-/// A running gpsemu with --ui on a free port; `extra`: more arguments. Its log is kept in `.log`.
+/// A running gpsemu with --ui on a free port, writing to a pty of its own (read into `.lines`) or,
+/// with pty false, to a file; `extra`: more arguments. Its log is kept in `.log`.
 export async function startGpsemu(extra = [], { pty = true } = {}) {
   const dir = fs.mkdtempSync(path.join(process.env.TMPDIR || os.tmpdir(), "gpsemu-ui-"));
   const link = path.join(dir, "gps");
-  const args = ["--rate", "10", "--ui", "127.0.0.1:0", ...(pty ? ["--output", `pty:${link}`] : []), ...extra];
+  const output = pty ? `pty:${link}` : `file:${path.join(dir, "out.nmea")}`;
+  const args = ["--rate", "10", "--ui", "127.0.0.1:0", "--output", output, ...extra];
   const child = spawn(binary, args, { stdio: ["ignore", "ignore", "pipe"] });
   const g = { child, dir, link, log: "", url: null, lines: [], reader: null };
   child.stderr.on("data", (d) => { g.log += d; });
