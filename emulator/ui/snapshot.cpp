@@ -166,7 +166,11 @@ json ubx_json(const Channel& ch, const UbxLine& line) {
     if (rates[port] != 0) enabled.push_back({{"message", message_name(id)}, {"rate", rates[port]}});
   }
   const ubx::MachineStats& st = m.stats();
-  return {{"acks", st.acks},
+  const ubx::FrameStats& in = ubx->session().reader_stats();
+  return {{"frames_received", in.frames_ok},
+          {"sentences_received", in.sentences_ok},
+          {"bad_frames", in.bad_checksum + in.too_long + in.bad_sentences},
+          {"acks", st.acks},
           {"naks", st.naks},
           {"ignored", st.ignored},
           {"resets", st.resets},

@@ -261,7 +261,8 @@ function drawLink(s) {
     `<tr><td>${esc(o.name)}</td><td>${o.bytes_written}</td><td>${o.epochs_written}</td><td>${o.epochs_dropped}</td><td>${o.clients ?? "–"}</td></tr>`).join("");
   const u = s.ubx;
   $("ubx").innerHTML = !u ? "<span class='note'>NMEA receiver (no u-blox configuration)</span>" :
-    `<b>u-blox, as the driver configured it:</b> ${u.acks} ACK, ${u.naks} NAK, ${u.ignored} ignored, ${u.resets} resets · ` +
+    `<b>u-blox, as the driver configured it:</b> ${u.frames_received} UBX frames and ${u.sentences_received} NMEA sentences received` +
+    (u.bad_frames ? ` (${u.bad_frames} bad)` : "") + ` · answered ${u.acks} ACK, ${u.naks} NAK, ${u.ignored} ignored, ${u.resets} resets · ` +
     `rate ${u.meas_period_ms} ms x ${u.nav_rate_cycles} (${num(u.solution_hz, 2)} Hz) · port baud ${u.port_baud || "–"}` +
     (u.line_baud ? ` (line ${u.line_baud})` : "") + `<br>messages on: ` +
     (u.enabled.map((m) => `${esc(m.message)}${m.rate > 1 ? "/" + m.rate : ""}`).join(", ") || "none");
