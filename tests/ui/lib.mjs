@@ -6,7 +6,7 @@ import os from "node:os";
 import path from "node:path";
 import puppeteer from "puppeteer-core";
 
-export const binary = process.env.GPSEMU_BINARY || path.resolve(import.meta.dirname, "../../build/emulator/gpsemu");
+export const binary = process.env.GPSEMU_BINARY || new URL("../../build/emulator/gpsemu", import.meta.url).pathname;
 export const chromium = process.env.GPSEMU_CHROMIUM || "/usr/bin/chromium";
 
 /// Waits until `predicate()` is truthy (polled every 50 ms) or throws `what` after `timeoutMs`.
