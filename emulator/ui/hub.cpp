@@ -13,6 +13,7 @@
 
 #include "emulator/faults/catalogue.hpp"
 #include "transport/posix/errors.hpp"
+#include "transport/pty_output.hpp"
 #include "transport/tcp_output.hpp"
 
 namespace gpsemu::ui {
@@ -140,6 +141,9 @@ std::string Hub::status_extra(std::size_t i) const {
     for (const auto& o : *r.outputs) {
       json entry{{"name", o->describe()}, {"bytes_written", o->stats().bytes_written}, {"clients", nullptr}};
       if (const auto* tcp = dynamic_cast<const transport::TcpOutput*>(o.get())) entry["clients"] = tcp->client_count();
+      if (const auto* pty = dynamic_cast<const transport::PtyOutput*>(o.get()); pty && pty->clients_open()) {
+        entry["clients"] = *pty->clients_open();
+      }
       outputs.push_back(std::move(entry));
     }
   }

@@ -7,6 +7,7 @@
 
 #include "emulator/pipeline/rtk_receiver.hpp"
 #include "emulator/ubx/nav.hpp"
+#include "transport/pty_output.hpp"
 #include "transport/tcp_output.hpp"
 
 namespace gpsemu::ui {
@@ -120,6 +121,9 @@ json link_json(const EpochView& v, const SnapshotContext& c) {
                  {"epochs_dropped", o->stats().epochs_dropped},
                  {"clients", nullptr}};
       if (const auto* tcp = dynamic_cast<const transport::TcpOutput*>(o.get())) entry["clients"] = tcp->client_count();
+      if (const auto* pty = dynamic_cast<const transport::PtyOutput*>(o.get()); pty && pty->clients_open()) {
+        entry["clients"] = *pty->clients_open();
+      }
       outputs.push_back(std::move(entry));
     }
   }

@@ -111,6 +111,7 @@ TEST(UiCtlWatch, OneLineAnEpochMatchingTheFixOnThePty) {
   EXPECT_TRUE(r["error_vertical_m"].is_number()) << answer.out;
   ASSERT_EQ(r["outputs"].size(), 1u) << answer.out;
   EXPECT_NE(r["outputs"][0]["name"].get<std::string>().find(link), std::string::npos) << answer.out;
+  EXPECT_EQ(r["outputs"][0]["clients"], 1) << "the test has the pty open: " << answer.out;
 
   ::close(pty);
   gpsemu.signal(SIGTERM);
