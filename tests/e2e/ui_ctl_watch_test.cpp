@@ -1,7 +1,8 @@
 // `gpsemu ctl PATH watch` against a running gpsemu (10 Hz, a pty and --control): one JSON line an
 // epoch, consecutive epochs 0.1 s apart, each matching the GGA the pty carried for that epoch
 // (time, quality, satellites used, latitude and longitude to the GGA's resolution); and
-// `ctl status` answers HDOP, satellites in view, the error against the truth and the outputs.
+// `ctl status` answers HDOP, satellites in view, the error against the truth and the outputs;
+// --status-every logs its line meanwhile.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <poll.h>
@@ -47,7 +48,7 @@ TEST(UiCtlWatch, OneLineAnEpochMatchingTheFixOnThePty) {
   const std::string socket = (dir / "ctl.sock").string();
   const std::string link = (dir / "gps").string();
   test::Process gpsemu({GPSEMU_BINARY, "--rate", "10", "--duration", "60", "--output", "pty:" + link, "--control",
-                        "unix:" + socket});
+                        "unix:" + socket, "--status-every", "0.5"});
   ASSERT_TRUE(gpsemu.wait_for_stderr("control socket", seconds(20))) << gpsemu.stderr_text();
   const int pty = test::open_raw_pty_client(link);
   ASSERT_GE(pty, 0);
@@ -117,6 +118,10 @@ TEST(UiCtlWatch, OneLineAnEpochMatchingTheFixOnThePty) {
   gpsemu.signal(SIGTERM);
   ASSERT_EQ(gpsemu.wait(seconds(20)), 0) << gpsemu.stderr_text();
   EXPECT_NE(gpsemu.stderr_text().find(" 0 late epochs skipped"), std::string::npos) << gpsemu.stderr_text();
+  // --status-every: the periodic line, with the fix, HDOP and the error against the truth.
+  EXPECT_NE(gpsemu.stderr_text().find("status: epoch "), std::string::npos) << gpsemu.stderr_text();
+  EXPECT_NE(gpsemu.stderr_text().find("satellites used, HDOP "), std::string::npos) << gpsemu.stderr_text();
+  EXPECT_NE(gpsemu.stderr_text().find(" horizontal "), std::string::npos) << gpsemu.stderr_text();
   std::filesystem::remove_all(dir);
 }
 
