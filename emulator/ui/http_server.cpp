@@ -3,6 +3,10 @@
 #include <httplib.h>
 
 #include <charconv>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <vector>
 #include <random>
 #include <stdexcept>
 
@@ -19,6 +23,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr int kTimeoutS = 2;  ///< read, write and keep-alive timeouts (seconds)
 constexpr int kSendBufferBytes = 32 * 1024;  ///< each connection's (the kernel doubles it)
+constexpr int kListenBacklog = 256;
 
 /// 32 hex digits from the system's random source.
 std::string random_token() {
@@ -51,24 +56,62 @@ namespace {
 thread_local std::uint64_t requests_on_connection = 0;
 }
 
-/// httplib's task queue (one task a connection), counting connections that ended without a
-/// request: idle ones closed after the keep-alive timeout, and those cut off mid-request.
+/// httplib's task queue (one task a connection): kWorkers threads, more (up to kMaxWorkers) while
+/// connections wait for one, so a flood of idle connections (each held for the keep-alive timeout)
+/// drains kMaxWorkers at a time; counts the connections that ended without a request (idle ones
+/// closed, and those cut off mid-request).
 class HttpServer::CountingPool final : public httplib::TaskQueue {
  public:
-  explicit CountingPool(Counters& counters) : counters_(counters), pool_(kWorkers) {}
+  explicit CountingPool(Counters& counters) : counters_(counters) {
+    std::lock_guard lock(mutex_);
+    for (int k = 0; k < kWorkers; ++k) add_worker();
+  }
   void enqueue(std::function<void()> fn) override {
     counters_.connections.fetch_add(1, std::memory_order_relaxed);
-    pool_.enqueue([this, fn = std::move(fn)] {
-      requests_on_connection = 0;
-      fn();
-      if (requests_on_connection == 0) counters_.connections_without_request.fetch_add(1, std::memory_order_relaxed);
-    });
+    {
+      std::lock_guard lock(mutex_);
+      jobs_.push_back(std::move(fn));
+      if (!stopping_ && idle_ == 0 && threads_.size() < static_cast<std::size_t>(kMaxWorkers)) add_worker();
+    }
+    ready_.notify_one();
   }
-  void shutdown() override { pool_.shutdown(); }
+  void shutdown() override {
+    {
+      std::lock_guard lock(mutex_);
+      stopping_ = true;
+    }
+    ready_.notify_all();
+    for (std::thread& t : threads_) t.join();  // no worker is added once stopping
+  }
 
  private:
+  void add_worker() {
+    threads_.emplace_back([this] {
+      for (;;) {
+        std::function<void()> job;
+        {
+          std::unique_lock lock(mutex_);
+          ++idle_;
+          ready_.wait(lock, [this] { return stopping_ || !jobs_.empty(); });
+          --idle_;
+          if (jobs_.empty()) return;  // stopping, and every connection handled
+          job = std::move(jobs_.front());
+          jobs_.pop_front();
+        }
+        requests_on_connection = 0;
+        job();
+        if (requests_on_connection == 0) counters_.connections_without_request.fetch_add(1, std::memory_order_relaxed);
+      }
+    });
+  }
+
   Counters& counters_;
-  httplib::ThreadPool pool_;
+  std::mutex mutex_;
+  std::condition_variable ready_;
+  std::deque<std::function<void()>> jobs_;
+  std::vector<std::thread> threads_;  ///< grows under mutex_; joined by shutdown()
+  std::size_t idle_ = 0;
+  bool stopping_ = false;
 };
 
 HttpServer::HttpServer(Hub& hub, HttpSettings settings)
@@ -81,10 +124,13 @@ HttpServer::HttpServer(Hub& hub, HttpSettings settings)
   // Many clients at once (a flood is refused by the server, not by accept() running out of
   // descriptors); a small send buffer, so an event stream nobody reads is found out in seconds.
   (void)posix::raise_open_files_limit();
-  server_->set_socket_options([](int fd) { posix::configure_listening_socket(fd, kSendBufferBytes); });
+  server_->set_socket_options([this](int fd) {
+    posix::configure_listening_socket(fd, kSendBufferBytes);
+    listening_fd_ = fd;
+  });
   server_->set_read_timeout(kTimeoutS, 0);
   server_->set_write_timeout(kTimeoutS, 0);
-  server_->set_keep_alive_timeout(kTimeoutS);
+  server_->set_keep_alive_timeout(1);  // an idle connection holds a worker this long (seconds)
   server_->set_keep_alive_max_count(100);
   server_->set_payload_max_length(kMaxBodyBytes);
   server_->set_logger([this](const httplib::Request&, const httplib::Response& res) {
@@ -101,6 +147,8 @@ HttpServer::HttpServer(Hub& hub, HttpSettings settings)
                                          settings_.host, settings_.port));
   }
   port_ = static_cast<std::uint16_t>(bound);
+  // httplib listens with 5 slots: room for a page's burst of connections and for floods.
+  if (listening_fd_ >= 0) posix::set_listen_backlog(listening_fd_, kListenBacklog);
   thread_ = std::thread([this] { server_->listen_after_bind(); });
 }
 

@@ -27,7 +27,8 @@ namespace gpsemu::ui {
 
 class HttpServer {
  public:
-  static constexpr int kWorkers = 16;      ///< connections served at once
+  static constexpr int kWorkers = 16;      ///< threads serving connections, at first
+  static constexpr int kMaxWorkers = 64;   ///< and at most, while connections wait for one
   static constexpr int kMaxStreams = 8;    ///< event streams at once (pages open)
   static constexpr std::size_t kMaxBodyBytes = 64 * 1024;
 
@@ -68,6 +69,7 @@ class HttpServer {
   HttpSettings settings_;
   std::optional<std::string> token_;
   std::uint16_t port_ = 0;
+  int listening_fd_ = -1;  ///< httplib's listening socket (its backlog is raised after the bind)
   std::unique_ptr<Counters> counters_;
   std::unique_ptr<httplib::Server> server_;
   std::thread thread_;

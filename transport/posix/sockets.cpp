@@ -191,6 +191,8 @@ void configure_listening_socket(int fd, int send_buffer_bytes) {
   (void)::setsockopt(fd, SOL_SOCKET, SO_SNDBUF, &send_buffer_bytes, sizeof send_buffer_bytes);
 }
 
+void set_listen_backlog(int fd, int backlog) { (void)::listen(fd, backlog); }
+
 std::uint64_t raise_open_files_limit() {
   rlimit limit{};
   if (::getrlimit(RLIMIT_NOFILE, &limit) != 0) return 0;

@@ -44,6 +44,10 @@ std::size_t format_address(const sockaddr_storage& address, std::span<char> out)
 /// `send_buffer_bytes` that its connections inherit, so a client that stops reading fills it in
 /// seconds, not minutes. Errors are ignored (the defaults stay).
 void configure_listening_socket(int fd, int send_buffer_bytes);
+/// Sets a listening socket's backlog again (Linux takes a second listen() as a new backlog): a
+/// library that listens with a few slots (cpp-httplib: 5) makes every connect beyond them wait
+/// for a SYN retransmission, a second.
+void set_listen_backlog(int fd, int backlog);
 /// Raises this process's limit of open descriptors to its hard limit (many clients at once);
 /// returns the soft limit in force.
 std::uint64_t raise_open_files_limit();
