@@ -63,6 +63,10 @@ class PtyOutput final : public Output {
   /// The stable symlink to device_path(), if one was requested.
   [[nodiscard]] const std::optional<std::filesystem::path>& link_path() const { return link_; }
   [[nodiscard]] const PtyStats& pty_stats() const { return pty_stats_; }
+  /// Descriptors clients have open on the device now, as its open watch tells (empty without one).
+  [[nodiscard]] std::optional<std::uint64_t> clients_open() const {
+    return opens_ && opens_->valid() ? std::optional<std::uint64_t>(opens_->open_count()) : std::nullopt;
+  }
 
  protected:
   WriteStatus write_bytes(std::string_view bytes, std::string& error_text) override;

@@ -16,6 +16,7 @@
 #include "emulator/config/profiles.hpp"
 #include "emulator/config/validate.hpp"
 #include "emulator/pipeline/runner.hpp"
+#include "emulator/ui/http_server.hpp"
 #include "emulator/app/command_line.hpp"
 #include "emulator/app/subcommands.hpp"
 
@@ -107,6 +108,7 @@ int main(int argc, char** argv) {
   }
 
   std::unique_ptr<gpsemu::Runner> runner;
+  std::unique_ptr<gpsemu::ui::HttpServer> bench_view;  // after the runner: stopped before its hub goes
   try {
     gpsemu::check_emulator_run(config);
     if (config.process.profile) {
@@ -115,10 +117,22 @@ int main(int argc, char** argv) {
                    s.receiver, s.log);
     }
     runner = std::make_unique<gpsemu::Runner>(config);
+    if (config.process.ui) {
+      gpsemu::ui::HttpSettings ui = gpsemu::ui::parse_ui_spec(*config.process.ui);
+      ui.token = config.process.ui_token;
+      bench_view = std::make_unique<gpsemu::ui::HttpServer>(*runner->hub(), ui);
+      spdlog::info("bench view: {}{}", bench_view->url(),
+                   bench_view->token_required() ? " (fault requests need this token: header X-Gpsemu-Token)" : "");
+    }
   } catch (const std::exception& e) {
     fail(e.what());
     return 2;
   }
   for (const std::string& line : gpsemu::posix::apply_realtime_settings(config.process.realtime)) spdlog::info("{}", line);
-  return runner->run(g_stop);
+  const int status = runner->run(g_stop);
+  if (bench_view) {
+    spdlog::info("{}", bench_view->summary());
+    bench_view.reset();
+  }
+  return status;
 }

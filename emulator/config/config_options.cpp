@@ -14,6 +14,7 @@
 #include "emulator/config/profiles.hpp"
 #include "emulator/pipeline/control_socket.hpp"
 #include "emulator/sources/pose_message.hpp"
+#include "emulator/ui/ui_spec.hpp"
 #include "transport/pps.hpp"
 
 namespace gpsemu {
@@ -362,6 +363,22 @@ std::vector<OptionDef> make_option_table() {
   add("control-idle-timeout", "S", "--control: close a client that sent no request for this long, seconds, 0..86400 "
       "(0: never; at most 8 clients at once) (default 30)",
       [](ConfigDraft& d, V v) { d.process.control_idle_timeout_s = parse_number("control-idle-timeout", v.back(), 0.0, 86400.0); });
+  add("ui", "[HOST:]PORT", "the bench view: a page served at http://HOST:PORT/ (HOST default 127.0.0.1; port 0: any, "
+      "logged) with the sky, C/N0, the error against the truth, the faults as buttons and the link, live at the epoch "
+      "rate; another HOST than loopback needs a token for every change (docs/ui.md) (default none)",
+      [](ConfigDraft& d, V v) {
+        (void)ui::parse_ui_spec(v.back());
+        d.process.ui = v.back();
+      });
+  add("ui-token", "TOKEN", "--ui: the token a fault request must carry (header X-Gpsemu-Token), at least 8 characters "
+      "(default: a random one, printed at start, when --ui binds another address than loopback; none on loopback)",
+      [](ConfigDraft& d, V v) {
+        if (v.back().size() < 8) throw std::invalid_argument("ui-token: expected at least 8 characters");
+        d.process.ui_token = v.back();
+      });
+  add("status-every", "S", "a status line in the log every S seconds, 0..86400: fix, satellites, HDOP, error against "
+      "the truth, bytes/s, late epochs, active faults (0: never; tools/run: 10) (default 0)",
+      [](ConfigDraft& d, V v) { d.process.status_every_s = parse_number("status-every", v.back(), 0.0, 86400.0); });
   add("realtime-priority", "N", "run with SCHED_FIFO priority N, 1..99, where permitted (else a warning and normal "
       "scheduling) (default: normal scheduling)",
       [](ConfigDraft& d, V v) { d.process.realtime.fifo_priority = static_cast<int>(parse_number("realtime-priority", v.back(), 1, 99)); });

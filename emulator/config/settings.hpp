@@ -37,6 +37,9 @@ struct ProcessSettings {
   std::optional<std::string> control_path;  ///< --control unix:PATH: the live fault socket (docs/faults.md)
   double control_idle_timeout_s = 30.0;     ///< a control client silent this long is closed (seconds; 0: never)
   std::optional<std::string> profile;       ///< --profile NAME: the receiver profile applied first (config/profiles.hpp)
+  std::optional<std::string> ui;            ///< --ui [HOST:]PORT: the bench view (docs/ui.md), as given
+  std::optional<std::string> ui_token;      ///< --ui-token: the token state-changing requests carry
+  double status_every_s = 0.0;              ///< --status-every: a status line in the log this often (seconds; 0: never)
 };
 
 /// The one epoch timeline all receivers of a process share, and the PPS line that marks it.

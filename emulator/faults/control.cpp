@@ -129,7 +129,8 @@ std::string clear_message(const json& message, const std::vector<FaultTimeline*>
   return answer.dump();
 }
 
-std::string status_message(const std::vector<FaultTimeline*>& timelines) {
+std::string status_message(const std::vector<FaultTimeline*>& timelines,
+                           const std::function<std::string(std::size_t)>& extra) {
   json receivers = json::array();
   for (std::size_t i = 0; i < timelines.size(); ++i) {
     const FaultTimeline& t = *timelines[i];
@@ -150,6 +151,10 @@ std::string status_message(const std::vector<FaultTimeline*>& timelines) {
     receivers.push_back({{"receiver", i}, {"epochs", last.epochs}, {"time_s", last.since_s},
                          {"quality", static_cast<int>(last.quality)}, {"satellites_used", last.satellites_used},
                          {"silent", last.silent}, {"faults", faults}});
+    if (extra) {
+      const json more = json::parse(extra(i), nullptr, false);
+      if (more.is_object()) receivers.back().update(more);
+    }
   }
   return json{{"class", "STATUS"}, {"receivers", receivers}}.dump();
 }
@@ -166,7 +171,7 @@ std::string FaultControl::handle(std::string_view line) {
   try {
     if (message.contains("fault")) return fault_message(message, receivers_);
     if (message.contains("clear")) return clear_message(message, receivers_);
-    if (message.contains("status")) return status_message(receivers_);
+    if (message.contains("status")) return status_message(receivers_, status_extra_);
     return control_error("expected \"fault\", \"clear\" or \"status\", e.g. {\"fault\":\"jam\",\"db\":25,\"ramp_s\":5}");
   } catch (const std::exception& e) {
     return control_error(e.what());

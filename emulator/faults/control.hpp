@@ -7,8 +7,10 @@
 //                                                   until cleared); parameters as in a [[fault]] table
 //   {"clear":"jam","receiver":0}                     ends that kind's faults at the next epoch ("all": every kind)
 //   {"status":true}                                  each receiver's last epoch and its faults
+//   {"watch":true,"receiver":0}                      (the control socket's: one EPOCH line an epoch follows)
 #pragma once
 
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -24,9 +26,13 @@ class FaultControl {
 
   /// The answer to one line (without its end), as one line of JSON without '\n'. Never throws.
   [[nodiscard]] std::string handle(std::string_view line);
+  /// What the status answer adds to receiver i's entry: the members of a JSON object ("{...}"),
+  /// e.g. the error against the truth and the clients (emulator/ui/hub.hpp).
+  void set_status_extra(std::function<std::string(std::size_t)> extra) { status_extra_ = std::move(extra); }
 
  private:
   std::vector<FaultTimeline*> receivers_;
+  std::function<std::string(std::size_t)> status_extra_;
 };
 
 /// {"class":"ERROR","message":MESSAGE}

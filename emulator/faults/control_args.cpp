@@ -123,7 +123,7 @@ std::string control_flags_help() {
   std::string out = "KIND and its flags (--FLAG VALUE or --FLAG=VALUE; a key's unit may be left out: --ramp for --ramp-s):\n";
   for (const KindInfo& k : catalogue()) out += fmt::format("  {}: {}\n", k.name, flag_list(parameters_of(k.kind)));
   out += fmt::format("  every fault: {}\n", flag_list(std::vector<std::string_view>(kLiveCommonKeys.begin(), kLiveCommonKeys.end())));
-  out += "  clear KIND|all [--receiver N]; status; send JSON\n";
+  out += "  clear KIND|all [--receiver N]; status; send JSON; watch [--receiver N] [--count N] (one JSON line an epoch)\n";
   out += "Each parameter (the key of a [[fault]] table and of the JSON request):\n";
   std::vector<std::string_view> keys(kLiveCommonKeys.begin(), kLiveCommonKeys.end());
   for (const KindInfo& k : catalogue()) {

@@ -48,6 +48,7 @@ nmea::Fix Channel::step(UtcNs t, const std::optional<sources::Truth>& vehicle) {
   if (rover_ && ubx_) ubx_->relative_position() = rover_->at(t, truth, last_corrections_);
   bytes_.clear();
   const std::optional<Enu> truth_m = truth ? std::optional<Enu>(truth->position_m) : std::nullopt;
+  last_truth_m_ = truth_m;
   rtk_->service();
   rtk_->apply(t, fix, truth_m, frame_);  // corrections before faults: a forced quality or an outage wins
   // A rover of a fixed base (not of a moving-base pair): NAV-RELPOSNED from the RTK state.

@@ -112,6 +112,8 @@ class Channel final : public transport::ClientInput {
   void reboot(UtcNs t, double cold_start_s);
 
   [[nodiscard]] const LocalFrame& frame() const { return frame_; }
+  /// The antenna's true position at the last epoch (local frame), if the source had one.
+  [[nodiscard]] const std::optional<Enu>& last_truth_m() const { return last_truth_m_; }
   [[nodiscard]] const Receiver& receiver() const { return *receiver_; }
   [[nodiscard]] const ChannelSettings& settings() const { return settings_; }
   /// The receiver's faults (--scenario, and live ones from the control socket).
@@ -158,6 +160,7 @@ class Channel final : public transport::ClientInput {
   std::optional<heading::RoverRelPos> rover_;  ///< a rover's NAV-RELPOSNED
   std::uint64_t moving_base_frames_ = 0;      ///< a rover's: 4072.0 frames forwarded by its clients
   std::optional<UtcNs> last_step_;             ///< the latest epoch stepped
+  std::optional<Enu> last_truth_m_;            ///< its truth (the bench view's error against it)
   std::optional<UtcNs> last_corrections_;      ///< the epoch before which the base's RTCM3 last arrived
 };
 

@@ -78,8 +78,9 @@ std::string_view ChannelSet::produce(std::size_t i, UtcNs t) {
     apply_ubx_effects(ch, sink_->outputs(i), r.schedule, r.line, t, sink_->who(i));
     if (r.schedule.period() != period && finest_changed_) finest_changed_(finest_period());
   }
-  (void)ch.step(t);
+  const nmea::Fix fix = ch.step(t);
   ++ch.stats().epochs_emitted;
+  if (observer_) observer_->epoch({i, t, ch, fix, sink_ ? &sink_->outputs(i) : nullptr, r.line});
   if (!ch.faults().applied_events().empty() && sink_) record_events(ch.faults().applied_events(), sink_->outputs(i));
   if (r.line.baud != 0) fit_epoch_to_line(ch, r.schedule.period(), r.line, sink_->who(i));
   return ch.bytes();
@@ -122,16 +123,20 @@ void ChannelSet::list_inputs(std::vector<int>& fds, std::vector<std::size_t>& ow
     fds.push_back(fd);
     owners.push_back(i);
   }
-  if (extra_) {
+  extra_owner_.clear();
+  for (std::size_t k = 0; k < extra_.size(); ++k) {
     const std::size_t before = fds.size();
-    extra_->fds(fds);
-    owners.resize(owners.size() + (fds.size() - before), receivers_.size());
+    extra_[k]->fds(fds);
+    for (std::size_t j = before; j < fds.size(); ++j) {
+      owners.push_back(receivers_.size() + extra_owner_.size());
+      extra_owner_.push_back(k);
+    }
   }
 }
 
 void ChannelSet::service_inputs() {
   for (const Receiver& r : receivers_) r.channel->source()->service();
-  if (extra_) extra_->service();
+  for (LoopInput* input : extra_) input->service();
 }
 
 }  // namespace gpsemu

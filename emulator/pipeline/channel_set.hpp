@@ -34,6 +34,24 @@ class LoopInput {
   virtual void service() = 0;
 };
 
+/// What a receiver's epoch was, for whoever shows it (the bench view, `gpsemu ctl PATH watch`:
+/// emulator/ui/hub.hpp). Valid during the call only.
+struct EpochView {
+  std::size_t receiver = 0;
+  UtcNs t{};
+  const Channel& channel;
+  const nmea::Fix& fix;  ///< as reported (faults applied)
+  const std::vector<std::unique_ptr<transport::Output>>* outputs = nullptr;  ///< none before the sink is attached
+  const UbxLine& line;
+};
+
+/// Told every receiver's epoch by the loop's thread, after its bytes are made; must not block.
+class EpochObserver {
+ public:
+  virtual ~EpochObserver() = default;
+  virtual void epoch(const EpochView& view) = 0;
+};
+
 class ChannelSet final : public EpochProducer {
  public:
   /// `epochs`: of the run's grid (--duration x --rate); empty: until stopped.
@@ -59,12 +77,16 @@ class ChannelSet final : public EpochProducer {
   void service_input(std::size_t i) override {
     if (i < receivers_.size()) {
       receivers_[i].channel->source()->service();
-    } else if (extra_) {
-      extra_->service();
+    } else if (i - receivers_.size() < extra_owner_.size()) {
+      extra_[extra_owner_[i - receivers_.size()]]->service();
     }
   }
-  /// Services `input` with the receivers' inputs (may be null: none).
-  void set_extra_input(LoopInput* input) { extra_ = input; }
+  /// Services `input` with the receivers' inputs (the control socket, the bench view's requests).
+  void add_extra_input(LoopInput* input) {
+    if (input) extra_.push_back(input);
+  }
+  /// Tells `observer` each receiver's epoch (may be null: nobody).
+  void set_observer(EpochObserver* observer) { observer_ = observer; }
   void service_inputs() override;
   [[nodiscard]] std::optional<UtcNs> delayed_until(std::size_t i) const override {
     return receivers_[i].channel->delayed_until();
@@ -96,7 +118,10 @@ class ChannelSet final : public EpochProducer {
   std::vector<Receiver> receivers_;
   const Sink* sink_ = nullptr;
   std::function<void(std::chrono::nanoseconds)> finest_changed_;
-  LoopInput* extra_ = nullptr;
+  std::vector<LoopInput*> extra_;
+  /// list_inputs(): the extra input of each extra descriptor (owner receivers_.size() + k).
+  mutable std::vector<std::size_t> extra_owner_;
+  EpochObserver* observer_ = nullptr;
 };
 
 }  // namespace gpsemu

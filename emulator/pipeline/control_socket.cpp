@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <spdlog/spdlog.h>
 
@@ -51,7 +52,7 @@ constexpr std::string_view kErrorClass = R"({"class":"ERROR")";
 }  // namespace
 
 ControlSocket::ControlSocket(const std::string& spec, ChannelSet& channels, std::chrono::milliseconds idle_timeout)
-    : control_(timelines_of(channels)), server_(make_server(spec, idle_timeout)) {
+    : control_(timelines_of(channels)), receivers_(channels.size()), server_(make_server(spec, idle_timeout)) {
   if (idle_timeout <= std::chrono::milliseconds::zero()) return;
   idle_timer_.reset(::timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC));
   if (!idle_timer_.valid()) throw std::runtime_error(fmt::format("control socket {}: timerfd: {}", spec, posix::errno_text(errno)));
@@ -73,8 +74,8 @@ void ControlSocket::service() {
     std::uint64_t expirations = 0;
     (void)!::read(idle_timer_.get(), &expirations, sizeof expirations);  // re-arm its readiness
   }
-  server_.service([this](std::string_view line) {
-    std::string answer = control_.handle(line);
+  server_.service([this](std::string_view line, std::optional<std::int64_t>& watch) {
+    std::string answer = this->answer(line, watch);
     if (answer.rfind(kErrorClass, 0) == 0) {
       ++error_answers_;
       transport::log_limited(error_log_, spdlog::level::warn, "control socket {}: error answer to {}: {}", server_.path(),
@@ -83,6 +84,24 @@ void ControlSocket::service() {
     return answer;
   });
   log_drops();
+}
+
+std::string ControlSocket::answer(std::string_view line, std::optional<std::int64_t>& watch) {
+  if (line.find("\"watch\"") == std::string_view::npos) return control_.handle(line);
+  const nlohmann::json message = nlohmann::json::parse(line, nullptr, false);
+  if (!message.is_object() || !message.contains("watch")) return control_.handle(line);
+  std::int64_t which = -1;
+  if (const auto it = message.find("receiver"); it != message.end() && !(it->is_string() && *it == "all")) {
+    if (!it->is_number_integer() || it->get<std::int64_t>() < 0 || it->get<std::uint64_t>() >= receivers_) {
+      return faults::control_error(
+          fmt::format("receiver: expected an index 0..{} or \"all\", got {}", receivers_ - 1, it->dump()));
+    }
+    which = it->get<std::int64_t>();
+  }
+  watch = which;
+  return nlohmann::json{{"class", "WATCH"}, {"receiver", which < 0 ? nlohmann::json("all") : nlohmann::json(which)},
+                        {"lines", "one EPOCH object a receiver an epoch (docs/ui.md)"}}
+      .dump();
 }
 
 void ControlSocket::log_drops() {
@@ -130,6 +149,16 @@ std::string control_request(const std::string& spec, std::string_view line, std:
     return posix::tcp_request(e.host, e.port, line, timeout);
   }
   return posix::unix_request(spec.rfind("unix:", 0) == 0 ? spec.substr(5) : spec, line, timeout);
+}
+
+void control_watch(const std::string& spec, std::string_view line, std::chrono::milliseconds timeout,
+                   const posix::LineSink& sink) {
+  if (spec.rfind("tcp:", 0) == 0) {
+    const posix::Endpoint e = posix::parse_endpoint(spec.substr(4));
+    posix::tcp_exchange(e.host, e.port, line, timeout, sink);
+    return;
+  }
+  posix::unix_exchange(spec.rfind("unix:", 0) == 0 ? spec.substr(5) : spec, line, timeout, sink);
 }
 
 }  // namespace gpsemu

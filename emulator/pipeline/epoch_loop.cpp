@@ -80,14 +80,14 @@ void EpochLoop::run(const std::atomic<bool>& stop) {
       if (wait == EpochWait::stopped) break;
       if (wait == EpochWait::rescheduled) continue;
       if (wait == EpochWait::skip) {
-        ++stats_.epochs_late_skipped;
+        count_late();
         continue;
       }
       const UtcNs deadline = *clock_.deadline_of(t);
       if (ahead) {
         const std::function<bool()> woken = [this] { return producer_.reschedule_wanted(); };
         const EpochWait written = run_ahead(k, t, deadline, stop, woken);
-        if (written == EpochWait::skip) ++stats_.epochs_late_skipped;
+        if (written == EpochWait::skip) count_late();
         if (written == EpochWait::due) ++stats_.epochs_emitted;
         if (written == EpochWait::stopped) break;
         continue;
@@ -106,7 +106,7 @@ void EpochLoop::run(const std::atomic<bool>& stop) {
       if (wait == EpochWait::stopped) break;
       if (!producer_.any_due()) continue;
       if (wait == EpochWait::skip) {
-        ++stats_.epochs_late_skipped;
+        count_late();
         continue;
       }
     }

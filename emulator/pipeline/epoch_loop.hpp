@@ -72,6 +72,8 @@ struct LoopOptions {
   std::optional<std::chrono::nanoseconds> compute_ahead_within;
   /// Measure how late each epoch was handed to the sink (replay's summary).
   bool measure_send_delay = false;
+  /// Counts the late epochs skipped as they happen, for another thread (the bench view); may be null.
+  std::atomic<std::uint64_t>* late_epochs = nullptr;
 };
 
 struct LoopStats {
@@ -120,6 +122,11 @@ class EpochLoop {
   /// A `latency` fault: writes the held-back bytes due before wall time `until`, each at its own
   /// time (all of them, now, without a wall clock).
   void send_delayed(ClockIo* io, UtcNs until, const std::atomic<bool>& stop);
+  /// One more epoch skipped late.
+  void count_late() {
+    ++stats_.epochs_late_skipped;
+    if (options_.late_epochs) options_.late_epochs->fetch_add(1, std::memory_order_relaxed);
+  }
   /// Writes positions [from, to) of the receivers in the order that starts with receiver `first`.
   void write_range(std::size_t first, std::size_t from, std::size_t to);
 

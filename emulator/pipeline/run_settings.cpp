@@ -124,6 +124,8 @@ RunSettings run_settings(const Config& config) {
   run.loop = loop_settings(config.timeline);
   run.control_path = config.process.control_path;
   run.control_idle_timeout = std::chrono::milliseconds(std::llround(config.process.control_idle_timeout_s * 1000.0));
+  run.status_every = std::chrono::nanoseconds(std::llround(config.process.status_every_s * 1e9));
+  run.watched = config.process.ui || config.process.control_path || config.process.status_every_s > 0.0;
   for (const ReceiverSettings& r : config.receivers) run.receivers.push_back(receiver_setup(r, config.timeline));
   for (std::size_t i = 0; i < run.receivers.size(); ++i)
     add_faults(run.receivers[i].channel, config.timeline.faults, i, run.receivers.size());

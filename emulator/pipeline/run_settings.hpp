@@ -53,6 +53,10 @@ struct RunSettings {
   std::vector<ReceiverSetup> receivers;  ///< one, or a fleet's
   std::optional<std::string> control_path;  ///< the control socket (--control unix:PATH)
   std::chrono::milliseconds control_idle_timeout{30000};  ///< its clients are closed after this long silent (0: never)
+  /// Something watches the epochs (--ui, --control's watch and status, --status-every): the
+  /// runner makes a ui::Hub.
+  bool watched = false;
+  std::chrono::nanoseconds status_every{0};  ///< --status-every (zero: never)
 };
 
 /// The shared timeline and pacing.

@@ -10,6 +10,7 @@
 #include "emulator/pipeline/epoch_loop.hpp"
 #include "emulator/pipeline/rtk_receiver.hpp"
 #include "emulator/pipeline/ubx_effects.hpp"
+#include "emulator/ui/hub.hpp"
 #include "nmea/sentences.hpp"
 
 namespace gpsemu {
@@ -71,9 +72,16 @@ Runner::Runner(RunSettings settings, std::optional<RunnerIo> io)
     ch->set_source(r.make_source(ch->frame(), timeline_.first_epoch()));
     channels_->add(std::move(ch));
   }
+  if (settings.watched) {
+    hub_ = std::make_unique<ui::Hub>(*channels_, settings.status_every);
+    channels_->set_observer(hub_.get());
+    channels_->add_extra_input(hub_.get());
+  }
   if (settings.control_path) {
     control_ = std::make_unique<ControlSocket>(*settings.control_path, *channels_, settings.control_idle_timeout);
-    channels_->set_extra_input(control_.get());
+    channels_->add_extra_input(control_.get());
+    control_->set_status_extra([hub = hub_.get()](std::size_t i) { return hub->status_extra(i); });
+    hub_->set_control_socket(control_.get());
   }
   if (io) {
     sink_.add(std::move(io->outputs));
@@ -154,9 +162,11 @@ int Runner::run(const std::atomic<bool>& stop) {
   const bool realtime = loop_.clock.kind == ClockKind::realtime;
   LoopOptions options;
   if (realtime && channels_->size() > 1) options.compute_ahead_within = loop_.latency;
+  if (hub_) options.late_epochs = &hub_->late_epochs();
   if (pps_ && realtime) pps_->start(timeline_.first_wall());
   EpochLoop loop(*channels_, sink_, *clock_, options, realtime ? pps_.get() : nullptr);
   loop.run(stop);
+  if (hub_) hub_->close();
   stats_.epochs_emitted = loop.stats().epochs_emitted;
   stats_.epochs_late_skipped = loop.stats().epochs_late_skipped;
   stats_.clock_steps_back = loop.stats().clock_steps_back;

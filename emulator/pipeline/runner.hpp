@@ -45,6 +45,9 @@ struct RunnerIo {
 };
 
 class ChannelSet;
+namespace ui {
+class Hub;
+}
 
 class Runner {
  public:
@@ -67,6 +70,8 @@ class Runner {
   [[nodiscard]] const std::vector<std::unique_ptr<transport::Output>>& outputs(std::size_t i = 0) const {
     return sink_.outputs(i);
   }
+  /// What watches the epochs (--ui, --control, --status-every); null when nothing does.
+  [[nodiscard]] ui::Hub* hub() const { return hub_.get(); }
   /// Epoch time minus wall time: 0, or the --start-time shift (whole seconds when PPS is on).
   [[nodiscard]] std::chrono::nanoseconds epoch_minus_wall() const { return timeline_.epoch_minus_wall; }
 
@@ -78,6 +83,7 @@ class Runner {
   LoopSettings loop_;
   Timeline timeline_;
   std::unique_ptr<ChannelSet> channels_;
+  std::unique_ptr<ui::Hub> hub_;  ///< after the channels it reads
   std::unique_ptr<ControlSocket> control_;  ///< --control: after the channels it reaches
   Sink sink_;
   std::unique_ptr<transport::PpsLine> pps_line_;  ///< after the sink: a modem PPS line uses a serial output

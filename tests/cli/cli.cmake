@@ -107,3 +107,7 @@ gpsemu_cli_test(config_output_number 2 "output_number.toml:1: key 'output': expe
                 --config ${CMAKE_CURRENT_BINARY_DIR}/output_number.toml --output stdout --fast --duration 1)
 gpsemu_cli_test(no_output_took_any_epoch 3 "no output took any epoch \\(every write failed\\): exit status 3"
                 --output file:/dev/full --fast --duration 2)
+# The bench view (docs/ui.md): a bad address, a short token and a port another server holds.
+gpsemu_cli_test(ui_bad_port 2 "--ui: ui: expected \\[HOST:\\]PORT with PORT 0..65535, e.g. 8080, got '99999'" --ui 99999)
+gpsemu_cli_test(ui_short_token 2 "--ui-token: ui-token: expected at least 8 characters" --ui 0 --ui-token abc)
+gpsemu_cli_test(ui_not_an_address 2 "ui 192.0.2.1:0: cannot listen" --ui 192.0.2.1:0 --fast --duration 1 --output stdout)

@@ -1,5 +1,7 @@
 #include "transport/posix/sockets.hpp"
 
+#include <sys/resource.h>
+
 #include <arpa/inet.h>
 #include <netinet/in.h>
 
@@ -181,6 +183,25 @@ std::optional<Datagram> receive_datagram(int fd, std::span<char> buffer) {
     }
   }
   return d;
+}
+
+void configure_listening_socket(int fd, int send_buffer_bytes) {
+  const int yes = 1;
+  (void)::setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  (void)::setsockopt(fd, SOL_SOCKET, SO_SNDBUF, &send_buffer_bytes, sizeof send_buffer_bytes);
+}
+
+void set_listen_backlog(int fd, int backlog) { (void)::listen(fd, backlog); }
+
+std::uint64_t raise_open_files_limit() {
+  rlimit limit{};
+  if (::getrlimit(RLIMIT_NOFILE, &limit) != 0) return 0;
+  if (limit.rlim_cur < limit.rlim_max) {
+    limit.rlim_cur = limit.rlim_max;
+    (void)::setrlimit(RLIMIT_NOFILE, &limit);
+    (void)::getrlimit(RLIMIT_NOFILE, &limit);
+  }
+  return static_cast<std::uint64_t>(limit.rlim_cur);
 }
 
 }  // namespace gpsemu::posix

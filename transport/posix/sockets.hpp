@@ -39,6 +39,18 @@ std::size_t format_address(const sockaddr_storage& address, std::span<char> out)
 [[nodiscard]] std::string address_text(const sockaddr_storage& address);
 /// The local port a socket is bound to (0 when it is not an IP socket).
 [[nodiscard]] std::uint16_t bound_port(int fd);
+/// A server's listening socket (the bench view's, set up by cpp-httplib): SO_REUSEADDR (and not
+/// SO_REUSEPORT: a second server on the same port is refused), and a send buffer of
+/// `send_buffer_bytes` that its connections inherit, so a client that stops reading fills it in
+/// seconds, not minutes. Errors are ignored (the defaults stay).
+void configure_listening_socket(int fd, int send_buffer_bytes);
+/// Sets a listening socket's backlog again (Linux takes a second listen() as a new backlog): a
+/// library that listens with a few slots (cpp-httplib: 5) makes every connect beyond them wait
+/// for a SYN retransmission, a second.
+void set_listen_backlog(int fd, int backlog);
+/// Raises this process's limit of open descriptors to its hard limit (many clients at once);
+/// returns the soft limit in force.
+std::uint64_t raise_open_files_limit();
 
 /// What open_socket() resolves and opens.
 struct SocketRequest {

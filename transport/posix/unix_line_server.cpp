@@ -1,5 +1,7 @@
 #include "transport/posix/unix_line_server.hpp"
 
+#include <algorithm>
+
 #include <poll.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
@@ -88,7 +90,7 @@ UnixLineServer::~UnixLineServer() {
 void UnixLineServer::close_idle(std::chrono::steady_clock::time_point now) {
   if (settings_.idle_timeout <= std::chrono::milliseconds::zero()) return;
   std::erase_if(clients_, [&](const Client& c) {
-    if (now - c.last_line < settings_.idle_timeout) return false;
+    if (c.watch || now - c.last_line < settings_.idle_timeout) return false;
     (void)send_line(c.fd.get(), settings_.messages.idle_closed);
     ++stats_.clients_idle_closed;
     return true;
@@ -108,6 +110,26 @@ bool UnixLineServer::send_line(int fd, std::string_view text) {
 }
 
 void UnixLineServer::service(const Handler& handle) {
+  service(WatchHandler([&handle](std::string_view line, std::optional<std::int64_t>&) { return handle(line); }));
+}
+
+void UnixLineServer::push(std::string_view line, std::int64_t tag) {
+  std::erase_if(clients_, [&](const Client& c) {
+    if (!c.watch || (*c.watch != -1 && *c.watch != tag)) return false;
+    if (send_line(c.fd.get(), line)) {
+      ++stats_.lines_pushed;
+      return false;
+    }
+    ++stats_.clients_not_reading;
+    return true;
+  });
+}
+
+std::size_t UnixLineServer::watchers() const {
+  return static_cast<std::size_t>(std::count_if(clients_.begin(), clients_.end(), [](const Client& c) { return c.watch.has_value(); }));
+}
+
+void UnixLineServer::service(const WatchHandler& handle) {
   const auto now = std::chrono::steady_clock::now();
   close_idle(now);
   while (true) {
@@ -119,7 +141,7 @@ void UnixLineServer::service(const Handler& handle) {
       continue;
     }
     ++stats_.clients_accepted;
-    clients_.push_back({std::move(fd), now, {}, false});
+    clients_.push_back({std::move(fd), now, {}, false, std::nullopt});
   }
   char buffer[4096];
   for (auto it = clients_.begin(); it != clients_.end();) {
@@ -157,7 +179,7 @@ void UnixLineServer::service(const Handler& handle) {
           c.last_line = now;
           if (!line.empty()) {
             ++stats_.lines_answered;
-            if (!send_line(c.fd.get(), handle(line))) {
+            if (!send_line(c.fd.get(), handle(line, c.watch))) {
               gone = true;
               ++stats_.clients_not_reading;
             }
@@ -177,29 +199,59 @@ void UnixLineServer::service(const Handler& handle) {
 
 namespace {
 
-/// Sends `line` on the connected `fd` and returns the first line of the answer.
-std::string exchange(int fd, std::string_view line, std::chrono::milliseconds timeout,
-                     const std::function<std::runtime_error(const std::string&)>& fail) {
+/// Sends `line` on the connected `fd` and gives `sink` each line of the answer until it returns
+/// false (a line not followed by another within `timeout` fails; so does a close before the first).
+void exchange(int fd, std::string_view line, std::chrono::milliseconds timeout,
+              const std::function<std::runtime_error(const std::string&)>& fail, const LineSink& sink) {
   if (!send_line_blocking(fd, line)) throw fail(fmt::format("cannot send: {}", errno_text(errno)));
-  std::string answer;
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  std::string pending;
+  bool first = true;
   char buffer[4096];
-  while (answer.find('\n') == std::string::npos) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+  for (;;) {
+    for (std::size_t nl = pending.find('\n'); nl != std::string::npos; nl = pending.find('\n')) {
+      const std::string text = pending.substr(0, nl);
+      pending.erase(0, nl + 1);
+      first = false;
+      if (!sink(text)) return;
+    }
     pollfd p{fd, POLLIN, 0};
-    if (left.count() <= 0 || ::poll(&p, 1, static_cast<int>(left.count())) == 0) throw fail("no answer");
+    const int ready = ::poll(&p, 1, static_cast<int>(timeout.count()));
+    if (ready < 0 && errno == EINTR) continue;
+    if (ready == 0) throw fail(first ? "no answer" : fmt::format("nothing more for {} ms", timeout.count()));
     const ssize_t n = ::recv(fd, buffer, sizeof buffer, 0);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) throw fail("closed without an answer");
-    answer.append(buffer, static_cast<std::size_t>(n));
+    if (n <= 0) {
+      if (first) throw fail("closed without an answer");
+      return;
+    }
+    pending.append(buffer, static_cast<std::size_t>(n));
   }
-  answer.resize(answer.find('\n'));
-  return answer;
+}
+
+/// The first line of the answer.
+LineSink first_line(std::string& out) {
+  return [&out](std::string_view text) {
+    out = text;
+    return false;
+  };
 }
 
 }  // namespace
 
 std::string unix_request(const std::string& path, std::string_view line, std::chrono::milliseconds timeout) {
+  std::string answer;
+  unix_exchange(path, line, timeout, first_line(answer));
+  return answer;
+}
+
+std::string tcp_request(const std::string& host, std::uint16_t port, std::string_view line,
+                        std::chrono::milliseconds timeout) {
+  std::string answer;
+  tcp_exchange(host, port, line, timeout, first_line(answer));
+  return answer;
+}
+
+void unix_exchange(const std::string& path, std::string_view line, std::chrono::milliseconds timeout, const LineSink& sink) {
   const std::function<std::runtime_error(const std::string&)> fail = [&path](const std::string& why) {
     return std::runtime_error(fmt::format("control socket {}: {}", path, why));
   };
@@ -211,11 +263,11 @@ std::string unix_request(const std::string& path, std::string_view line, std::ch
   if (!fd.valid()) throw fail(errno_text(errno));
   if (::connect(fd.get(), reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0)
     throw fail(fmt::format("cannot connect: {} (is gpsemu running with --control unix:{}?)", errno_text(errno), path));
-  return exchange(fd.get(), line, timeout, fail);
+  exchange(fd.get(), line, timeout, fail, sink);
 }
 
-std::string tcp_request(const std::string& host, std::uint16_t port, std::string_view line,
-                        std::chrono::milliseconds timeout) {
+void tcp_exchange(const std::string& host, std::uint16_t port, std::string_view line, std::chrono::milliseconds timeout,
+                  const LineSink& sink) {
   const std::string name = "tcp:" + host_port(host, port);
   const std::function<std::runtime_error(const std::string&)> fail = [&name](const std::string& why) {
     return std::runtime_error(fmt::format("control socket {}: {}", name, why));
@@ -227,7 +279,7 @@ std::string tcp_request(const std::string& host, std::uint16_t port, std::string
   request.blocking = true;
   request.context = fmt::format("control socket {}: cannot connect (is gpsemu running with --control {}?)", name, name);
   UniqueFd fd = connect_socket(request);
-  return exchange(fd.get(), line, timeout, fail);
+  exchange(fd.get(), line, timeout, fail, sink);
 }
 
 }  // namespace gpsemu::posix

@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -25,6 +26,9 @@ class UnixLineServer {
   static constexpr std::size_t kMaxLineBytes = 4096;
   /// Answers one line (without its '\n'); the answer is sent followed by '\n'.
   using Handler = std::function<std::string(std::string_view line)>;
+  /// The same; setting `watch` makes the client a watcher of push()'s lines (its value: the one
+  /// tag it wants, or -1 for all). A watcher is never closed idle.
+  using WatchHandler = std::function<std::string(std::string_view line, std::optional<std::int64_t>& watch)>;
   static constexpr std::chrono::milliseconds kDefaultIdleTimeout{std::chrono::seconds(30)};
   /// What the server tells a client it refuses, a line too long, or an idle client it closes (one line each).
   struct Messages {
@@ -45,6 +49,7 @@ class UnixLineServer {
     std::uint64_t clients_idle_closed = 0;  ///< silent for the idle timeout: told so and closed
     std::uint64_t clients_not_reading = 0;  ///< an answer did not fit their socket: dropped
     std::uint64_t lines_too_long = 0;       ///< over kMaxLineBytes: answered with an error, skipped
+    std::uint64_t lines_pushed = 0;         ///< push()'s lines sent to watchers
   };
 
   /// Listens on `path`: a socket file nobody listens on (left by a run that died) is replaced;
@@ -62,6 +67,12 @@ class UnixLineServer {
   void fds(std::vector<int>& out) const;
   /// Accepts new clients, reads what waits and answers every complete line with `handle`.
   void service(const Handler& handle);
+  void service(const WatchHandler& handle);
+  /// Sends `line` to every watcher of `tag` (or of all); one whose socket is full is dropped
+  /// (counted in clients_not_reading). Never blocks.
+  void push(std::string_view line, std::int64_t tag);
+  /// Watchers connected now.
+  [[nodiscard]] std::size_t watchers() const;
 
   [[nodiscard]] const std::string& path() const { return path_; }
   [[nodiscard]] const Stats& stats() const { return stats_; }
@@ -73,6 +84,7 @@ class UnixLineServer {
     std::chrono::steady_clock::time_point last_line;  ///< connected, or its last complete line
     std::string pending;  ///< a line not yet ended
     bool discarding = false;  ///< inside a line too long: skip to its end
+    std::optional<std::int64_t> watch{};  ///< a watcher of push()'s lines with this tag (-1: all)
   };
   /// Closes the clients silent for longer than the idle timeout.
   void close_idle(std::chrono::steady_clock::time_point now);
@@ -95,5 +107,13 @@ class UnixLineServer {
 /// The same over TCP to `host`:`port` ("control socket tcp:HOST:PORT: ...").
 [[nodiscard]] std::string tcp_request(const std::string& host, std::uint16_t port, std::string_view line,
                                       std::chrono::milliseconds timeout);
+/// Takes each line of an answer; false: no more.
+using LineSink = std::function<bool(std::string_view line)>;
+/// A client's exchange that goes on (a watcher): sends `line`, gives `sink` every line that comes
+/// back until it returns false or the server closes; throws like unix_request, or when no line
+/// comes for `timeout`.
+void unix_exchange(const std::string& path, std::string_view line, std::chrono::milliseconds timeout, const LineSink& sink);
+void tcp_exchange(const std::string& host, std::uint16_t port, std::string_view line, std::chrono::milliseconds timeout,
+                  const LineSink& sink);
 
 }  // namespace gpsemu::posix
