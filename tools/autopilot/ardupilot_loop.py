@@ -64,7 +64,7 @@ def run_flight(name, args, binary, mav):
         gpsemu_args = gpsemu_args + ["--noise", args.noise] + args.gpsemu_arg
         result["gpsemu_args"] = " ".join(gpsemu_args)
     print(f"--- {name}: {title}", flush=True)
-    rig = sitl.Rig(binary, args.ardupilot, args.work, name, args.gpsemu, gpsemu_args)
+    rig = sitl.Rig(binary, args.ardupilot, args.work, name, args.gpsemu, gpsemu_args, mav)
     try:
         v = Vehicle(mav, "127.0.0.1", rig.mavlink_port)
         if mission == "square":

@@ -111,15 +111,26 @@ def _distance_m(lat1, lon1, lat2, lon2):
     return (north_m ** 2 + east_m ** 2) ** 0.5
 
 
-def _recover(v, station, until_s):
-    """After a fault: wait for the GPS and EKF, then get the vehicle back flying on station (re-arm
-    and take off when a failsafe landed it). Returns (recovered_t, on_station_t), None when not."""
-    recovered = on_station = None
+def ekf_error_now_m(v):
+    """The EKF's latest horizontal error against the truth at its time (None without both)."""
+    if not v.ekf or len(v.truth) < 2:
+        return None
+    horizontal, _ = errors(v.truth[-100:], v.ekf[-1:], 0, 2 ** 62)
+    return horizontal[0] if horizontal else None
+
+
+def _recover(v, station, station_truth, until_s):
+    """After a fault: wait until GPS 1 has a 3-D fix and the EKF is healthy and right again (within
+    3 m of the truth), then get the vehicle back flying on station (re-arm and take off when a
+    failsafe landed it) until the truth is within 3 m of where it hovered before the fault.
+    Returns (recovered_t, on_station_t), None for what did not happen by until_s."""
+    recovered = None
     while v.now() < until_s:
         v.pump(0.1)
-        if recovered is None and v.gps_3d() and v.ekf_good():
-            recovered = v.now()
+        error_m = ekf_error_now_m(v)
         if recovered is None:
+            if v.gps_3d() and v.ekf_good() and error_m is not None and error_m < 3.0:
+                recovered = v.now()
             continue
         if not v.armed:
             if v.prearm_ok() and v.set_mode(V.GUIDED) and v.arm(10.0)[0] is not None:
@@ -127,10 +138,11 @@ def _recover(v, station, until_s):
             continue
         if v.mode != V.GUIDED and not v.set_mode(V.GUIDED):
             continue
-        if v.fly_to(*station, timeout_s=max(1.0, until_s - v.now())):
-            on_station = v.now()
-            return recovered, on_station
-    return recovered, on_station
+        v.go_local(*station)
+        if v.truth and _distance_m(station_truth[1], station_truth[2], v.truth[-1][1], v.truth[-1][2]) < 3.0 \
+                and abs(v.relative_alt_m() - ALT_M) < 1.5:
+            return recovered, v.now()
+    return recovered, None
 
 
 def fault_session(v, gpsemu, ctl_path, result, faults=FAULTS):
@@ -140,6 +152,9 @@ def fault_session(v, gpsemu, ctl_path, result, faults=FAULTS):
         result.setdefault("failure", "not armable")
         return result
     station = (v.local.x, v.local.y, v.local.z)
+    v.fly_to(*station, timeout_s=30.0)
+    v.pump(3.0)
+    station_truth = v.truth[-1]
     result["faults"] = []
     for name, words, duration_s in faults:
         v.fly_to(*station, timeout_s=30.0)
@@ -153,18 +168,16 @@ def fault_session(v, gpsemu, ctl_path, result, faults=FAULTS):
         fault["status_after_request"] = [f.get("describe", "") + (" (pending)" if f.get("pending") else "")
                                          for r in status.get("receivers", []) for f in r.get("faults", [])]
         min_sats, min_fix = 99, 9
-        truth0 = v.truth[-1] if v.truth else None
-        max_drag_m = 0.0
         while v.now() < t0 + duration_s:
             v.pump(0.1)
             if v.gps:
                 min_sats = min(min_sats, v.gps.satellites_visible)
                 min_fix = min(min_fix, v.gps.fix_type)
-            if truth0 and v.truth:
-                max_drag_m = max(max_drag_m, _distance_m(truth0[1], truth0[2], v.truth[-1][1], v.truth[-1][2]))
-        recovered, on_station = _recover(v, station, t0 + duration_s + 90.0)
+        recovered, on_station = _recover(v, station, station_truth, t0 + duration_s + 90.0)
         end_ms = v.boot_ms()
         horizontal, _ = errors(v.truth, v.ekf, ms0, end_ms)
+        max_drag_m = max((_distance_m(station_truth[1], station_truth[2], lat, lon)
+                          for ms, lat, lon, _ in v.truth if ms0 <= ms <= end_ms), default=0.0)
         fault.update({
             "satellites_min": min_sats, "fix_type_min": min_fix,
             "vehicle_moved_m": round(max_drag_m, 1),

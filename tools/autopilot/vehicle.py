@@ -96,6 +96,8 @@ class Vehicle:
         while True:
             if time.monotonic() - self.last_heartbeat_sent > 1.0:
                 self.mav.heartbeat_send(self.m.MAV_TYPE_GCS, self.m.MAV_AUTOPILOT_INVALID, 0, 0, 0)
+                if not self.truth:  # SIM_STATE is in no stream: ask for it at 20 Hz (with ATTITUDE's)
+                    self.command(self.m.MAV_CMD_SET_MESSAGE_INTERVAL, self.m.MAVLINK_MSG_ID_SIM_STATE, 50000)
                 self.last_heartbeat_sent = time.monotonic()
             try:
                 data = self.sock.recv(65536)
