@@ -26,12 +26,15 @@ from vehicle import Vehicle  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 
-# The flights: (name, what drives GPS 1, gpsemu arguments or None for SITL's own GPS, mission).
+# The flights: (name, what drives GPS 1, gpsemu arguments or None for SITL's own GPS, mission,
+# ArduPilot parameters of the flight). ArduPilot's GPS1_TYPE 1 (auto) detects u-blox, SBP, SiRF
+# and ERB receivers but not NMEA: an NMEA receiver needs GPS1_TYPE 5.
 FLIGHTS = {
-    "sitl-gps": ("SITL's simulated u-blox (baseline)", None, "square"),
-    "ubx": ("gpsemu u-blox M8N, factory state", ["--receiver", "ublox-m8n"], "square"),
-    "faults": ("gpsemu u-blox M8N, faults in a hover", ["--receiver", "ublox-m8n"], "faults"),
-    "nmea": ("gpsemu NMEA only, 5 Hz", ["--protocol", "nmea", "--rate", "5"], "square"),
+    "sitl-gps": ("SITL's simulated u-blox (baseline)", None, "square", []),
+    "ubx": ("gpsemu u-blox M8N, factory state", ["--receiver", "ublox-m8n"], "square", []),
+    "faults": ("gpsemu u-blox M8N, faults in a hover", ["--receiver", "ublox-m8n"], "faults", []),
+    "nmea": ("gpsemu NMEA only, 5 Hz (GPS1_TYPE 5)", ["--protocol", "nmea", "--rate", "5"], "square",
+             ["GPS1_TYPE 5"]),
 }
 
 
@@ -58,13 +61,13 @@ def parse_args(argv):
 
 
 def run_flight(name, args, binary, mav):
-    title, gpsemu_args, mission = FLIGHTS[name]
+    title, gpsemu_args, mission, params = FLIGHTS[name]
     result = {"flight": name, "gps": title}
     if gpsemu_args is not None:
         gpsemu_args = gpsemu_args + ["--noise", args.noise] + args.gpsemu_arg
         result["gpsemu_args"] = " ".join(gpsemu_args)
     print(f"--- {name}: {title}", flush=True)
-    rig = sitl.Rig(binary, args.ardupilot, args.work, name, args.gpsemu, gpsemu_args, mav)
+    rig = sitl.Rig(binary, args.ardupilot, args.work, name, args.gpsemu, gpsemu_args, mav, params)
     try:
         v = Vehicle(mav, "127.0.0.1", rig.mavlink_port)
         if mission == "square":

@@ -92,7 +92,7 @@ def free_instance():
     raise Stop("no free SITL instance (TCP ports 5770..6053 in use)")
 
 
-def write_params(path, gpsemu):
+def write_params(path, gpsemu, extra):
     """The vehicle's parameters beside ArduPilot's copter.parm: the streams the loop reads."""
     lines = [
         # First MAVLink port (the mission's link): truth, attitude, position, status, EKF.
@@ -103,16 +103,17 @@ def write_params(path, gpsemu):
         "MAV2_EXTRA1 50", "MAV2_RAW_SENS 0", "MAV2_EXT_STAT 0", "MAV2_RC_CHAN 0", "MAV2_RAW_CTRL 0",
         "MAV2_POSITION 0", "MAV2_EXTRA2 0", "MAV2_EXTRA3 0", "MAV2_PARAMS 0", "MAV2_ADSB 0",
     ]
+    lines.append("LOG_DISARMED 1")  # the dataflash log (logs/*.BIN) from boot: GPS timing before arming
     if gpsemu:
         lines.append("SIM_GPS1_ENABLE 0")  # SITL's own GPS off: GPS 1 is gpsemu on SERIAL3
-    pathlib.Path(path).write_text("\n".join(lines) + "\n")
+    pathlib.Path(path).write_text("\n".join(lines + extra) + "\n")
 
 
 class Forwarder(threading.Thread):
     """What MAVProxy's --out does for sim_vehicle.py: a ground-station link of its own to one SITL
     MAVLink port that asks for SIM_STATE (MAVLink 108: ArduPilot sends it only when asked, it is in
     no stream; the EXTRA1 stream carries SIMSTATE, without altitude and velocity) at 50 Hz and
-    forwards every byte it gets, as received, to gpsemu's mavlink:udp port."""
+    forwards every frame it gets (whole frames a datagram) to gpsemu's mavlink:udp port."""
 
     def __init__(self, mavlink_module, tcp_port, udp_port):
         super().__init__(daemon=True)
@@ -136,6 +137,7 @@ class Forwarder(threading.Thread):
             def write(self, data):
                 sock.sendall(data)
         mav = self.m.MAVLink(_Out(), srcSystem=254, srcComponent=191)
+        mav.robust_parsing = True
         sock.settimeout(0.2)
         last_request = 0.0
         while not self.stopping.is_set():
@@ -152,8 +154,12 @@ class Forwarder(threading.Thread):
                 break
             if not data:
                 break
-            out.sendto(data, ("127.0.0.1", self.udp_port))
-            self.bytes_forwarded += len(data)
+            # One datagram of whole frames, as MAVProxy sends them (gpsemu drops a frame cut by
+            # the end of its datagram): the frames this read completed.
+            frames = b"".join(bytes(msg.get_msgbuf()) for msg in mav.parse_buffer(data) or [])
+            if frames:
+                out.sendto(frames, ("127.0.0.1", self.udp_port))
+                self.bytes_forwarded += len(frames)
         sock.close()
 
     def stop(self):
@@ -188,7 +194,8 @@ class Process:
 class Rig:
     """One SITL vehicle (and gpsemu when gpsemu_args is given) in its own directory."""
 
-    def __init__(self, binary, ardupilot, work, name, gpsemu=None, gpsemu_args=None, mavlink_module=None):
+    def __init__(self, binary, ardupilot, work, name, gpsemu=None, gpsemu_args=None, mavlink_module=None,
+                 params=()):
         self.dir = pathlib.Path(work) / name
         self.dir.mkdir(parents=True, exist_ok=True)
         self.instance = free_instance()
@@ -196,11 +203,11 @@ class Rig:
         self.gpsemu = None
         self.ctl = None
         self.forwarder = None
-        params = self.dir / "loop.parm"
-        write_params(params, gpsemu_args is not None)
+        param_file = self.dir / "loop.parm"
+        write_params(param_file, gpsemu_args is not None, list(params))
         sitl = [str(binary), "--model", "quad", "--speedup", "1", "-w", "-I", str(self.instance),
                 "--home", ",".join(str(v) for v in HOME),
-                "--defaults", f"{ardupilot}/Tools/autotest/default_params/copter.parm,{params}"]
+                "--defaults", f"{ardupilot}/Tools/autotest/default_params/copter.parm,{param_file}"]
         if gpsemu_args is not None:
             pty = self.dir / "gps.pty"
             self.ctl = str(self.dir / "gpsemu.ctl")
