@@ -180,7 +180,7 @@ def main(argv):
         print(f"tools/autopilot-loop: {error}", file=sys.stderr)
         return 2
     version = next((r.get("version") for r in results.values() if r.get("version")), None)
-    print(f"\nArduPilot commit {commit}, {version}, {time.strftime('%Y-%m-%d')}")
+    print(f"\nArduPilot commit {commit}{', ' + version if version else ''}, {time.strftime('%Y-%m-%d')}")
     print_tables(results)
     print()
     results_checks = checks(results)
