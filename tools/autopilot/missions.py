@@ -4,7 +4,6 @@ faults one after another, each watched until the vehicle has recovered and is ba
 
 import json
 import subprocess
-import time
 
 import vehicle as V
 from flight_stats import errors, summary
