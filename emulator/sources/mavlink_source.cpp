@@ -5,8 +5,13 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "emulator/sources/mavlink/stream_request.hpp"
+
 namespace gpsemu::sources {
 namespace {
+
+/// How often a TCP-connected autopilot is asked to send its true state (50 Hz, as SITL bridges use).
+constexpr std::chrono::microseconds kStateRequestInterval{20000};
 
 using mavlink::FrameCounts;
 
@@ -82,9 +87,15 @@ std::string MavlinkPoseSource::counts_text() const {
     if (f.*k.count != 0) bad += fmt::format(", {} {}", k.name, f.*k.count);
   }
   return fmt::format("{} states used{}, {} dropped{}, {} superseded; frames: {} of these messages, {} of others{}; "
-                     "{} sender changes, {} restarts, {} connections, {} lost",
+                     "{} sender changes, {} restarts, {} connections, {} lost{}",
                      stats_.accepted, used, dropped_total, dropped, stats_.superseded, f.frames, f.unknown_message, bad,
-                     stats_.sender_changes, stats_.restarts, stats_.connections, stats_.disconnections);
+                     stats_.sender_changes, stats_.restarts, stats_.connections, stats_.disconnections,
+                     stats_.stream_requests + stats_.failed_requests == 0
+                         ? std::string()
+                         : fmt::format("; states asked for on {} connections{}", stats_.stream_requests,
+                                       stats_.failed_requests == 0
+                                           ? std::string()
+                                           : fmt::format(", {} requests not written", stats_.failed_requests)));
 }
 
 std::string MavlinkPoseSource::describe() const {
@@ -118,6 +129,17 @@ void MavlinkPoseSource::handle(const transport::ReceivedMessage& m) {
     case Kind::too_large: return reject(PoseReject::too_large, m);
     case Kind::connected:
       ++stats_.connections;
+      if (options_.request_interval.count() > 0) {
+        if (socket_->reply(m.sender, mavlink::stream_request(options_.request_interval))) {
+          ++stats_.stream_requests;
+          spdlog::info("mavlink: asked {} for SIM_STATE and HIL_STATE_QUATERNION every {} ms", socket_->describe(),
+                       options_.request_interval.count() / 1000.0);
+        } else {
+          ++stats_.failed_requests;
+          spdlog::warn("mavlink: could not ask {} for its states (the request was not written whole)",
+                       socket_->describe());
+        }
+      }
       return;
     case Kind::disconnected:
     case Kind::idle_closed:
@@ -239,7 +261,9 @@ std::unique_ptr<PoseSource> make_mavlink_source(bool udp, const transport::PoseE
   std::unique_ptr<transport::PoseSocket> socket = udp ? transport::open_udp_pose_socket(endpoint, socket_options)
                                                       : transport::open_tcp_pose_client(endpoint, socket_options);
   return std::make_unique<MavlinkPoseSource>(std::move(socket), frame,
-                                             MavlinkSourceOptions{.history = history, .datagrams = udp});
+                                             MavlinkSourceOptions{.history = history, .datagrams = udp,
+                                                                  .request_interval = udp ? std::chrono::microseconds{0}
+                                                                                          : kStateRequestInterval});
 }
 
 }  // namespace gpsemu::sources

@@ -6,7 +6,9 @@
 //
 // - Input: `mavlink:udp:[HOST:]PORT` listens for datagrams (each a whole number of frames; a frame
 //   cut by a datagram's end is dropped); `mavlink:tcp:HOST:PORT` connects (SITL's 5760) and
-//   reconnects after a drop, frames may span reads.
+//   reconnects after a drop, frames may span reads; on each connection it asks, as a ground station
+//   would, for SIM_STATE and HIL_STATE_QUATERNION at 50 Hz (stream_request.hpp: ArduPilot sends
+//   SIM_STATE in no default stream, PX4 its ground truth only when asked).
 // - Time base: arrival time on CLOCK_REALTIME, as JSON poses (UDP: the kernel's time stamp).
 //   HIL_STATE_QUATERNION's time_usec plays the role of a JSON pose's `t` (reordering, track speed);
 //   a SIMSTATE's is the time_boot_ms of the ATTITUDE ArduPilot sends just before it (when one came
@@ -44,6 +46,9 @@ struct MavlinkSourceOptions {
   PoseHistoryOptions history;                   ///< timeout, extrapolation horizon, capacity
   std::size_t max_messages_per_service = 256;   ///< socket reads handled per service() call
   bool datagrams = true;                        ///< UDP: each message ends its frames
+  /// TCP: on each connection, ask the autopilot for SIM_STATE and HIL_STATE_QUATERNION at this
+  /// interval (mavlink/stream_request.hpp); 0: ask nothing.
+  std::chrono::microseconds request_interval{0};
 };
 
 /// Counters of a MAVLink pose source (the frame reader's are in frames()).
@@ -56,6 +61,8 @@ struct MavlinkSourceStats {
   std::uint64_t restarts = 0;
   std::uint64_t connections = 0;     ///< TCP connections made
   std::uint64_t disconnections = 0;  ///< TCP connections lost
+  std::uint64_t stream_requests = 0;  ///< TCP: connections the states were asked for on
+  std::uint64_t failed_requests = 0;  ///< TCP: requests that could not be written whole
 };
 
 class MavlinkPoseSource final : public PoseSource {

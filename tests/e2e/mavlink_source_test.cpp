@@ -10,12 +10,15 @@
 #include <gtest/gtest.h>
 
 #include <arpa/inet.h>
+#include <poll.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <time.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <bit>
+#include <cstring>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -29,6 +32,7 @@
 #include <fmt/format.h>
 
 #include "emulator/model/geo.hpp"
+#include "emulator/sources/mavlink/mavlink_frame.hpp"
 #include "emulator/sources/mavlink/vehicle_state.hpp"
 #include "emulator/ubx/bytes.hpp"
 #include "emulator/ubx/frame.hpp"
@@ -212,6 +216,70 @@ std::vector<std::uint8_t> climb_frame(const LocalFrame& frame, const Climb& clim
   return sources::mavlink::encode_state(s, {.sequence = static_cast<std::uint8_t>(i)});
 }
 
+// What gpsemu wrote on connecting, as MAVLink 2 frames checked with the CRC_EXTRA of the common
+// set's HEARTBEAT (50) and COMMAND_LONG (152); payloads zero-filled to their full length.
+struct WrittenFrame {
+  std::uint32_t id = 0;
+  std::uint8_t system_id = 0;
+  std::vector<std::uint8_t> payload;
+};
+std::vector<WrittenFrame> read_written_frames(int fd, std::size_t want, milliseconds timeout) {
+  std::vector<std::uint8_t> b;
+  std::vector<WrittenFrame> frames;
+  const auto until = steady_clock::now() + timeout;
+  while (frames.size() < want && steady_clock::now() < until) {
+    pollfd p{fd, POLLIN, 0};
+    if (::poll(&p, 1, 50) == 1) {
+      std::uint8_t chunk[512];
+      const ssize_t n = ::recv(fd, chunk, sizeof chunk, MSG_DONTWAIT);
+      if (n <= 0) break;
+      b.insert(b.end(), chunk, chunk + n);
+    }
+    while (b.size() >= 12 && b.size() >= 12u + b[1]) {
+      EXPECT_EQ(b[0], 0xFD) << "not a MAVLink 2 frame";
+      if (b[0] != 0xFD) return frames;
+      const std::size_t len = b[1];
+      WrittenFrame f;
+      f.id = b[7] | (b[8] << 8) | (b[9] << 16);
+      f.system_id = b[5];
+      const std::uint8_t extra = f.id == 0 ? 50 : f.id == 76 ? 152 : 0;
+      EXPECT_NE(extra, 0) << "unexpected message " << f.id;
+      std::uint16_t crc = sources::mavlink::crc_x25(std::span<const std::uint8_t>(b.data() + 1, 9 + len));
+      crc = sources::mavlink::crc_x25(extra, crc);
+      EXPECT_EQ(crc, b[10 + len] | (b[11 + len] << 8)) << "bad checksum of message " << f.id;
+      f.payload.assign(b.begin() + 10, b.begin() + 10 + static_cast<std::ptrdiff_t>(len));
+      f.payload.resize(f.id == 76 ? 33 : 9, 0);
+      frames.push_back(f);
+      b.erase(b.begin(), b.begin() + static_cast<std::ptrdiff_t>(12 + len));
+    }
+  }
+  return frames;
+}
+float float_at(const std::vector<std::uint8_t>& p, std::size_t at) {
+  std::uint32_t u = 0;
+  for (int i = 3; i >= 0; --i) u = (u << 8) | p[at + static_cast<std::size_t>(i)];
+  return std::bit_cast<float>(u);
+}
+
+// On connecting, gpsemu asks the autopilot for its true state as a ground station would (a
+// HEARTBEAT, then MAV_CMD_SET_MESSAGE_INTERVAL 511 for SIM_STATE 108 and HIL_STATE_QUATERNION 115
+// every 20 000 us): ArduPilot sends SIM_STATE in no default stream.
+void expect_state_request(int fd) {
+  const std::vector<WrittenFrame> frames = read_written_frames(fd, 3, milliseconds(3000));
+  ASSERT_EQ(frames.size(), 3u) << "gpsemu did not ask for the states";
+  EXPECT_EQ(frames[0].id, 0u);
+  EXPECT_EQ(frames[0].payload[4], 6) << "MAV_TYPE_GCS";
+  EXPECT_EQ(frames[0].system_id, 255);
+  const float wanted[] = {108.0f, 115.0f};
+  for (int i = 0; i < 2; ++i) {
+    const WrittenFrame& c = frames[static_cast<std::size_t>(i) + 1];
+    ASSERT_EQ(c.id, 76u) << "COMMAND_LONG";
+    EXPECT_EQ(c.payload[28] | (c.payload[29] << 8), 511) << "MAV_CMD_SET_MESSAGE_INTERVAL";
+    EXPECT_EQ(float_at(c.payload, 0), wanted[i]) << "the message asked for";
+    EXPECT_EQ(float_at(c.payload, 4), 20000.0f) << "its interval (us)";
+  }
+}
+
 TEST(MavlinkEndToEnd, TcpClientReadsFramesSplitOverWritesAndReconnectsWhenTheSimulatorDrops) {
   const LocalFrame frame(kOrigin);
   test::Listener simulator;
@@ -221,6 +289,7 @@ TEST(MavlinkEndToEnd, TcpClientReadsFramesSplitOverWritesAndReconnectsWhenTheSim
                         "stdout", "--log-level", "info"});
   int fd = simulator.accept_one(seconds(20));
   ASSERT_GE(fd, 0) << gpsemu.stderr_text();
+  expect_state_request(fd);
   const Climb climb{realtime_s()};
   double first_s = 0.0, drop_s = 0.0, back_s = 0.0, last_s = 0.0;
   const auto start = steady_clock::now();
@@ -269,7 +338,7 @@ TEST(MavlinkEndToEnd, TcpClientReadsFramesSplitOverWritesAndReconnectsWhenTheSim
   EXPECT_LT(worst_h_m, 0.06);
   const std::string log = gpsemu.stderr_text();
   EXPECT_TRUE(test::contains(log, "closed by the peer; reconnecting every 1000 ms")) << log;
-  EXPECT_TRUE(test::contains(log, "2 connections, 1 lost")) << log;
+  EXPECT_TRUE(test::contains(log, "2 connections, 1 lost; states asked for on 2 connections")) << log;
   EXPECT_FALSE(test::contains(log, "partial_frame")) << log;
   std::printf("[ info ] mavlink tcp: %d epochs before the drop, %d after (reconnected %.2f s later), worst horizontal %.1f mm\n",
               before, after, back_s - drop_s, worst_h_m * 1000);

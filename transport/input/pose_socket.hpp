@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -72,6 +73,9 @@ class PoseSocket {
   /// "udp:127.0.0.1:5005", with the port actually bound.
   [[nodiscard]] virtual std::string describe() const = 0;
   [[nodiscard]] virtual std::uint16_t port() const = 0;
+  /// Writes `bytes` back to `sender` (a TCP client socket: to the peer it connected to), without
+  /// blocking. False when this socket cannot answer or not all the bytes went out.
+  [[nodiscard]] virtual bool reply(std::uint64_t /*sender*/, std::span<const std::uint8_t> /*bytes*/) { return false; }
 };
 
 /// Binds a UDP receiver. Throws std::runtime_error naming host:port when it cannot (port in use,

@@ -43,6 +43,12 @@ class TcpPoseClient final : public PoseSocket {
     start_connect(posix::wall_clock_now());
   }
 
+  bool reply(std::uint64_t /*sender*/, std::span<const std::uint8_t> bytes) override {
+    if (state_ != State::connected) return false;
+    const ssize_t n = ::send(fd_.get(), bytes.data(), bytes.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+    return n == static_cast<ssize_t>(bytes.size());
+  }
+
   std::optional<ReceivedMessage> receive() override {
     const posix::WallTime now = posix::wall_clock_now();
     switch (state_) {

@@ -143,11 +143,9 @@ StateDecodeResult decode_state(const Frame& f) {
   return s;
 }
 
-std::vector<std::uint8_t> encode_frame(std::uint32_t id, std::span<const std::uint8_t> payload,
-                                       const EncodeOptions& o) {
-  const MessageInfo* info = find_message(id);
-  std::size_t length = payload.size();
-  if (info != nullptr) length = std::min<std::size_t>(length, o.version == 1 ? info->base_length : info->full_length);
+namespace {
+std::vector<std::uint8_t> encode_frame_of(std::uint32_t id, std::uint8_t crc_extra, std::span<const std::uint8_t> payload,
+                                          std::size_t length, const EncodeOptions& o) {
   if (o.version == 2 && o.truncate) {
     while (length > 1 && payload[length - 1] == 0) --length;
   }
@@ -162,11 +160,25 @@ std::vector<std::uint8_t> encode_frame(std::uint32_t id, std::span<const std::ui
   }
   f.insert(f.end(), payload.begin(), payload.begin() + static_cast<std::ptrdiff_t>(length));
   std::uint16_t crc = crc_x25(std::span<const std::uint8_t>(f.data() + 1, f.size() - 1));
-  crc = crc_x25(info != nullptr ? info->crc_extra : std::uint8_t{0}, crc);
+  crc = crc_x25(crc_extra, crc);
   f.push_back(static_cast<std::uint8_t>(crc & 0xFF));
   f.push_back(static_cast<std::uint8_t>(crc >> 8));
   if (o.version == 2 && o.sign) f.insert(f.end(), kSignatureBytes, 0);
   return f;
+}
+}  // namespace
+
+std::vector<std::uint8_t> encode_frame(std::uint32_t id, std::span<const std::uint8_t> payload,
+                                       const EncodeOptions& o) {
+  const MessageInfo* info = find_message(id);
+  std::size_t length = payload.size();
+  if (info != nullptr) length = std::min<std::size_t>(length, o.version == 1 ? info->base_length : info->full_length);
+  return encode_frame_of(id, info != nullptr ? info->crc_extra : std::uint8_t{0}, payload, length, o);
+}
+
+std::vector<std::uint8_t> encode_frame(std::uint32_t id, std::uint8_t crc_extra, std::span<const std::uint8_t> payload,
+                                       const EncodeOptions& o) {
+  return encode_frame_of(id, crc_extra, payload, payload.size(), o);
 }
 
 std::vector<std::uint8_t> encode_state(const VehicleState& s, const EncodeOptions& options) {

@@ -86,6 +86,11 @@ struct EncodeOptions {
 /// fields only).
 [[nodiscard]] std::vector<std::uint8_t> encode_frame(std::uint32_t id, std::span<const std::uint8_t> payload,
                                                      const EncodeOptions& options = {});
+/// A frame of any message `id` whose CRC_EXTRA is given (one gpsemu writes but does not read,
+/// stream_request.hpp); the payload is written as given (MAVLink 2: trailing zeros cut).
+[[nodiscard]] std::vector<std::uint8_t> encode_frame(std::uint32_t id, std::uint8_t crc_extra,
+                                                     std::span<const std::uint8_t> payload,
+                                                     const EncodeOptions& options = {});
 /// A frame of `message_id` carrying `state` (alt 0 and zero velocity when not given; time_usec 0).
 [[nodiscard]] std::vector<std::uint8_t> encode_state(const VehicleState& state, const EncodeOptions& options = {});
 
