@@ -11,7 +11,8 @@
 // written since the previous check, for bytes no client had read for a whole period and
 // discarded it (8 of 54 boots restarted); and when the driver had opened the port after an
 // epoch went in while nobody had it open, the next check discarded everything unread, the
-// answers to the frames it wrote since (MON-VER lost: board unknown, a restart).
+// answers to the frames it wrote since (MON-VER lost: board unknown, a restart). The same driver
+// configuring an M10 (tests/data/px4/max_m10s_configure.txt) gets the answers a MAX-M10S gives.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <termios.h>
@@ -56,14 +57,17 @@ std::vector<std::string> recorded_frames(const std::string& path) {
   return frames;
 }
 
-/// The receiver channel of `gpsemu --receiver ublox-m8n --protocol ubx --rate 5` behind a real pty.
-class Px4ConfigurePty : public ::testing::Test {
+/// The receiver channel of `gpsemu --receiver MODEL --protocol ubx` behind a real pty, and the
+/// frames PX4 wrote to that model (tests/data/px4/FILE).
+class Px4PtyTest : public ::testing::Test {
  protected:
-  Px4ConfigurePty() : channel(channel_settings(), t0) {
+  Px4PtyTest(ubx::ReceiverModel model, std::chrono::milliseconds period, const std::string& file)
+      : channel(channel_settings(), t0),
+        frames(recorded_frames(std::string(GPSEMU_SOURCE_DIR) + "/tests/data/px4/" + file)) {
     ubx::SessionSettings ubx_settings;  // NAV-PVT every solution, no NMEA from the u-blox part
-    ubx_settings.start.model = ubx::ReceiverModel::ublox_m8n;
+    ubx_settings.start.model = model;
     ubx_settings.start.sentences = {};
-    ubx_settings.start.measurement_period = 200ms;
+    ubx_settings.start.measurement_period = period;
     channel.add_encoder(std::make_unique<UbxEncoder>(ubx_settings));
     std::vector<std::unique_ptr<transport::Output>> outputs;
     auto pty = std::make_unique<transport::PtyOutput>();
@@ -72,7 +76,7 @@ class Px4ConfigurePty : public ::testing::Test {
     i = sink.add(std::move(outputs));
     sink.attach_client_input(i, &channel);
   }
-  ~Px4ConfigurePty() override {
+  ~Px4PtyTest() override {
     if (client >= 0) ::close(client);
   }
   static ChannelSettings channel_settings() {
@@ -119,8 +123,19 @@ class Px4ConfigurePty : public ::testing::Test {
   transport::PtyOutput* out = nullptr;
   std::size_t i = 0;
   int client = -1;
-  const std::vector<std::string> frames =
-      recorded_frames(std::string(GPSEMU_SOURCE_DIR) + "/tests/data/px4/neo_m8n_configure.txt");
+  const std::vector<std::string> frames;
+};
+
+/// `gpsemu --receiver ublox-m8n --protocol ubx --rate 5`.
+class Px4ConfigurePty : public Px4PtyTest {
+ protected:
+  Px4ConfigurePty() : Px4PtyTest(ubx::ReceiverModel::ublox_m8n, 200ms, "neo_m8n_configure.txt") {}
+};
+
+/// `gpsemu --receiver ublox-m10 --protocol ubx --rate 10`.
+class Px4ConfiguresAnM10Pty : public Px4PtyTest {
+ protected:
+  Px4ConfiguresAnM10Pty() : Px4PtyTest(ubx::ReceiverModel::ublox_m10, 100ms, "max_m10s_configure.txt") {}
 };
 
 TEST_F(Px4ConfigurePty, EveryFramePx4WaitsForIsAnsweredThoughTheLoopChecksThePtyBeforeItReads) {
@@ -159,6 +174,39 @@ TEST_F(Px4ConfigurePty, ThePortOpenedAfterAnEpochWentInLosesNoAnswerAtTheNextChe
     sink.write(i, channel.bytes());
     expect_answer(sent[0], frames_in(test::read_available(client, 20ms, 1s)), k);
   }
+}
+
+TEST_F(Px4ConfiguresAnM10Pty, EveryVALSETIsAckedButTheRtkKeyAMaxM10sLacks) {
+  // PX4 on an M10 (Board::u_blox10 from MON-VER's hwVersion 000A0000): no USB or RTCM3 keys, the
+  // default 100 ms, and CFG-NAVHPG-DGNSSMODE 3 as to every u-blox 9+ ("RTK, optional, as only RTK
+  // devices like F9P support it": it takes the NAK). A MAX-M10S's standard-precision firmware
+  // (SPG 5.10) has no CFG-NAVHPG group and NAKs the VALSET naming it; every other VALSET is ACKed
+  // (PX4 requires the ACK of the probe, the navigation and rate keys, the message rates and the
+  // I2C protocols).
+  ASSERT_EQ(frames.size(), 9u);
+  open_client();
+  std::vector<ubx::MessageId> answers;
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const auto sent = frames_in(frames[k]);
+    ASSERT_EQ(sent.size(), 1u) << "line " << k;
+    sink.prepare(i);
+    driver_writes(frames[k]);
+    sink.prepare(i);
+    sink.write(i, "");
+    const auto got = frames_in(test::read_available(client, 20ms, 1s));
+    ASSERT_EQ(got.size(), 1u) << "line " << k;
+    answers.push_back(got[0].id);
+    if (sent[0].id == ubx::msg::mon_ver) {
+      EXPECT_EQ(got[0].payload.substr(30, 8), "000A0000");  // hwVersion: PX4's Board::u_blox10
+      EXPECT_NE(got[0].payload.find("MOD=MAX-M10S"), std::string::npos);
+    } else {
+      EXPECT_EQ(got[0].payload, std::string({static_cast<char>(sent[0].id.msg_class), static_cast<char>(sent[0].id.msg_id)}))
+          << "line " << k;
+    }
+  }
+  const ubx::MessageId ack = ubx::msg::ack_ack, nak = ubx::msg::ack_nak, ver = ubx::msg::mon_ver;
+  EXPECT_EQ(answers, (std::vector<ubx::MessageId>{ack, ack, ver, ack, nak, ack, ack, ack, ack}));
+  EXPECT_EQ(out->pty_stats().stale_bytes_discarded, 0u);
 }
 
 }  // namespace
