@@ -200,8 +200,8 @@ TEST_F(Px4ConfiguresAnM10Pty, EveryVALSETIsAckedButTheRtkKeyAMaxM10sLacks) {
       EXPECT_EQ(got[0].payload.substr(30, 8), "000A0000");  // hwVersion: PX4's Board::u_blox10
       EXPECT_NE(got[0].payload.find("MOD=MAX-M10S"), std::string::npos);
     } else {
-      EXPECT_EQ(got[0].payload, std::string({static_cast<char>(sent[0].id.msg_class), static_cast<char>(sent[0].id.msg_id)}))
-          << "line " << k;
+      const std::string acked{static_cast<char>(sent[0].id.msg_class), static_cast<char>(sent[0].id.msg_id)};
+      EXPECT_EQ(got[0].payload, acked) << "line " << k;
     }
   }
   const ubx::MessageId ack = ubx::msg::ack_ack, nak = ubx::msg::ack_nak, ver = ubx::msg::mon_ver;
