@@ -27,7 +27,10 @@
 
 #include "emulator/pipeline/channel.hpp"
 #include "emulator/pipeline/sink.hpp"
+#include "emulator/pipeline/ubx_effects.hpp"
 #include "emulator/pipeline/ubx_encoder.hpp"
+#include "emulator/rtk/rtcm3_messages.hpp"
+#include "emulator/rtk/rtcm3_reader.hpp"
 #include "emulator/ubx/bytes.hpp"
 #include "tests/support/read_deadline.hpp"
 #include "tests/support/ubx_frames.hpp"
@@ -61,14 +64,12 @@ std::vector<std::string> recorded_frames(const std::string& path) {
 /// frames PX4 wrote to that model (tests/data/px4/FILE).
 class Px4PtyTest : public ::testing::Test {
  protected:
-  Px4PtyTest(ubx::ReceiverModel model, std::chrono::milliseconds period, const std::string& file)
-      : channel(channel_settings(), t0),
+  /// `own`: the u-blox is the channel's encoder, as gpsemu's --receiver makes it (its summary lines
+  /// then read it); otherwise it is added beside the channel's NMEA encoder, whose epochs write.
+  Px4PtyTest(ubx::ReceiverModel model, std::chrono::milliseconds period, const std::string& file, bool own = false)
+      : channel(channel_settings(ubx_settings(model, period), own), t0),
         frames(recorded_frames(std::string(GPSEMU_SOURCE_DIR) + "/tests/data/px4/" + file)) {
-    ubx::SessionSettings ubx_settings;  // NAV-PVT every solution, no NMEA from the u-blox part
-    ubx_settings.start.model = model;
-    ubx_settings.start.sentences = {};
-    ubx_settings.start.measurement_period = period;
-    channel.add_encoder(std::make_unique<UbxEncoder>(ubx_settings));
+    if (!own) channel.add_encoder(std::make_unique<UbxEncoder>(ubx_settings(model, period)));
     std::vector<std::unique_ptr<transport::Output>> outputs;
     auto pty = std::make_unique<transport::PtyOutput>();
     out = pty.get();
@@ -79,9 +80,17 @@ class Px4PtyTest : public ::testing::Test {
   ~Px4PtyTest() override {
     if (client >= 0) ::close(client);
   }
-  static ChannelSettings channel_settings() {
+  static ubx::SessionSettings ubx_settings(ubx::ReceiverModel model, std::chrono::milliseconds period) {
+    ubx::SessionSettings settings;  // NAV-PVT every solution, no NMEA from the u-blox part
+    settings.start.model = model;
+    settings.start.sentences = {};
+    settings.start.measurement_period = period;
+    return settings;
+  }
+  static ChannelSettings channel_settings(const ubx::SessionSettings& ubx, bool own) {
     ChannelSettings settings;
     settings.origin = {43.0725, -89.4125, 260.0};
+    if (own) settings.ubx = ubx;
     return settings;
   }
   void open_client() {
@@ -135,7 +144,7 @@ class Px4ConfigurePty : public Px4PtyTest {
 /// `gpsemu --receiver ublox-m10 --protocol ubx --rate 10`.
 class Px4ConfiguresAnM10Pty : public Px4PtyTest {
  protected:
-  Px4ConfiguresAnM10Pty() : Px4PtyTest(ubx::ReceiverModel::ublox_m10, 100ms, "max_m10s_configure.txt") {}
+  Px4ConfiguresAnM10Pty() : Px4PtyTest(ubx::ReceiverModel::ublox_m10, 100ms, "max_m10s_configure.txt", true) {}
 };
 
 TEST_F(Px4ConfigurePty, EveryFramePx4WaitsForIsAnsweredThoughTheLoopChecksThePtyBeforeItReads) {
@@ -207,6 +216,20 @@ TEST_F(Px4ConfiguresAnM10Pty, EveryVALSETIsAckedButTheRtkKeyAMaxM10sLacks) {
   const ubx::MessageId ack = ubx::msg::ack_ack, nak = ubx::msg::ack_nak, ver = ubx::msg::mon_ver;
   EXPECT_EQ(answers, (std::vector<ubx::MessageId>{ack, ack, ver, ack, nak, ack, ack, ack, ack}));
   EXPECT_EQ(out->pty_stats().stale_bytes_discarded, 0u);
+
+  // Configured, PX4 injects RTCM3 into it as into any u-blox; a MAX-M10S has no RTCM3 input: no
+  // answer, and the exit summary says the model is why (not the port's input protocols).
+  const std::string rtcm = rtk::rtcm3_frame_bytes(rtk::encode_msm(1074, 42, 345600000u, 10, 1));
+  ASSERT_EQ(::write(client, rtcm.data(), rtcm.size()), static_cast<ssize_t>(rtcm.size()));
+  const auto until = std::chrono::steady_clock::now() + 2s;
+  while (client_input_summary(channel).find("1 RTCM3 frames") == std::string::npos &&
+         std::chrono::steady_clock::now() < until) {
+    sink.service_all();
+    std::this_thread::sleep_for(1ms);
+  }
+  EXPECT_NE(client_input_summary(channel).find("1 RTCM3 frames (0 bad CRC, 1 ignored: ublox-m10 takes no RTCM3)"),
+            std::string::npos)
+      << client_input_summary(channel);
 }
 
 }  // namespace
