@@ -140,10 +140,13 @@ std::string client_input_summary(const Channel& channel) {
   if (channel.settings().moving_base.role == heading::Role::rover) {
     rtcm3 = fmt::format("; {} of the RTCM3 frames the moving base's (4072.0)", channel.moving_base_frames());
   }
+  // Why they were ignored: a model without RTCM3 input (the M10), or the port's input protocols.
+  const ubx::ReceiverModel model = ubx->session().machine().model();
+  const std::string why = ubx::model_info(model).rtcm_input
+                              ? std::string{"the port's input protocols exclude RTCM3"}
+                              : fmt::format("{} takes no RTCM3", ubx::model_info(model).name);
   const std::string rtcm_ignored =
-      folded.rtcm_ignored == 0
-          ? std::string{}
-          : fmt::format(", {} ignored: the port's input protocols exclude RTCM3", folded.rtcm_ignored);
+      folded.rtcm_ignored == 0 ? std::string{} : fmt::format(", {} ignored: {}", folded.rtcm_ignored, why);
   return fmt::format("u-blox client input: {} UBX frames, {} bad ({} bad checksum, {} too long), {} NMEA sentences "
                      "({} bad), {} RTCM3 frames ({} bad CRC{}), {} garbage bytes; {} ACK, {} NAK, {} ignored; {} NAV "
                      "polls folded into one answer, {} effects superseded by a newer one{}{}",

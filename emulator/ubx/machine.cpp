@@ -265,7 +265,8 @@ bool ConfigMachine::apply_valset(std::string_view p, Before& before) {
   if (keys) {
     const auto lacking = std::find_if(keys->begin(), keys->end(), [&](const auto& kv) { return !model_has_key(kv.first); });
     if (lacking != keys->end()) {
-      nak_reason_ = fmt::format(": {}: a message {} lacks", key_label(lacking->first), model_info(start_.model).name);
+      nak_reason_ = fmt::format(": {}: a {} {} lacks", key_label(lacking->first),
+                                msgout_message(lacking->first) ? "message" : "key", model_info(start_.model).name);
       keys.reset();
     }
   }
@@ -398,6 +399,7 @@ void ConfigMachine::answer_valget(const Frame& frame, Answer& answer) {
 }
 
 bool ConfigMachine::model_has_key(std::uint32_t key) const {
+  if (!model_has_key_group(start_.model, key)) return false;
   const std::optional<MessageId> id = msgout_message(key);
   return !id || model_has_message(start_.model, *id);
 }

@@ -131,7 +131,8 @@ class ConfigMachine {
   /// A UBX answer, unless the client's port does not output UBX.
   void reply(Answer& answer, MessageId id, std::string_view payload);
   void ack(MessageId id, bool ok, Answer& answer);
-  /// False for a CFG-MSGOUT key of a message the model does not have.
+  /// False for a CFG-MSGOUT key of a message the model does not have, or a key of a group its firmware
+  /// lacks (model_has_key_group()).
   [[nodiscard]] bool model_has_key(std::uint32_t key) const;
   /// Appends the effects of the change from `before` to the current settings.
   void diff(const Before& before, Answer& answer) const;

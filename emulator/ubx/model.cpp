@@ -43,6 +43,13 @@ bool dual_band(ReceiverModel model) { return model == ReceiverModel::ublox_f9p; 
 
 bool dgnss_only(ReceiverModel model) { return model == ReceiverModel::ublox_m9n; }
 
+bool model_has_key_group(ReceiverModel model, std::uint32_t key) {
+  constexpr std::uint32_t group_tmode = 0x03;
+  constexpr std::uint32_t group_navhpg = 0x14;
+  const std::uint32_t group = (key >> 16) & 0xFF;
+  return model != ReceiverModel::ublox_m10 || (group != group_tmode && group != group_navhpg);
+}
+
 std::string mon_ver_payload(ReceiverModel model) {
   const ModelInfo& info = model_info(model);
   PayloadWriter<layout::mon_ver> w;

@@ -37,6 +37,12 @@ struct ModelInfo {
 /// Whether `model` uses RTCM3 corrections for DGNSS only, never RTK float/fixed: the M9N (SPG
 /// firmware; carrier-phase RTK is the F9P's HPG firmware).
 [[nodiscard]] bool dgnss_only(ReceiverModel model);
+/// Whether `model`'s firmware has the configuration key `key` (by its group, bits 16-23): the M10's
+/// standard-precision firmware (SPG 5.10) has no CFG-NAVHPG (high-precision navigation: RTK) and no
+/// CFG-TMODE (a base's time mode) group, so a VALSET or VALGET naming one of their keys is NAKed
+/// whole, as for any key a firmware does not know (PX4 writes CFG-NAVHPG-DGNSSMODE to every
+/// u-blox 9+ and takes the NAK of a receiver without RTK). Message keys: model_has_message().
+[[nodiscard]] bool model_has_key_group(ReceiverModel model, std::uint32_t key);
 /// MON-VER's payload for `model`: swVersion[30], hwVersion[10], extension[30] each.
 [[nodiscard]] std::string mon_ver_payload(ReceiverModel model);
 

@@ -19,6 +19,7 @@ import json
 import math
 import os
 import random
+import re
 import shutil
 import socket
 import subprocess
@@ -33,11 +34,12 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 SKIP = 77
 DRIVER_SOURCES = ["ubx.cpp", "nmea.cpp", "gps_helper.cpp", "rtcm.cpp", "unicore.cpp", "crc.cpp"]
 # PX4's GPSDriverUBX::Board of each model; `generic` answers as a u-blox 8 (with --protocol: it has
-# no factory state of a u-blox, it is an NMEA receiver).
-MODELS = {"ublox-m8n": 8, "ublox-m9n": 9, "ublox-f9p": 10, "generic": 8}
+# no factory state of a u-blox, it is an NMEA receiver); the M10 (MON-VER hwVersion 000A0000) is
+# Board::u_blox10 = 11.
+MODELS = {"ublox-m8n": 8, "ublox-m9n": 9, "ublox-f9p": 10, "ublox-m10": 11, "generic": 8}
 # PX4's solution period with GPS_UBX_RATE 0: the legacy path's CFG-RATE 200 ms on an M8, 125 ms on
-# a u-blox 9 (M9N), 200 ms on an F9P (ubx.cpp configureDevice()).
-DRIVER_PERIOD_S = {"ublox-m8n": 0.2, "ublox-m9n": 0.125, "ublox-f9p": 0.2, "generic": 0.2}
+# a u-blox 9 (M9N), 200 ms on an F9P, the default 100 ms on an M10 (ubx.cpp configureDevice()).
+DRIVER_PERIOD_S = {"ublox-m8n": 0.2, "ublox-m9n": 0.125, "ublox-f9p": 0.2, "ublox-m10": 0.1, "generic": 0.2}
 ORIGIN = (43.0725, -89.4125, 260.0)
 SIGMA = (0.6, 0.8, 1.2)  # gaussian noise east, north, up (m): hAcc 1.0, vAcc 1.2, above the floors
 VEL = (3.0, 4.0, 1.0)  # the truth's velocity east, north, up (m/s): a climb, so velD is checked
@@ -588,7 +590,7 @@ def fault_case(ctx, model):
 def rtk_case(ctx, model):
     name = "%s RTK" % model
     emu = ["--receiver", model, "--protocol", "ubx", "--rate", "5", "--noise", "gaussian",
-           "--gaussian-sigma", "%g,%g,%g" % SIGMA, "--rtk-convergence", "1,2"]
+           "--gaussian-sigma", "%g,%g,%g" % SIGMA] + (["--rtk-convergence", "1,2"] if model != "ublox-m10" else [])
     run = Run(ctx, name, emu, ["--driver", "ubx"], 10)
     run.start()
     c = Checks()
@@ -611,6 +613,22 @@ def rtk_case(ctx, model):
         if not seen or seen[-1] != f:
             seen.append(f)
     tail = [g for g in gps if g["wall"] > (t or 0) + 6.5]
+    if model == "ublox-m10":
+        # PX4 injects into an M10 as into any u-blox (shouldInjectRTCM() is true once configured); a
+        # MAX-M10S takes no RTCM3 (SPG 5.10): the fix stays 3-D, no RXM-RTCM (PX4 does not enable it
+        # on an M10), and gpsemu counts the frames it ignored.
+        c.check(fixes and all(f == 3 for f in fixes[2:]), "fix types %s: an M10 takes no RTCM3 (3 only)" % seen)
+        c.check(all(g["rtcm_used"] == 0 for g in gps), "RXM-RTCM reported on an M10")
+        log = open(os.path.join(run.dir, "gpsemu.log")).read()
+        frames = re.search(r"(\d+) RTCM3 frames \(\d+ bad CRC, (\d+) ignored: ublox-m10 takes no RTCM3\)", log)
+        c.check(frames is not None and int(frames.group(1)) > 0 and frames.group(1) == frames.group(2),
+                "gpsemu's summary does not say the RTCM3 frames were ignored: %s" %
+                (frames.group(0) if frames else "no RTCM3 count"))
+        st = position_checks(run, c, [g for g in gps if g["fix"] >= 3])
+        row = [model, "→".join(str(f) for f in seen), "%d B" % injected, fmt_max(st["pos"]),
+               "%.3f" % (tail[-1]["eph"] if tail else float("nan")),
+               "- (%s of %s frames ignored)" % ((frames.group(2), frames.group(1)) if frames else ("?", "?"))]
+        return name, c, row, run
     if model == "ublox-f9p":
         c.check(5 in fixes and 6 in fixes, "fix types %s: no RTK float and fixed" % seen)
         c.check(tail and all(g["fix"] == 6 for g in tail), "not RTK fixed at the end: %s" % seen)
@@ -793,13 +811,15 @@ def main(argv):
                 for boot in range(1, boots + 1):
                     plan.append(("matrix", lambda m=model, s=state, r=rate, b=boot: matrix_case(ctx, m, s, r, b),
                                  "%s %s %dHz #%d" % (model, state, rate, boot)))
-    for model in ["ublox-m9n", "ublox-f9p"]:  # PX4 asked for 10 Hz (GPS_UBX_RATE 10): all its messages at 10 Hz
+    # PX4 asked for a rate (GPS_UBX_RATE): 10 Hz on the u-blox 9s; 5 Hz on the M10, whose default
+    # is already its fastest, 10 Hz.
+    for model, ubx_rate in [("ublox-m9n", 10), ("ublox-f9p", 10), ("ublox-m10", 5)]:
         for boot in range(1, boots + 1):
-            plan.append(("matrix", lambda m=model, b=boot: matrix_case(ctx, m, "ubx", 1, b, ubx_rate=10),
-                         "%s ubx, GPS_UBX_RATE 10 1Hz #%d" % (model, boot)))
+            plan.append(("matrix", lambda m=model, b=boot, u=ubx_rate: matrix_case(ctx, m, "ubx", 1, b, ubx_rate=u),
+                         "%s ubx, GPS_UBX_RATE %d 1Hz #%d" % (model, ubx_rate, boot)))
     for model in MODELS:
         plan.append(("faults", lambda m=model: fault_case(ctx, m), "%s faults" % model))
-    for model in ["ublox-f9p", "ublox-m9n"]:
+    for model in ["ublox-f9p", "ublox-m9n", "ublox-m10"]:
         plan.append(("rtk", lambda m=model: rtk_case(ctx, m), "%s RTK" % model))
     plan.append(("heading", lambda: heading_case(ctx), "ublox-f9p moving-base rover heading"))
     for rate in [5, 10]:

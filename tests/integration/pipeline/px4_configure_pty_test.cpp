@@ -11,7 +11,8 @@
 // written since the previous check, for bytes no client had read for a whole period and
 // discarded it (8 of 54 boots restarted); and when the driver had opened the port after an
 // epoch went in while nobody had it open, the next check discarded everything unread, the
-// answers to the frames it wrote since (MON-VER lost: board unknown, a restart).
+// answers to the frames it wrote since (MON-VER lost: board unknown, a restart). The same driver
+// configuring an M10 (tests/data/px4/max_m10s_configure.txt) gets the answers a MAX-M10S gives.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <termios.h>
@@ -26,7 +27,10 @@
 
 #include "emulator/pipeline/channel.hpp"
 #include "emulator/pipeline/sink.hpp"
+#include "emulator/pipeline/ubx_effects.hpp"
 #include "emulator/pipeline/ubx_encoder.hpp"
+#include "emulator/rtk/rtcm3_messages.hpp"
+#include "emulator/rtk/rtcm3_reader.hpp"
 #include "emulator/ubx/bytes.hpp"
 #include "tests/support/read_deadline.hpp"
 #include "tests/support/ubx_frames.hpp"
@@ -56,15 +60,16 @@ std::vector<std::string> recorded_frames(const std::string& path) {
   return frames;
 }
 
-/// The receiver channel of `gpsemu --receiver ublox-m8n --protocol ubx --rate 5` behind a real pty.
-class Px4ConfigurePty : public ::testing::Test {
+/// The receiver channel of `gpsemu --receiver MODEL --protocol ubx` behind a real pty, and the
+/// frames PX4 wrote to that model (tests/data/px4/FILE).
+class Px4PtyTest : public ::testing::Test {
  protected:
-  Px4ConfigurePty() : channel(channel_settings(), t0) {
-    ubx::SessionSettings ubx_settings;  // NAV-PVT every solution, no NMEA from the u-blox part
-    ubx_settings.start.model = ubx::ReceiverModel::ublox_m8n;
-    ubx_settings.start.sentences = {};
-    ubx_settings.start.measurement_period = 200ms;
-    channel.add_encoder(std::make_unique<UbxEncoder>(ubx_settings));
+  /// `own`: the u-blox is the channel's encoder, as gpsemu's --receiver makes it (its summary lines
+  /// then read it); otherwise it is added beside the channel's NMEA encoder, whose epochs write.
+  Px4PtyTest(ubx::ReceiverModel model, std::chrono::milliseconds period, const std::string& file, bool own = false)
+      : channel(channel_settings(ubx_settings(model, period), own), t0),
+        frames(recorded_frames(std::string(GPSEMU_SOURCE_DIR) + "/tests/data/px4/" + file)) {
+    if (!own) channel.add_encoder(std::make_unique<UbxEncoder>(ubx_settings(model, period)));
     std::vector<std::unique_ptr<transport::Output>> outputs;
     auto pty = std::make_unique<transport::PtyOutput>();
     out = pty.get();
@@ -72,12 +77,20 @@ class Px4ConfigurePty : public ::testing::Test {
     i = sink.add(std::move(outputs));
     sink.attach_client_input(i, &channel);
   }
-  ~Px4ConfigurePty() override {
+  ~Px4PtyTest() override {
     if (client >= 0) ::close(client);
   }
-  static ChannelSettings channel_settings() {
+  static ubx::SessionSettings ubx_settings(ubx::ReceiverModel model, std::chrono::milliseconds period) {
+    ubx::SessionSettings settings;  // NAV-PVT every solution, no NMEA from the u-blox part
+    settings.start.model = model;
+    settings.start.sentences = {};
+    settings.start.measurement_period = period;
+    return settings;
+  }
+  static ChannelSettings channel_settings(const ubx::SessionSettings& ubx, bool own) {
     ChannelSettings settings;
     settings.origin = {43.0725, -89.4125, 260.0};
+    if (own) settings.ubx = ubx;
     return settings;
   }
   void open_client() {
@@ -119,8 +132,19 @@ class Px4ConfigurePty : public ::testing::Test {
   transport::PtyOutput* out = nullptr;
   std::size_t i = 0;
   int client = -1;
-  const std::vector<std::string> frames =
-      recorded_frames(std::string(GPSEMU_SOURCE_DIR) + "/tests/data/px4/neo_m8n_configure.txt");
+  const std::vector<std::string> frames;
+};
+
+/// `gpsemu --receiver ublox-m8n --protocol ubx --rate 5`.
+class Px4ConfigurePty : public Px4PtyTest {
+ protected:
+  Px4ConfigurePty() : Px4PtyTest(ubx::ReceiverModel::ublox_m8n, 200ms, "neo_m8n_configure.txt") {}
+};
+
+/// `gpsemu --receiver ublox-m10 --protocol ubx --rate 10`.
+class Px4ConfiguresAnM10Pty : public Px4PtyTest {
+ protected:
+  Px4ConfiguresAnM10Pty() : Px4PtyTest(ubx::ReceiverModel::ublox_m10, 100ms, "max_m10s_configure.txt", true) {}
 };
 
 TEST_F(Px4ConfigurePty, EveryFramePx4WaitsForIsAnsweredThoughTheLoopChecksThePtyBeforeItReads) {
@@ -159,6 +183,53 @@ TEST_F(Px4ConfigurePty, ThePortOpenedAfterAnEpochWentInLosesNoAnswerAtTheNextChe
     sink.write(i, channel.bytes());
     expect_answer(sent[0], frames_in(test::read_available(client, 20ms, 1s)), k);
   }
+}
+
+TEST_F(Px4ConfiguresAnM10Pty, EveryVALSETIsAckedButTheRtkKeyAMaxM10sLacks) {
+  // PX4 on an M10 (Board::u_blox10 from MON-VER's hwVersion 000A0000): no USB or RTCM3 keys, the
+  // default 100 ms, and CFG-NAVHPG-DGNSSMODE 3 as to every u-blox 9+ ("RTK, optional, as only RTK
+  // devices like F9P support it": it takes the NAK). A MAX-M10S's standard-precision firmware
+  // (SPG 5.10) has no CFG-NAVHPG group and NAKs the VALSET naming it; every other VALSET is ACKed
+  // (PX4 requires the ACK of the probe, the navigation and rate keys, the message rates and the
+  // I2C protocols).
+  ASSERT_EQ(frames.size(), 9u);
+  open_client();
+  std::vector<ubx::MessageId> answers;
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const auto sent = frames_in(frames[k]);
+    ASSERT_EQ(sent.size(), 1u) << "line " << k;
+    sink.prepare(i);
+    driver_writes(frames[k]);
+    sink.prepare(i);
+    sink.write(i, "");
+    const auto got = frames_in(test::read_available(client, 20ms, 1s));
+    ASSERT_EQ(got.size(), 1u) << "line " << k;
+    answers.push_back(got[0].id);
+    if (sent[0].id == ubx::msg::mon_ver) {
+      EXPECT_EQ(got[0].payload.substr(30, 8), "000A0000");  // hwVersion: PX4's Board::u_blox10
+      EXPECT_NE(got[0].payload.find("MOD=MAX-M10S"), std::string::npos);
+    } else {
+      const std::string acked{static_cast<char>(sent[0].id.msg_class), static_cast<char>(sent[0].id.msg_id)};
+      EXPECT_EQ(got[0].payload, acked) << "line " << k;
+    }
+  }
+  const ubx::MessageId ack = ubx::msg::ack_ack, nak = ubx::msg::ack_nak, ver = ubx::msg::mon_ver;
+  EXPECT_EQ(answers, (std::vector<ubx::MessageId>{ack, ack, ver, ack, nak, ack, ack, ack, ack}));
+  EXPECT_EQ(out->pty_stats().stale_bytes_discarded, 0u);
+
+  // Configured, PX4 injects RTCM3 into it as into any u-blox; a MAX-M10S has no RTCM3 input: no
+  // answer, and the exit summary says the model is why (not the port's input protocols).
+  const std::string rtcm = rtk::rtcm3_frame_bytes(rtk::encode_msm(1074, 42, 345600000u, 10, 1));
+  ASSERT_EQ(::write(client, rtcm.data(), rtcm.size()), static_cast<ssize_t>(rtcm.size()));
+  const auto until = std::chrono::steady_clock::now() + 2s;
+  while (client_input_summary(channel).find("1 RTCM3 frames") == std::string::npos &&
+         std::chrono::steady_clock::now() < until) {
+    sink.service_all();
+    std::this_thread::sleep_for(1ms);
+  }
+  EXPECT_NE(client_input_summary(channel).find("1 RTCM3 frames (0 bad CRC, 1 ignored: ublox-m10 takes no RTCM3)"),
+            std::string::npos)
+      << client_input_summary(channel);
 }
 
 }  // namespace

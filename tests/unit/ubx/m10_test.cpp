@@ -61,6 +61,23 @@ TEST(UbxM10, LegacyCfgMessagesAreNakedAndValsetConfigures) {
   EXPECT_EQ(periods[0].period, 200ms);
 }
 
+TEST(UbxM10, HasNoHighPrecisionOrTimeModeKeys) {
+  // SPG 5.10 is standard-precision firmware: no CFG-NAVHPG (RTK) or CFG-TMODE (a base) group. A
+  // VALSET or VALGET naming one is NAKed whole and changes nothing; an F9P takes them.
+  constexpr std::uint32_t navhpg_dgnssmode = 0x20140011, tmode_mode = 0x20030001;
+  ConfigMachine m = m10();
+  EXPECT_EQ(send(m, msg::cfg_valset, valset({{navhpg_dgnssmode, 3}})).frames.front(), nak_of(msg::cfg_valset));
+  EXPECT_NE(m.stats().last_nak.find("CFG-NAVHPG-DGNSSMODE (0x20140011): a key ublox-m10 lacks"), std::string::npos)
+      << m.stats().last_nak;
+  const auto both = send(m, msg::cfg_valset, valset({{key::rate_meas, 200}, {tmode_mode, 0}}));
+  EXPECT_EQ(both.frames.front(), nak_of(msg::cfg_valset));
+  EXPECT_EQ(m.settings().output_period(), 1000ms);
+  EXPECT_EQ(send(m, msg::cfg_valget, unhex("0000 0000 11001420")).frames.front(), nak_of(msg::cfg_valget));
+  EXPECT_FALSE(model_has_key_group(ReceiverModel::ublox_m10, navhpg_dgnssmode));
+  EXPECT_TRUE(model_has_key_group(ReceiverModel::ublox_f9p, navhpg_dgnssmode));
+  EXPECT_TRUE(model_has_key_group(ReceiverModel::ublox_m10, key::rate_meas));
+}
+
 TEST(UbxM10, HasMonRfButNeitherRxmRtcmNorMonHw) {
   ConfigMachine m = m10();
   const auto rf = send(m, msg::cfg_valset, valset({{*msgout_key(msg::mon_rf, Port::uart1), 1}}));
