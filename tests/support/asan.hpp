@@ -5,11 +5,20 @@
 #include <cstdlib>
 #include <string>
 
+// GCC defines __SANITIZE_ADDRESS__; clang (the CI's sanitizer tree) answers __has_feature instead.
+#if defined(__SANITIZE_ADDRESS__)
+#define GPSEMU_TEST_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define GPSEMU_TEST_ASAN 1
+#endif
+#endif
+
 namespace gpsemu::test {
 
 /// Children started after this run without ASan's quarantine (no effect without ASan).
 inline void without_asan_quarantine() {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(GPSEMU_TEST_ASAN)
   const char* options = std::getenv("ASAN_OPTIONS");
   const std::string merged =
       std::string(options ? options : "") + (options && *options ? ":" : "") + "quarantine_size_mb=0";
