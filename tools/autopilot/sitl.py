@@ -8,7 +8,6 @@ import pathlib
 import socket
 import subprocess
 import sys
-import threading
 import time
 
 HOME = (-35.363261, 149.165230, 584.0, 353.0)  # ArduPilot SITL's default home (CMAC), heading deg
@@ -98,8 +97,9 @@ def write_params(path, gpsemu, extra):
         # First MAVLink port (the mission's link): truth, attitude, position, status, EKF.
         "MAV1_EXTRA1 20", "MAV1_POSITION 20", "MAV1_EXT_STAT 5", "MAV1_EXTRA3 5",
         "MAV1_RAW_SENS 0", "MAV1_RC_CHAN 0", "MAV1_EXTRA2 0",
-        # Second MAVLink port (gpsemu's pose source, through the Forwarder): SIM_STATE at 50 Hz
-        # (asked for by the Forwarder) and the ATTITUDE and SIMSTATE of the EXTRA1 stream.
+        # Second MAVLink port (gpsemu's pose source, --source mavlink:tcp): SIM_STATE at 50 Hz
+        # (gpsemu asks for it with MAV_CMD_SET_MESSAGE_INTERVAL as a ground station would) and the
+        # ATTITUDE and SIMSTATE of the EXTRA1 stream.
         "MAV2_EXTRA1 50", "MAV2_RAW_SENS 0", "MAV2_EXT_STAT 0", "MAV2_RC_CHAN 0", "MAV2_RAW_CTRL 0",
         "MAV2_POSITION 0", "MAV2_EXTRA2 0", "MAV2_EXTRA3 0", "MAV2_PARAMS 0", "MAV2_ADSB 0",
     ]
@@ -107,70 +107,6 @@ def write_params(path, gpsemu, extra):
     if gpsemu:
         lines.append("SIM_GPS1_ENABLE 0")  # SITL's own GPS off: GPS 1 is gpsemu on SERIAL3
     pathlib.Path(path).write_text("\n".join(lines + extra) + "\n")
-
-
-class Forwarder(threading.Thread):
-    """What MAVProxy's --out does for sim_vehicle.py: a ground-station link of its own to one SITL
-    MAVLink port that asks for SIM_STATE (MAVLink 108: ArduPilot sends it only when asked, it is in
-    no stream; the EXTRA1 stream carries SIMSTATE, without altitude and velocity) at 50 Hz and
-    forwards every frame it gets (whole frames a datagram) to gpsemu's mavlink:udp port."""
-
-    def __init__(self, mavlink_module, tcp_port, udp_port):
-        super().__init__(daemon=True)
-        self.m, self.tcp_port, self.udp_port = mavlink_module, tcp_port, udp_port
-        self.stopping = threading.Event()
-        self.bytes_forwarded = 0
-        self.start()
-
-    def run(self):
-        out = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-        sock = None
-        while sock is None and not self.stopping.is_set():
-            try:
-                sock = socket.create_connection(("127.0.0.1", self.tcp_port), timeout=1.0)
-            except OSError:
-                time.sleep(0.5)
-        if sock is None:
-            return
-
-        class _Out:
-            def write(self, data):
-                sock.sendall(data)
-        mav = self.m.MAVLink(_Out(), srcSystem=254, srcComponent=191)
-        mav.robust_parsing = True
-        sock.settimeout(0.2)
-        last_request = 0.0
-        while not self.stopping.is_set():
-            if time.monotonic() - last_request > 1.0:
-                mav.heartbeat_send(self.m.MAV_TYPE_GCS, self.m.MAV_AUTOPILOT_INVALID, 0, 0, 0)
-                mav.command_long_send(1, 1, self.m.MAV_CMD_SET_MESSAGE_INTERVAL, 0,
-                                      self.m.MAVLINK_MSG_ID_SIM_STATE, 20000, 0, 0, 0, 0, 0)
-                last_request = time.monotonic()
-            try:
-                data = sock.recv(65536)
-            except socket.timeout:
-                continue
-            except OSError:
-                break
-            if not data:
-                break
-            # One datagram of whole frames, as MAVProxy sends them (gpsemu drops a frame cut by
-            # the end of its datagram): the frames this read completed.
-            frames = b"".join(bytes(msg.get_msgbuf()) for msg in mav.parse_buffer(data) or [])
-            if frames:
-                out.sendto(frames, ("127.0.0.1", self.udp_port))
-                self.bytes_forwarded += len(frames)
-        sock.close()
-
-    def stop(self):
-        self.stopping.set()
-        self.join(2.0)
-
-
-def free_udp_port():
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 class Process:
@@ -194,7 +130,7 @@ class Process:
 class Rig:
     """One SITL vehicle (and gpsemu when gpsemu_args is given) in its own directory."""
 
-    def __init__(self, binary, ardupilot, work, name, gpsemu=None, gpsemu_args=None, mavlink_module=None,
+    def __init__(self, binary, ardupilot, work, name, gpsemu=None, gpsemu_args=None,
                  params=()):
         self.dir = pathlib.Path(work) / name
         self.dir.mkdir(parents=True, exist_ok=True)
@@ -202,7 +138,6 @@ class Rig:
         self.mavlink_port = 5760 + 10 * self.instance
         self.gpsemu = None
         self.ctl = None
-        self.forwarder = None
         param_file = self.dir / "loop.parm"
         write_params(param_file, gpsemu_args is not None, list(params))
         sitl = [str(binary), "--model", "quad", "--speedup", "1", "-w", "-I", str(self.instance),
@@ -212,8 +147,9 @@ class Rig:
             pty = self.dir / "gps.pty"
             self.ctl = str(self.dir / "gpsemu.ctl")
             self.gpsemu_log = self.dir / "gpsemu.log"
-            udp_port = free_udp_port()
-            args = [gpsemu, "--source", f"mavlink:udp:127.0.0.1:{udp_port}",
+            # SITL's second MAVLink port (SERIAL1, TCP 5762 + 10 x instance): gpsemu connects, retries
+            # every second until SITL listens, and asks for SIM_STATE itself.
+            args = [gpsemu, "--source", f"mavlink:tcp:127.0.0.1:{self.mavlink_port + 2}",
                     "--output", f"pty:{pty}", "--control", f"unix:{self.ctl}",
                     "--control-idle-timeout", "0",
                     "--origin", f"{HOME[0]},{HOME[1]},{HOME[2]}"] + gpsemu_args
@@ -227,11 +163,7 @@ class Rig:
             sitl.append(f"--serial3=uart:{pty}")
         (self.dir / "sitl.cmd").write_text(" ".join(sitl) + "\n")
         self.sitl = Process(sitl, self.dir, self.dir / "sitl.log")
-        if gpsemu_args is not None:
-            self.forwarder = Forwarder(mavlink_module, self.mavlink_port + 2, udp_port)
 
     def stop(self):
-        if self.forwarder:
-            self.forwarder.stop()
         self.sitl.stop()
         return self.gpsemu.stop() if self.gpsemu else None
