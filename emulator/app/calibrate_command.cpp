@@ -10,6 +10,7 @@
 
 #include "emulator/app/calibration_commands.hpp"
 #include "emulator/calibration/report.hpp"
+#include "emulator/model/receiver.hpp"
 #include "emulator/config/config.hpp"
 
 namespace gpsemu {
@@ -60,7 +61,11 @@ calibration::Calibration run_calibration(const CalibrationArgs& args, std::uint6
 
 calibration::ReceiverState learned_receiver_state(const std::string& log, const calibration::Calibration& c) {
   std::ifstream in(log, std::ios::binary);
-  return calibration::with_uere(calibration::learn_receiver_state(in), std::hypot(c.real[0].sd_m, c.real[1].sd_m));
+  // The emulator's accuracy starts from the model's long-run sigma (estimate_noise_sigma_m): the
+  // ratio makes it what the receiver claimed.
+  const Enu model = estimate_noise_sigma_m(c.models[c.best].config, 1);
+  return calibration::with_sigmas(calibration::learn_receiver_state(in), std::hypot(c.real[0].sd_m, c.real[1].sd_m),
+                                  std::hypot(model.east_m, model.north_m));
 }
 
 Subcommand add_calibrate_command(CLI::App& app) {

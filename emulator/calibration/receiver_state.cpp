@@ -47,6 +47,16 @@ std::string_view system_of_gsa(const nmea::Sentence& s, int id) {
   return system_of_gsv(s.talker, id);
 }
 
+/// The --fix-quality name of a GGA quality (1, 2, 4, 5).
+const char* quality_key(int quality) {
+  switch (quality) {
+    case 2: return "dgps";
+    case 4: return "rtk-fixed";
+    case 5: return "rtk-float";
+    default: return "gps";
+  }
+}
+
 }  // namespace
 
 namespace {
@@ -59,6 +69,7 @@ class Learner {
     if (s.type == "GGA") {
       const auto quality = number(s.fields, 5);
       if (quality && *quality > 0) {
+        ++qualities_[static_cast<int>(*quality)];
         if (const auto n = number(s.fields, 6)) used_.push_back(*n);
         if (const auto h = number(s.fields, 7); h && *h > 0 && *h < 99) hdop_.push_back(*h);
       }
@@ -68,6 +79,9 @@ class Learner {
       }
       used_ids_.clear();
       pdop_taken_ = false;
+    } else if (s.type == "GST") {
+      const auto lat = number(s.fields, 5), lon = number(s.fields, 6);
+      if (lat && lon && *lat > 0 && *lon > 0 && *lat < 9999 && *lon < 9999) gst_h_.push_back(std::hypot(*lat, *lon));
     } else if (s.type == "GSA" && s.fields.size() >= 17) {
       const auto mode = number(s.fields, 1);
       if (!mode || *mode < 2) return;
@@ -99,11 +113,20 @@ class Learner {
     st.pdop = spread_of(std::move(pdop_));
     st.cn0_dbhz = spread_of(std::move(cn0_));
     st.lowest_used_elevation_deg = lowest_used_;
+    st.gst_sigma_h_m = spread_of(std::move(gst_h_));
+    std::size_t most = 0;
+    for (const auto& [q, n] : qualities_) {
+      if ((q == 1 || q == 2 || q == 4 || q == 5) && n > most) {
+        most = n;
+        st.fix_quality = q;
+      }
+    }
     return st;
   }
 
  private:
-  std::vector<double> used_, hdop_, pdop_, cn0_;
+  std::vector<double> used_, hdop_, pdop_, cn0_, gst_h_;
+  std::map<int, std::size_t> qualities_;  // GGA fix quality -> epochs
   std::map<std::string, double> elevation_;  // the latest GSV elevation of each satellite
   std::set<std::string> used_ids_;           // GSA's used satellites since the last GGA
   std::optional<double> lowest_used_;
@@ -132,10 +155,13 @@ ReceiverState learn_receiver_state(std::istream& log) {
   return learner.finish(reader);
 }
 
-ReceiverState with_uere(ReceiverState state, double sigma_h_m) {
+ReceiverState with_sigmas(ReceiverState state, double sigma_h_m, double model_sigma_h_m) {
   if (state.hdop && state.hdop->median > 0.0 && sigma_h_m > 0.0) {
     state.uere_m = std::clamp(sigma_h_m / state.hdop->median, 0.05, 50.0);
   }
+  const double claimed_m = state.gst_sigma_h_m ? state.gst_sigma_h_m->median : sigma_h_m;
+  if (claimed_m > 0.0 && model_sigma_h_m > 0.0) state.accuracy_ratio = std::clamp(claimed_m / model_sigma_h_m, 0.01, 10.0);
+  if (model_sigma_h_m > 0.0) state.model_sigma_h_m = model_sigma_h_m;
   return state;
 }
 
@@ -159,6 +185,23 @@ std::string receiver_state_toml(const ReceiverState& s) {
     out += "# UERE = the position's horizontal sigma / median HDOP: reported accuracy = HDOP x UERE\n";
     out += fmt::format("uere = {:.3f}\n", *s.uere_m);
   }
+  if (s.fix_quality && *s.fix_quality != 1) {
+    out += fmt::format("# the log's fix quality is {} (GGA): its noise is the receiver's at that quality, reported as it\n",
+                       *s.fix_quality);
+    out += fmt::format("fix-quality = \"{0}\"\nnoise-quality = \"{0}\"\n", quality_key(*s.fix_quality));
+  }
+  if (s.accuracy_ratio && s.model_sigma_h_m) {
+    if (s.gst_sigma_h_m) {
+      out += fmt::format("# the receiver claims (GST's horizontal sigma, median) {:.3f} m; the model's error is {:.3f} m "
+                         "over a long run: reported accuracy = that error x this\n",
+                         s.gst_sigma_h_m->median, *s.model_sigma_h_m);
+    } else {
+      out += fmt::format("# no GST: the receiver is taken to claim the scatter its log shows ({:.3f} m); the model's error "
+                         "is {:.3f} m over a long run: reported accuracy = that error x this\n",
+                         *s.accuracy_ratio * *s.model_sigma_h_m, *s.model_sigma_h_m);
+    }
+    out += fmt::format("accuracy-ratio = {:.3f}\n", *s.accuracy_ratio);
+  }
   if (s.satellites_used) {
     out += "# at most the log's median of satellites used (the sky's geometry gives the DOPs)\n";
     out += fmt::format("satellites = {}\n", std::clamp(static_cast<int>(std::lround(s.satellites_used->median)), 4, 64));
@@ -174,6 +217,8 @@ std::string receiver_state_summary(const ReceiverState& s) {
   if (s.cn0_dbhz) out += fmt::format(", C/N0 {:.0f} dB-Hz ({:.0f}..{:.0f})", s.cn0_dbhz->median, s.cn0_dbhz->p10, s.cn0_dbhz->p90);
   if (s.lowest_used_elevation_deg) out += fmt::format(", lowest elevation used {:.0f} deg", *s.lowest_used_elevation_deg);
   if (s.uere_m) out += fmt::format(", UERE {:.2f} m", *s.uere_m);
+  if (s.fix_quality) out += fmt::format(", fix quality {} ({})", *s.fix_quality, quality_key(*s.fix_quality));
+  if (s.accuracy_ratio) out += fmt::format(", accuracy ratio {:.2f}{}", *s.accuracy_ratio, s.gst_sigma_h_m ? " (GST)" : "");
   return out + "\n";
 }
 

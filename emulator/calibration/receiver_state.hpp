@@ -27,7 +27,19 @@ struct ReceiverState {
   /// The lowest elevation (degrees) of a satellite listed as used in GSA, read from GSV; the
   /// receiver's elevation mask is at most this.
   std::optional<double> lowest_used_elevation_deg;
-  std::optional<double> uere_m;           ///< sigma_h / median HDOP (set by with_uere)
+  std::optional<double> uere_m;           ///< sigma_h / median HDOP (set by with_sigmas)
+  /// The GGA fix quality most epochs with a fix have (1 gps, 2 dgps, 4 rtk-fixed, 5 rtk-float; others
+  /// are not a quality the emulator reports and are left out): the quality the noise was measured at.
+  std::optional<int> fix_quality;
+  /// hypot of GST's latitude and longitude sigmas (fields 6 and 7), epochs with both: what the
+  /// receiver claims its horizontal accuracy is.
+  std::optional<Spread> gst_sigma_h_m;
+  /// What the receiver claims over what the calibrated model's error is (set by with_sigmas),
+  /// 0.01..10: median GST sigma_h, or without GST the log's own sigma_h (a receiver's estimate comes
+  /// from its residuals and does not see the slow wander a model extrapolates beyond the log), over
+  /// the model's long-run sigma_h (estimate_noise_sigma_m, what the emulator's accuracy starts from).
+  std::optional<double> accuracy_ratio;
+  std::optional<double> model_sigma_h_m;  ///< the calibrated model's long-run sigma_h (with_sigmas)
 };
 
 [[nodiscard]] ReceiverState learn_receiver_state(std::string_view log_bytes);
@@ -36,11 +48,12 @@ struct ReceiverState {
 [[nodiscard]] ReceiverState learn_receiver_state(std::istream& log);
 
 /// Sets `uere_m` from the log's horizontal position sigma (hypot of the east and north standard
-/// deviations, metres) and its median HDOP.
-[[nodiscard]] ReceiverState with_uere(ReceiverState state, double sigma_h_m);
+/// deviations, metres) and its median HDOP, and `accuracy_ratio` from the log's GST (or that sigma)
+/// and the calibrated model's long-run horizontal sigma `model_sigma_h_m` (0: not set).
+[[nodiscard]] ReceiverState with_sigmas(ReceiverState state, double sigma_h_m, double model_sigma_h_m);
 
-/// Comment lines and the keys uere, elevation-mask and satellites (those the log gives), for the
-/// calibrated config file.
+/// Comment lines and the keys uere, elevation-mask, satellites, fix-quality with noise-quality (a
+/// log not at quality 1) and accuracy-ratio (those the log gives), for the calibrated config file.
 [[nodiscard]] std::string receiver_state_toml(const ReceiverState& state);
 
 /// A few lines for a person: satellites, DOPs, C/N0, mask, UERE.

@@ -23,8 +23,8 @@ namespace {
 using V = const std::vector<std::string>&;
 using namespace config_values;
 
-nmea::FixQuality parse_fix_quality(const std::string& text) {
-  const std::string q = parse_choice("fix-quality", text, {"gps", "dgps", "rtk-float", "rtk-fixed"});
+nmea::FixQuality parse_fix_quality(const std::string& text, const char* key = "fix-quality") {
+  const std::string q = parse_choice(key, text, {"gps", "dgps", "rtk-float", "rtk-fixed"});
   if (q == "dgps") return nmea::FixQuality::dgps;
   if (q == "rtk-float") return nmea::FixQuality::rtk_float;
   if (q == "rtk-fixed") return nmea::FixQuality::rtk_fixed;
@@ -261,15 +261,24 @@ std::vector<OptionDef> make_option_table() {
       [](ConfigDraft& d, V v) { d.receiver.settings.model.hold.radius_m = parse_number("hold-radius", v.back(), 0.0, 100.0); });
   add("hold-speed", "MPS", "static hold: speed over ground below which the position is held, 0..10 m/s (default 0.3)",
       [](ConfigDraft& d, V v) { d.receiver.settings.model.hold.max_speed_mps = parse_number("hold-speed", v.back(), 0.0, 10.0); });
-  add("uere", "M", "user equivalent range error of an autonomous fix, metres, 0.05..50: reported accuracy = "
-      "DOP x UERE x the fix quality's scale (default: the model's; calibrate writes it)",
+  add("uere", "M", "user equivalent range error of an autonomous fix, metres, 0.05..50: GST's range RMS and, with "
+      "--noise none, the reported accuracy = DOP x UERE x the fix quality's scale (default: the model's; "
+      "calibrate writes it)",
       [](ConfigDraft& d, V v) { d.receiver.settings.model.uere_m = parse_number("uere", v.back(), 0.05, 50.0); });
   add("noise-scales-with-dop", "", "the emulated error grows with HDOP/1.0 horizontally and VDOP/1.5 vertically "
       "(default off)",
       [](ConfigDraft& d, V v) { d.receiver.settings.model.noise_scales_with_dop = parse_bool("noise-scales-with-dop", v.back()); });
   add("fix-quality", "Q", "fix quality: gps | dgps | rtk-float | rtk-fixed; scales the noise by 1, 0.4, 0.1, "
-      "0.01 (default gps)",
+      "0.01 relative to --noise-quality (default gps)",
       [](ConfigDraft& d, V v) { d.receiver.settings.model.quality = parse_fix_quality(v.back()); });
+  add("noise-quality", "Q", "the fix quality the noise parameters were measured at: gps | dgps | rtk-float | "
+      "rtk-fixed; a calibrated RTK rover's noise is its own at rtk-fixed, and grows by the scales' ratio when "
+      "its fix falls back (default gps; calibrate writes it)",
+      [](ConfigDraft& d, V v) { d.receiver.settings.model.noise_quality = parse_fix_quality(v.back(), "noise-quality"); });
+  add("accuracy-ratio", "R", "reported accuracy (GST, hAcc, vAcc, eph) / the error actually applied, 0.01..10: 1 "
+      "is an honest receiver, real ones are often optimistic (default 1; calibrate measures it from a log "
+      "with GST)",
+      [](ConfigDraft& d, V v) { d.receiver.settings.model.accuracy_ratio = parse_number("accuracy-ratio", v.back(), 0.01, 10.0); });
   add("cold-start", "S[,S2D]", "cold start: no fix for S seconds (satellites acquired one by one), then a "
       "2-D fix for S2D seconds (default 2 when S > 0), then 3-D; seconds after the first epoch (default 0,0)",
       [](ConfigDraft& d, V v) {

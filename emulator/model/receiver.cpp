@@ -41,6 +41,10 @@ double noise_scale(nmea::FixQuality quality) {
   }
 }
 
+double noise_scale(nmea::FixQuality quality, nmea::FixQuality noise_quality) {
+  return noise_scale(quality) / noise_scale(noise_quality);
+}
+
 Geometry resolve_geometry(const ReceiverOptions& options) {
   using S = nmea::GnssSystem;
   const sky::SystemSet& sys = options.profile.systems;
@@ -150,7 +154,7 @@ nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) 
     vdop *= k;
     pdop *= k;
   }
-  const double scale = noise_scale(options_.quality);
+  const double scale = noise_scale(options_.quality, options_.noise_quality);
   double h_scale = scale, v_scale = scale;
   if (options_.noise_scales_with_dop) {
     h_scale *= hdop / kReferenceHdop;
@@ -190,12 +194,21 @@ nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) 
   fix.pdop = pdop;
   fix.tdop = sky.dops.tdop;
   fix.gdop = std::sqrt(pdop * pdop + fix.tdop * fix.tdop);
-  // Reported accuracy: DOP x UERE x scale, never below the quality's floor.
+  // Reported accuracy: the error applied (the model's sigma x the scales x the receiver's ratio),
+  // or without noise DOP x UERE x scale; never below the quality's floor.
   const double floor_m = sky::accuracy_floor_m(options_.quality);
-  const double sigma_axis_m = std::max(floor_m, hdop * uere_m_ * scale / std::numbers::sqrt2);
-  fix.sigma_lat_m = sigma_axis_m;
-  fix.sigma_lon_m = sigma_axis_m;
-  fix.sigma_alt_m = std::max(1.5 * floor_m, vdop * uere_m_ * scale);
+  const Enu& sigma = options_.noise_sigma_m;
+  const double k = options_.accuracy_ratio;
+  if (sigma.east_m > 0.0 || sigma.north_m > 0.0 || sigma.up_m > 0.0) {
+    fix.sigma_lat_m = std::max(floor_m, k * h_scale * sigma.north_m);
+    fix.sigma_lon_m = std::max(floor_m, k * h_scale * sigma.east_m);
+    fix.sigma_alt_m = std::max(1.5 * floor_m, k * v_scale * sigma.up_m);
+  } else {
+    const double sigma_axis_m = std::max(floor_m, hdop * uere_m_ * scale / std::numbers::sqrt2);
+    fix.sigma_lat_m = sigma_axis_m;
+    fix.sigma_lon_m = sigma_axis_m;
+    fix.sigma_alt_m = std::max(1.5 * floor_m, vdop * uere_m_ * scale);
+  }
   fix.range_rms_m = std::max(floor_m, uere_m_ * scale);
   return fix;
 }

@@ -8,13 +8,16 @@
 //   the sky (sky.hpp) gives the satellites of the model's systems from real orbits; used = above
 //   the elevation mask, not obstructed, C/N0 over the threshold, within the channels; DOPs from
 //   the used ones' geometry (one clock per system)
-//   reported accuracy: sigma_h = HDOP x UERE x scale, sigma_v = VDOP x UERE x scale, never below
-//   the quality's floor (sky::accuracy_floor_m), also with --noise none; GST's per-axis sigmas are
-//   sigma_h / sqrt 2, its RMS UERE x scale
 //   the emulated error is the noise model's, x scale; with noise_scales_with_dop also x HDOP /
 //   kReferenceHdop horizontally and x VDOP / kReferenceVdop vertically
-// where scale = noise_scale(quality) and UERE the model's (sky::profile_of) unless uere_m is set
-// (calibrate writes it: the log's sigma / its median HDOP).
+//   reported accuracy: the error actually applied, per axis: the noise model's 1-sigma
+//   (noise_sigma_m) x the same scales x accuracy_ratio (1: honest; a calibrated receiver's own
+//   reported/actual ratio), never below the quality's floor (sky::accuracy_floor_m). Without noise
+//   (--noise none) a receiver still claims what its geometry gives: sigma_h = HDOP x UERE x scale,
+//   sigma_v = VDOP x UERE x scale. GST's RMS of the ranges is UERE x scale.
+// where scale = noise_scale(quality) / noise_scale(noise_quality) (the noise parameters describe the
+// receiver at noise_quality: a calibrated RTK rover's are centimetres at rtk-fixed) and UERE the
+// model's (sky::profile_of) unless uere_m is set (calibrate writes it: the log's sigma / its median HDOP).
 #pragma once
 
 #include <cstdint>
@@ -50,6 +53,9 @@ inline constexpr int kTwoDSatellites = 3;
 /// to an autonomous fix): gps 1, dgps (SBAS/DGPS, metre level) 0.4, rtk_float (decimetres) 0.1,
 /// rtk_fixed (centimetres) 0.01; the others 1.
 [[nodiscard]] double noise_scale(nmea::FixQuality quality);
+/// The factor the noise model's output is multiplied by at `quality` when its parameters describe
+/// the receiver at `noise_quality`: noise_scale(quality) / noise_scale(noise_quality).
+[[nodiscard]] double noise_scale(nmea::FixQuality quality, nmea::FixQuality noise_quality);
 
 /// A scheduled loss of every satellite (tunnel, underpass), in seconds after the first epoch.
 struct Outage {
@@ -67,6 +73,12 @@ struct ReceiverOptions {
   /// the pipeline sets it with estimate_noise_sigma_m (receiver_config.hpp).
   Enu noise_sigma_m{};
   nmea::FixQuality quality = nmea::FixQuality::gps;  ///< quality reported with a fix
+  /// The quality the noise parameters were measured at (--noise-quality): the noise is scaled by
+  /// noise_scale(quality) / noise_scale(noise_quality).
+  nmea::FixQuality noise_quality = nmea::FixQuality::gps;
+  /// Reported accuracy / the error actually applied (--accuracy-ratio, 0.01..10): real receivers are
+  /// often optimistic (< 1); calibrate measures it from a log that reports its accuracy (GST).
+  double accuracy_ratio = 1.0;
   double cold_start_s = 0.0;     ///< no fix for this long after the first epoch (seconds)
   double cold_start_2d_s = 0.0;  ///< then a 2-D fix for this long (seconds)
   std::vector<Outage> outages;   ///< no satellites, no fix, during each

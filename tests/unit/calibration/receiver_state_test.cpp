@@ -20,6 +20,7 @@
 #include "emulator/config/config.hpp"
 #include "emulator/config/receiver_config.hpp"
 #include "emulator/model/receiver.hpp"
+#include "tests/support/nmea_check.hpp"
 #include "tests/support/paths.hpp"
 
 namespace gpsemu::calibration {
@@ -34,7 +35,7 @@ TEST(ReceiverStateLearning, SatellitesDopsCn0AndTheLowestElevationUsed) {
       "$GNGGA,120000.00,4304.35012,N,08924.75027,W,1,04,1.10,260.1,M,-34.7,M,,*79\r\n"
       "$GNGGA,120001.00,4304.35012,N,08924.75027,W,1,06,0.90,260.1,M,-34.7,M,,*73\r\n"
       "$GNGGA,120002.00,,,,,0,00,99.99,,,,,,*79\r\n";
-  const ReceiverState s = with_uere(learn_receiver_state(log), 1.5);
+  const ReceiverState s = with_sigmas(learn_receiver_state(log), 1.5, 0.0);
   ASSERT_TRUE(s.satellites_used && s.hdop && s.pdop && s.cn0_dbhz);
   EXPECT_EQ(s.satellites_used->count, 2u) << "no-fix epochs are not counted";
   EXPECT_EQ(s.hdop->median, 1.10);
@@ -50,6 +51,36 @@ TEST(ReceiverStateLearning, SatellitesDopsCn0AndTheLowestElevationUsed) {
   EXPECT_NE(toml.find("uere = 1.364\n"), std::string::npos) << toml;
   EXPECT_NE(toml.find("satellites = 6\n"), std::string::npos) << toml;
   EXPECT_NE(receiver_state_summary(s).find("HDOP 1.10"), std::string::npos);
+}
+
+// Issue 34: a DGPS or RTK log's profile reported GGA quality 1 (its noise, already the receiver's
+// at its quality, would have been scaled again by --fix-quality); issue 36: the reported accuracy
+// ignored what the receiver itself claims. The log's quality and its GST's ratio are learned.
+TEST(ReceiverStateLearning, TheLogsFixQualityAndItsGstOverTheScatterAreLearned) {
+  std::string log;
+  for (int k = 0; k < 5; ++k) {
+    log += test::sentence(fmt::format("GPGGA,12000{}.00,4304.35012,N,08924.75027,W,{},09,0.90,260.1,M,-34.7,M,1.0,0000",
+                                      k, k == 4 ? 1 : 2));
+    log += test::sentence(fmt::format("GPGST,12000{}.00,1.2,0.5,0.4,10.0,{:.2f},0.40,0.90", k, 0.30 + 0.01 * k));
+  }
+  const ReceiverState s = with_sigmas(learn_receiver_state(log), 0.8, 1.0);  // the model's long-run sigma_h 1 m
+  ASSERT_TRUE(s.fix_quality && s.gst_sigma_h_m && s.accuracy_ratio);
+  EXPECT_EQ(*s.fix_quality, 2) << "four DGPS epochs, one autonomous";
+  EXPECT_EQ(s.gst_sigma_h_m->count, 5u);
+  EXPECT_NEAR(s.gst_sigma_h_m->median, std::hypot(0.32, 0.40), 1e-12);
+  EXPECT_NEAR(*s.accuracy_ratio, std::hypot(0.32, 0.40), 1e-12);
+  const std::string toml = receiver_state_toml(s);
+  EXPECT_NE(toml.find("fix-quality = \"dgps\"\nnoise-quality = \"dgps\"\n"), std::string::npos) << toml;
+  EXPECT_NE(toml.find("accuracy-ratio = 0.512\n"), std::string::npos) << toml;
+  EXPECT_NE(receiver_state_summary(s).find("fix quality 2 (dgps)"), std::string::npos) << receiver_state_summary(s);
+  // A log without GST at quality 1: no fix quality, and the receiver claims the scatter of its log
+  // (0.8 m) where the model's error over a long run is 2 m.
+  const ReceiverState p = with_sigmas(learn_receiver_state(std::string(
+      "$GNGGA,120001.00,4304.35012,N,08924.75027,W,1,06,0.90,260.1,M,-34.7,M,,*73\r\n")), 0.8, 2.0);
+  const std::string plain = receiver_state_toml(p);
+  EXPECT_EQ(plain.find("fix-quality"), std::string::npos) << plain;
+  EXPECT_NE(plain.find("accuracy-ratio = 0.400\n"), std::string::npos) << plain;
+  EXPECT_NE(plain.find("no GST"), std::string::npos) << plain;
 }
 
 // Issue 22 point 9: calibrate learned the state from the whole log read into memory (14x the file
@@ -88,7 +119,9 @@ TEST_P(CalibratedGates, PassAutopilotGpsChecksWhereverTheRealLogDoes) {
   std::ifstream in(path, std::ios::binary);
   const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
   const double sigma_h_m = std::hypot(c.real[0].sd_m, c.real[1].sd_m);
-  const ReceiverState state = with_uere(learn_receiver_state(bytes), sigma_h_m);
+  const Enu model_sigma_m = estimate_noise_sigma_m(c.models[c.best].config, 1);  // as calibrate does
+  const ReceiverState state =
+      with_sigmas(learn_receiver_state(bytes), sigma_h_m, std::hypot(model_sigma_m.east_m, model_sigma_m.north_m));
   ASSERT_TRUE(state.satellites_used && state.hdop);
   GateCheck real;
   real.satellites = static_cast<int>(std::lround(state.satellites_used->median));

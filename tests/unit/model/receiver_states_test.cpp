@@ -165,16 +165,26 @@ TEST(ReceiverStates, FixQualityShrinksTheNoiseAndGstSaysSo) {
     }
     EXPECT_NEAR(std::sqrt(sum_sq_east / n), 2.0 * c.scale, 0.1 * c.scale);
     EXPECT_NEAR(std::sqrt(sum_sq_north / n), 2.0 * c.scale, 0.1 * c.scale);
-    // Reported accuracy: DOP x the model's UERE x the quality's scale, never below the floor.
-    const double uere_m = o.profile.uere_m;
+    // Reported accuracy: the applied error's sigma (the model's x the quality's scale), never
+    // below the floor; GST's range RMS: the model's UERE x the scale.
     const double floor_m = sky::accuracy_floor_m(c.quality);
-    EXPECT_DOUBLE_EQ(fix.sigma_lat_m, std::max(floor_m, fix.hdop * uere_m * c.scale / std::sqrt(2.0)));
+    EXPECT_DOUBLE_EQ(fix.sigma_lat_m, std::max(floor_m, 2.0 * c.scale));
     EXPECT_DOUBLE_EQ(fix.sigma_lon_m, fix.sigma_lat_m);
-    EXPECT_DOUBLE_EQ(fix.sigma_alt_m, std::max(1.5 * floor_m, fix.vdop * uere_m * c.scale));
+    EXPECT_DOUBLE_EQ(fix.sigma_alt_m, std::max(1.5 * floor_m, 2.0 * c.scale));
+    EXPECT_DOUBLE_EQ(fix.range_rms_m, std::max(floor_m, o.profile.uere_m * c.scale));
     EXPECT_GT(fix.sigma_lat_m, 0.0);
     EXPECT_GT(fix.hdop, 0.3);
     EXPECT_LT(fix.hdop, 2.0);
   }
+}
+
+TEST(ReceiverStates, WithoutNoiseTheAccuracyIsDopTimesUere) {
+  ReceiverOptions o;  // noise_sigma_m 0: --noise none
+  Receiver rx(kFrame, o, noise_model(noise::Model::none), kStart);
+  const nmea::Fix fix = rx.fix_at(at(1.0), kAtOrigin);
+  ASSERT_TRUE(fix.has_fix());
+  EXPECT_DOUBLE_EQ(fix.sigma_lat_m, std::max(sky::accuracy_floor_m(o.quality), fix.hdop * o.profile.uere_m / std::sqrt(2.0)));
+  EXPECT_DOUBLE_EQ(fix.sigma_alt_m, std::max(1.5 * sky::accuracy_floor_m(o.quality), fix.vdop * o.profile.uere_m));
 }
 
 TEST(ReceiverStates, AccuracyIsNeverZeroEvenWithoutNoise) {
