@@ -15,7 +15,9 @@ namespace {
 class NmeaSpec final : public ProtocolSpec {
  public:
   explicit NmeaSpec(nmea::FormatOptions options) : options_(std::move(options)) {}
-  [[nodiscard]] std::unique_ptr<ReceiverProtocol> make() const override { return std::make_unique<NmeaProtocol>(options_); }
+  [[nodiscard]] std::unique_ptr<ReceiverProtocol> make() const override {
+    return std::make_unique<NmeaProtocol>(options_);
+  }
   [[nodiscard]] std::size_t widest_epoch_bytes(const Geometry& sky) const override {
     return NmeaProtocol(options_).widest_epoch_bytes(sky);
   }

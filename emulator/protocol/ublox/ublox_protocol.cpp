@@ -173,7 +173,8 @@ class UbloxSpec final : public ProtocolSpec {
 
 }  // namespace
 
-std::shared_ptr<const ProtocolSpec> ublox_protocol(ubx::SessionSettings settings, std::optional<std::string> state_file) {
+std::shared_ptr<const ProtocolSpec> ublox_protocol(ubx::SessionSettings settings,
+                                                   std::optional<std::string> state_file) {
   return std::make_shared<UbloxSpec>(std::move(settings), std::move(state_file));
 }
 
