@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstddef>
 #include <span>
 #include <string>
@@ -34,6 +35,11 @@ inline constexpr double kLineBudgetMargin = 0.9;
 /// Bytes per second an 8N1 line carries at `baud_bps`: a start bit, 8 data bits and a stop bit,
 /// so baud/10.
 [[nodiscard]] constexpr double line_bytes_per_second(int baud_bps) { return baud_bps / 10.0; }
+/// Whole bytes a line at `baud_bps` (8N1) carries in `period`.
+[[nodiscard]] constexpr std::size_t line_bytes_per_period(std::uint32_t baud_bps, std::chrono::nanoseconds period) {
+  return static_cast<std::size_t>(static_cast<std::uint64_t>(baud_bps) * static_cast<std::uint64_t>(period.count()) /
+                                  10'000'000'000ULL);
+}
 
 /// What a stream of epochs needs from a serial line (8N1: 10 bits on the wire per byte).
 struct LineBudget {

@@ -1,28 +1,22 @@
 #include "emulator/pipeline/channel.hpp"
 
 #include <algorithm>
-#include <limits>
 #include <utility>
 
 #include "emulator/faults/garble.hpp"
 #include "emulator/heading/rtcm3_base.hpp"
 #include "emulator/pipeline/rtk_receiver.hpp"
+#include "emulator/protocol/nmea_protocol.hpp"
 #include "emulator/rtk/static_base_relpos.hpp"
-#include "emulator/ubx/bytes.hpp"
-#include "emulator/ubx/frame.hpp"
 
 namespace gpsemu {
 
 Channel::Channel(const ChannelSettings& settings, UtcNs first_epoch) : settings_(settings), frame_(settings.origin) {
   receiver_ = std::make_unique<Receiver>(frame_, settings_.receiver,
                                          noise::make_noise_model(settings_.noise, settings_.seed), first_epoch);
-  if (settings_.ubx) {
-    auto ubx = std::make_unique<UbxEncoder>(*settings_.ubx, settings_.receiver_state);
-    ubx_ = ubx.get();
-    encoders_.push_back(std::move(ubx));
-  } else {
-    encoders_.push_back(std::make_unique<NmeaEncoder>(settings_.format));
-  }
+  protocols_.push_back(settings_.protocol ? settings_.protocol->make()
+                                          : std::make_unique<protocol::NmeaProtocol>(settings_.format));
+  protocol_ = protocols_.front().get();
   faults_.emplace(settings_.faults, first_epoch);  // without faults: a few compares an epoch
   rtk_ = std::make_unique<RtkReceiver>(settings_.rtk, settings_.rtcm);
   if (settings_.moving_base.role == heading::Role::rover) rover_.emplace(settings_.moving_base, settings_.seed);
@@ -45,24 +39,25 @@ nmea::Fix Channel::step(UtcNs t, const std::optional<sources::Truth>& vehicle) {
   }
   last_step_ = t;
   nmea::Fix fix = receiver_->fix_at(t, truth);  // one fix a step, never copied
-  if (rover_ && ubx_) ubx_->relative_position() = rover_->at(t, truth, last_corrections_);
+  auto* const relpos = protocol_->relative_position();  // null: the protocol reports none
+  if (rover_ && relpos) *relpos = rover_->at(t, truth, last_corrections_);
   bytes_.clear();
   const std::optional<Enu> truth_m = truth ? std::optional<Enu>(truth->position_m) : std::nullopt;
   last_truth_m_ = truth_m;
   rtk_->service();
   rtk_->apply(t, fix, truth_m, frame_);  // corrections before faults: a forced quality or an outage wins
   // A rover of a fixed base (not of a moving-base pair): NAV-RELPOSNED from the RTK state.
-  if (ubx_ && !rover_ && rtk_->counts().messages > 0) {
-    ubx_->relative_position() = rtk::static_base_relpos(rtk_->status(), rtk_->base(), fix);
+  if (relpos && !rover_ && rtk_->counts().messages > 0) {
+    *relpos = rtk::static_base_relpos(rtk_->status(), rtk_->base(), fix);
   }
-  const faults::EpochEffect effect = faults_->apply(t, fix, truth_m, frame_, ubx_ ? &ubx_->rf() : nullptr);
+  const faults::EpochEffect effect = faults_->apply(t, fix, truth_m, frame_, protocol_->rf_front_end());
   silent_ = effect.silent;
   if (effect.reboot_cold_start_s) reboot(t, *effect.reboot_cold_start_s);
   if (silent_) {
     ++stats_.epochs_silent;
   } else {
     if (!fix.has_fix()) ++stats_.epochs_without_fix;
-    for (const auto& encoder : encoders_) encoder->encode(fix, bytes_);
+    for (const auto& p : protocols_) p->encode(fix, bytes_);
     if (settings_.moving_base.role == heading::Role::moving_base) bytes_ += heading::base_rtcm3_epoch(fix, 0);
   }
   apply_byte_faults(t, effect);
@@ -70,7 +65,6 @@ nmea::Fix Channel::step(UtcNs t, const std::optional<sources::Truth>& vehicle) {
 }
 
 void Channel::cold_start(UtcNs t) {
-  if (std::exchange(rebooted_, false)) return;  // the reboot's own CFG-RST: the receiver restarted already
   receiver_->restart(t);
   rtk_->restart();
 }
@@ -78,18 +72,7 @@ void Channel::cold_start(UtcNs t) {
 void Channel::reboot(UtcNs t, double cold_start_s) {
   receiver_->restart(t, cold_start_s);
   rtk_->restart();
-  if (!ubx_) return;
-  // A hardware reset with every navigation data cleared: RAM reloaded from BBR, flash and the
-  // defaults, the receiver's own state (msss, TTFF, time validity) starts again. Fed through the
-  // machine's CFG-RST path, from a client of its own that no output answers.
-  std::string payload;
-  ubx::put_u2(payload, 0xFFFF);  // navBbrMask: cold start
-  ubx::put_u1(payload, 0x00);    // resetMode: hardware reset (watchdog) immediately
-  ubx::put_u1(payload, 0);
-  constexpr transport::ClientId kRebootClient = std::numeric_limits<transport::ClientId>::max();
-  ubx_->client_wrote(ubx::frame_bytes(ubx::msg::cfg_rst, payload), kRebootClient);
-  ubx_->client_left(kRebootClient);
-  rebooted_ = true;
+  protocol_->reset(protocol::ResetKind::hardware_cold);
 }
 
 void Channel::apply_byte_faults(UtcNs t, const faults::EpochEffect& effect) {
@@ -123,19 +106,18 @@ std::string_view Channel::take_delayed(UtcNs t) {
 }
 
 bool Channel::reads_input() const {
-  for (const auto& encoder : encoders_) {
-    if (encoder->reads_client_input()) return true;
+  for (const auto& p : protocols_) {
+    if (p->reads_client_input()) return true;
   }
   return false;
 }
 
 void Channel::client_wrote(std::string_view bytes, transport::ClientId client) {
-  for (const auto& encoder : encoders_) encoder->client_wrote(bytes, client);
-  if (ubx_ == nullptr) return;
-  // RTCM3 the client interleaves with UBX (the u-blox input's reader splits and checks it): a
+  for (const auto& p : protocols_) p->client_wrote(bytes, client);
+  // RTCM3 the client interleaves with the protocol (its input's reader splits and checks it): a
   // base station's corrections drive the RTK state; a rover's moving base, forwarded by the
   // autopilot, is recognised by its 4072.0 (reference station PVT) and makes the baseline valid.
-  for (const rtk::Rtcm3Message& m : ubx_->take_rtcm()) {
+  for (const rtk::Rtcm3Message& m : protocol_->take_corrections()) {
     rtk_->received(m);
     if (rover_ && m.valid && m.type == 4072 && m.subtype == 0) {
       ++moving_base_frames_;
@@ -146,7 +128,7 @@ void Channel::client_wrote(std::string_view bytes, transport::ClientId client) {
 
 std::string Channel::take_reply(transport::ClientId client) {
   std::string reply;
-  for (const auto& encoder : encoders_) reply += encoder->take_reply(client);
+  for (const auto& p : protocols_) reply += p->take_reply(client);
   if (silent_ && !reply.empty()) {  // a silent receiver writes nothing, answers included
     stats_.replies_withheld_bytes += reply.size();
     reply.clear();
@@ -155,7 +137,7 @@ std::string Channel::take_reply(transport::ClientId client) {
 }
 
 void Channel::client_left(transport::ClientId client) {
-  for (const auto& encoder : encoders_) encoder->client_left(client);
+  for (const auto& p : protocols_) p->client_left(client);
 }
 
 }  // namespace gpsemu

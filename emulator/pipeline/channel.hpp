@@ -1,7 +1,8 @@
-// One receiver channel: pose source -> receiver model -> one fix (nmea::Fix) -> each protocol
-// encoder publishes it into the epoch's bytes. The same channel serves the emulator loop (one
-// receiver or a fleet), the library facade and the Python module. What clients write to the
-// receiver's outputs comes back through client_wrote() to the encoders (NMEA ignores it).
+// One receiver channel: pose source -> receiver model -> one fix (nmea::Fix) -> its receiver
+// protocol (protocol/receiver_protocol.hpp) publishes it into the epoch's bytes. The same channel
+// serves the emulator loop (one receiver or a fleet), the library facade and the Python module.
+// What clients write to the receiver's outputs comes back through client_wrote() to the protocol
+// (plain NMEA ignores it); the channel knows no protocol, only that interface.
 #pragma once
 
 #include <cstdint>
@@ -18,8 +19,7 @@
 #include "emulator/model/noise/noise_model.hpp"
 #include "emulator/model/receiver.hpp"
 #include "emulator/model/time.hpp"
-#include "emulator/pipeline/encoder.hpp"
-#include "emulator/pipeline/ubx_encoder.hpp"
+#include "emulator/protocol/receiver_protocol.hpp"
 #include "emulator/rtk/rtk_state.hpp"
 #include "emulator/sources/pose_source.hpp"
 #include "nmea/fix.hpp"
@@ -37,11 +37,8 @@ struct ChannelSettings {
   noise::NoiseConfig noise;
   std::uint64_t seed = 1;
   nmea::FormatOptions format;
-  /// --protocol ubx or nmea+ubx: the u-blox port's start settings; the UBX encoder then writes the
-  /// NMEA part too (as its CFG-MSG settings say) in place of the NMEA encoder.
-  std::optional<ubx::SessionSettings> ubx;
-  /// --receiver-state: where the u-blox's stored layers are written when a client changes them.
-  std::optional<std::string> receiver_state;
+  /// The receiver's protocol (protocol/registry.hpp chooses it); null: the NMEA sentences of `format`.
+  std::shared_ptr<const protocol::ProtocolSpec> protocol;
   /// The faults of this receiver (--scenario), applied to each fix before the encoders.
   faults::FaultPlan faults;
   /// The RTK state timeline (corrections from the u-blox port or `rtcm`; docs/rtk.md).
@@ -67,8 +64,8 @@ struct ReceiverStats {
 
 class Channel final : public transport::ClientInput {
  public:
-  /// The receiver model starts at `first_epoch`, with the NMEA encoder of settings.format, or the
-  /// UBX encoder of settings.ubx.
+  /// The receiver model starts at `first_epoch`, with the protocol of settings.protocol (or the
+  /// NMEA sentences of settings.format).
   Channel(const ChannelSettings& settings, UtcNs first_epoch);
   ~Channel();
   Channel(const Channel&) = delete;
@@ -77,17 +74,18 @@ class Channel final : public transport::ClientInput {
   /// The pose source step(t) samples; made after the channel, as it refers to frame().
   void set_source(std::unique_ptr<sources::PoseSource> source) { source_ = std::move(source); }
   [[nodiscard]] sources::PoseSource* source() const { return source_.get(); }
-  /// A further protocol, published after the ones before it.
-  void add_encoder(std::unique_ptr<Encoder> encoder) { encoders_.push_back(std::move(encoder)); }
+  /// A further protocol, published after the ones before it; it answers its clients, its effects
+  /// and corrections are not taken (the receiver's own protocol's are).
+  void add_protocol(std::unique_ptr<protocol::ReceiverProtocol> p) { protocols_.push_back(std::move(p)); }
 
   /// Epoch `t` from the channel's own source (serviced first): its fix; bytes() holds its bytes.
   nmea::Fix step(UtcNs t);
   /// Epoch `t` from `truth` (none: no fix).
   nmea::Fix step(UtcNs t, const std::optional<sources::Truth>& truth);
-  /// The last epoch's bytes (every encoder's, in order; with a `latency` fault: those whose time
+  /// The last epoch's bytes (every protocol's, in order; with a `latency` fault: those whose time
   /// to leave has come by the epoch).
   [[nodiscard]] const std::string& bytes() const { return bytes_; }
-  /// The same, to cut to what a serial line carries (ubx_effects.hpp).
+  /// The same, to cut to what a serial line carries (protocol_effects.hpp).
   [[nodiscard]] std::string& bytes() { return bytes_; }
 
   /// True from the first epoch its source has no truth for (sticky): nothing more is written.
@@ -95,20 +93,20 @@ class Channel final : public transport::ClientInput {
   [[nodiscard]] bool ended() const { return ended_; }
 
   void client_wrote(std::string_view bytes, transport::ClientId client) override;
-  /// Every encoder's answer to what `client` wrote, in encoder order.
+  /// Every protocol's answer to what `client` wrote, in order.
   [[nodiscard]] std::string take_reply(transport::ClientId client) override;
   void client_left(transport::ClientId client) override;
-  /// Whether an encoder reads client input (a u-blox port); NMEA alone drops it.
+  /// Whether a protocol reads client input (a u-blox port); NMEA alone drops it.
   [[nodiscard]] bool reads_input() const override;
 
-  /// The UBX encoder (settings.ubx), null for an NMEA channel.
-  [[nodiscard]] UbxEncoder* ubx_encoder() const { return ubx_; }
-  /// Cold start at `t` (CFG-RST): the receiver model starts again, no fix until it reacquires.
-  /// The cold start of a reset fault's own CFG-RST (reboot()) is not applied twice.
+  /// The receiver's own protocol (settings.protocol): its effects and corrections are applied.
+  [[nodiscard]] protocol::ReceiverProtocol& protocol() const { return *protocol_; }
+  /// Cold start at `t` (a client asked: protocol::ColdStart): the receiver model starts again, no
+  /// fix until it reacquires.
   void cold_start(UtcNs t);
-  /// A reset fault at `t`: the receiver model starts again with a cold start of `cold_start_s`;
-  /// a u-blox takes a hardware CFG-RST (RAM from its layers, its rate and messages back to
-  /// them; the period and baud effects follow at the next epoch).
+  /// A reset fault at `t`: the receiver model starts again with a cold start of `cold_start_s`
+  /// and the protocol is asked for a hardware cold reset (a u-blox: RAM from its layers, its rate
+  /// and messages back to them; the period and baud effects follow at the next epoch).
   void reboot(UtcNs t, double cold_start_s);
 
   [[nodiscard]] const LocalFrame& frame() const { return frame_; }
@@ -130,7 +128,7 @@ class Channel final : public transport::ClientInput {
   [[nodiscard]] ReceiverStats& stats() { return stats_; }
   /// A rover's RTCM3 input (frames and bad CRCs seen in what its clients wrote).
   /// A rover's: the moving base's 4072.0 messages its clients forwarded (frames with a bad CRC are
-  /// counted by the u-blox input, with every other RTCM3 frame).
+  /// counted by the protocol's input, with every other RTCM3 frame).
   [[nodiscard]] std::uint64_t moving_base_frames() const { return moving_base_frames_; }
   [[nodiscard]] const ReceiverStats& stats() const { return stats_; }
 
@@ -139,8 +137,8 @@ class Channel final : public transport::ClientInput {
   LocalFrame frame_;  ///< referenced by the receiver and the source: a Channel never moves
   std::unique_ptr<Receiver> receiver_;
   std::unique_ptr<sources::PoseSource> source_;
-  std::vector<std::unique_ptr<Encoder>> encoders_;
-  UbxEncoder* ubx_ = nullptr;  ///< owned by encoders_
+  std::vector<std::unique_ptr<protocol::ReceiverProtocol>> protocols_;
+  protocol::ReceiverProtocol* protocol_ = nullptr;  ///< the receiver's own: protocols_'s first
   std::optional<faults::FaultTimeline> faults_;
   std::unique_ptr<RtkReceiver> rtk_;
   /// Applies the byte-level faults (garble, latency) to the epoch `t`'s bytes.
@@ -155,7 +153,6 @@ class Channel final : public transport::ClientInput {
   std::string released_;         ///< take_delayed()'s bytes
   bool ended_ = false;
   bool silent_ = false;  ///< the last epoch was silenced: answers are withheld too
-  bool rebooted_ = false;  ///< reboot() fed a CFG-RST whose cold-start effect is still to come
   ReceiverStats stats_;
   std::optional<heading::RoverRelPos> rover_;  ///< a rover's NAV-RELPOSNED
   std::uint64_t moving_base_frames_ = 0;      ///< a rover's: 4072.0 frames forwarded by its clients

@@ -20,7 +20,7 @@ void ChannelSet::add(std::unique_ptr<Channel> channel) {
 void ChannelSet::attach(const Sink& sink) {
   sink_ = &sink;
   for (std::size_t i = 0; i < receivers_.size(); ++i) {
-    if (receivers_[i].channel->ubx_encoder()) receivers_[i].line = ubx_line_of(sink.outputs(i));
+    if (receivers_[i].channel->protocol().has_tx_buffer()) receivers_[i].line = line_of(sink.outputs(i));
   }
 }
 
@@ -72,10 +72,10 @@ void record_events(const std::vector<faults::AppliedEvent>& events,
 std::string_view ChannelSet::produce(std::size_t i, UtcNs t) {
   Receiver& r = receivers_[i];
   Channel& ch = *r.channel;
-  // What a u-blox client asked for since the last epoch: its answer is already written.
-  if (ch.ubx_encoder() && sink_) {
+  // What the protocol's client asked for since the last epoch: its answer is already written.
+  if (sink_) {
     const auto period = r.schedule.period();
-    apply_ubx_effects(ch, sink_->outputs(i), r.schedule, r.line, t, sink_->who(i));
+    apply_protocol_effects(ch, sink_->outputs(i), r.schedule, r.line, t, sink_->who(i));
     if (r.schedule.period() != period && finest_changed_) finest_changed_(finest_period());
   }
   const nmea::Fix fix = ch.step(t);
@@ -88,10 +88,8 @@ std::string_view ChannelSet::produce(std::size_t i, UtcNs t) {
 
 bool ChannelSet::reschedule_wanted() const {
   if (!sink_) return false;
-  return std::any_of(receivers_.begin(), receivers_.end(), [](const Receiver& r) {
-    const UbxEncoder* ubx = r.channel->ubx_encoder();
-    return ubx && ubx->session().period_change_pending();
-  });
+  return std::any_of(receivers_.begin(), receivers_.end(),
+                     [](const Receiver& r) { return r.channel->protocol().period_change_pending(); });
 }
 
 void ChannelSet::reschedule(UtcNs now) {
@@ -102,9 +100,8 @@ void ChannelSet::reschedule(UtcNs now) {
   }
   for (std::size_t i = 0; i < receivers_.size(); ++i) {
     Receiver& r = receivers_[i];
-    const UbxEncoder* ubx = r.channel->ubx_encoder();
-    if (ubx && ubx->session().period_change_pending()) {
-      apply_ubx_effects(*r.channel, sink_->outputs(i), r.schedule, r.line, now, sink_->who(i));
+    if (r.channel->protocol().period_change_pending()) {
+      apply_protocol_effects(*r.channel, sink_->outputs(i), r.schedule, r.line, now, sink_->who(i));
     }
   }
   if (finest_period() != finest && finest_changed_) finest_changed_(finest_period());

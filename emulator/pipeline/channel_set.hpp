@@ -1,10 +1,11 @@
 // The emulator's producer for the one epoch loop: every receiver channel of a run (one, or a
 // fleet), each on its own schedule (receiver_schedule.hpp: the run's grid, or the solution period
-// its u-blox client asked for). The loop's timeline is their merge: one epoch a distinct time,
-// and only the receivers due at that time send. A u-blox receiver on a serial line sends what the
-// line carries in its period (ubx_effects.hpp). The run ends at the time --duration gives,
-// whatever the receivers' rates: when no receiver has an epoch left before the end (a u-blox
-// client asked for one solution per 100 minutes), the last time of the run's grid is an idle
+// its protocol's client asked for). The loop's timeline is their merge: one epoch a distinct time,
+// and only the receivers due at that time send. A receiver whose protocol has a TX buffer (a
+// u-blox) on a serial line sends what the line carries in its period (protocol_effects.hpp). The
+// run ends at the time --duration gives, whatever the receivers' rates: when no receiver has an
+// epoch left before the end (a client asked for one solution per 100 minutes), the last time of
+// the run's grid is an idle
 // epoch, no receiver due, so the loop keeps the ports open and answering until then.
 #pragma once
 
@@ -21,7 +22,7 @@
 #include "emulator/pipeline/receiver_schedule.hpp"
 #include "emulator/pipeline/sink.hpp"
 #include "emulator/pipeline/timeline.hpp"
-#include "emulator/pipeline/ubx_effects.hpp"
+#include "emulator/pipeline/protocol_effects.hpp"
 
 namespace gpsemu {
 
@@ -42,7 +43,7 @@ struct EpochView {
   const Channel& channel;
   const nmea::Fix& fix;  ///< as reported (faults applied)
   const std::vector<std::unique_ptr<transport::Output>>* outputs = nullptr;  ///< none before the sink is attached
-  const UbxLine& line;
+  const ReceiverLine& line;
 };
 
 /// Told every receiver's epoch by the loop's thread, after its bytes are made; must not block.
@@ -59,7 +60,7 @@ class ChannelSet final : public EpochProducer {
 
   /// Adds a receiver, on the run's grid from its first epoch.
   void add(std::unique_ptr<Channel> channel);
-  /// The receivers' outputs, once the sink has them (u-blox baud changes, serial lines).
+  /// The receivers' outputs, once the sink has them (baud changes, serial lines).
   void attach(const Sink& sink);
   /// Called with the finest period of the receivers' schedules whenever a receiver's changes (the
   /// clock's lateness follows it).
@@ -99,14 +100,14 @@ class ChannelSet final : public EpochProducer {
 
   [[nodiscard]] std::size_t size() const { return receivers_.size(); }
   [[nodiscard]] Channel& channel(std::size_t i) const { return *receivers_[i].channel; }
-  [[nodiscard]] const UbxLine& line(std::size_t i) const { return receivers_[i].line; }
+  [[nodiscard]] const ReceiverLine& line(std::size_t i) const { return receivers_[i].line; }
 
  private:
   struct Receiver {
     std::unique_ptr<Channel> channel;  ///< not moved: a receiver refers to its frame
     ReceiverSchedule schedule;
     ReceiverSchedule previous;  ///< before next_epoch() advanced it (reschedule() puts it back)
-    UbxLine line;
+    ReceiverLine line;
     bool due = false;  ///< has an epoch at the time next_epoch() returned
   };
 

@@ -10,7 +10,7 @@ void ReceiverSchedule::advance() {
   }
 }
 
-void ReceiverSchedule::follow(const std::optional<ubx::SolutionGrid>& grid, UtcNs t) {
+void ReceiverSchedule::follow(const std::optional<protocol::SolutionGrid>& grid, UtcNs t) {
   solutions_ = grid;
   if (solutions_) {
     next_ = solutions_->next_after(t);
@@ -21,7 +21,7 @@ void ReceiverSchedule::follow(const std::optional<ubx::SolutionGrid>& grid, UtcN
 }
 
 std::chrono::nanoseconds ReceiverSchedule::period() const {
-  return solutions_ ? std::chrono::nanoseconds{solutions_->period} : grid_->nominal_period();
+  return solutions_ ? solutions_->period : grid_->nominal_period();
 }
 
 }  // namespace gpsemu

@@ -1,15 +1,16 @@
-// When one receiver has epochs: on the run's grid (--rate) until a u-blox client asks for another
-// solution period (CFG-RATE, CFG-VALSET RATE-MEAS/NAV); then on that solution grid (aligned to
-// the reference time's week, as a u-blox: ubx/solution_grid.hpp). The epoch loop's timeline is
-// the merge of every receiver's schedule: it wakes once an epoch time, and a receiver with no
-// epoch at that time sends nothing (a lone NMEA receiver: exactly the run's grid).
+// When one receiver has epochs: on the run's grid (--rate) until its protocol's client asks for
+// another solution period (protocol::PeriodChanged: a u-blox's CFG-RATE, CFG-VALSET
+// RATE-MEAS/NAV); then on that solution grid (a u-blox aligns it to the reference time's week).
+// The epoch loop's timeline is the merge of every receiver's schedule: it wakes once an epoch
+// time, and a receiver with no epoch at that time sends nothing (a lone NMEA receiver: exactly
+// the run's grid).
 #pragma once
 
 #include <cstdint>
 #include <optional>
 
 #include "emulator/model/time.hpp"
-#include "emulator/ubx/solution_grid.hpp"
+#include "emulator/protocol/receiver_protocol.hpp"
 
 namespace gpsemu {
 
@@ -25,14 +26,14 @@ class ReceiverSchedule {
   void advance();
   /// From the epoch after `t` (the one being sent) on: the solutions of `grid`, or the run's grid
   /// again when empty.
-  void follow(const std::optional<ubx::SolutionGrid>& grid, UtcNs t);
+  void follow(const std::optional<protocol::SolutionGrid>& grid, UtcNs t);
   /// The time between epochs now.
   [[nodiscard]] std::chrono::nanoseconds period() const;
 
  private:
   const EpochGrid* grid_;
   std::int64_t index_;  ///< on the run's grid: next_'s index
-  std::optional<ubx::SolutionGrid> solutions_;
+  std::optional<protocol::SolutionGrid> solutions_;
   UtcNs next_;
 };
 

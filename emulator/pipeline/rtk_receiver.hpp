@@ -1,5 +1,5 @@
-// The RTK part of a receiver channel (docs/rtk.md): RTCM3 corrections come in from the u-blox
-// port (the session splits them from UBX) or a base station's stream (--rtcm tcp:PORT|udp:PORT,
+// The RTK part of a receiver channel (docs/rtk.md): RTCM3 corrections come in from the receiver's
+// protocol (a u-blox port splits them from its own frames) or a base station's stream (--rtcm tcp:PORT|udp:PORT,
 // read each epoch); the RTK state machine (rtk/rtk_state.hpp) turns them into the fix's quality.
 // Applied to each fix after the receiver model and before the faults: the position error is
 // rescaled by the ratio of the state's noise scale to the configured quality's (noise_scale), the

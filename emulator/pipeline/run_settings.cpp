@@ -7,9 +7,8 @@
 #include "emulator/config/config.hpp"
 #include "emulator/config/receiver_config.hpp"
 #include "emulator/config/validate.hpp"
-#include "emulator/pipeline/receiver_state.hpp"
 #include "emulator/pipeline/serial_line_check.hpp"
-#include "emulator/pipeline/ubx_effects.hpp"
+#include "emulator/protocol/registry.hpp"
 
 namespace gpsemu {
 namespace {
@@ -19,48 +18,12 @@ std::chrono::nanoseconds to_ns(double seconds) { return std::chrono::nanoseconds
 // The outputs, a serial one without a baud at the factory state's (the model's default baud).
 std::vector<transport::OutputSpec> output_specs(const ReceiverSettings& receiver) {
   std::vector<transport::OutputSpec> specs = receiver.outputs;
-  if (!factory_state(receiver)) return specs;
+  const int factory_baud = protocol::factory_baud(receiver);
+  if (factory_baud == 0) return specs;
   for (transport::OutputSpec& spec : specs) {
-    if (spec.kind == transport::OutputKind::serial && spec.baud_bps == 0) {
-      spec.baud_bps = static_cast<int>(ubx::model_info(receiver.ublox_model).default_baud);
-    }
+    if (spec.kind == transport::OutputKind::serial && spec.baud_bps == 0) spec.baud_bps = factory_baud;
   }
   return specs;
-}
-
-// The u-blox port's start settings (--protocol ubx / nmea+ubx): --receiver's model, the period of
-// --rate, the sentences of --sentences (ubx: none unless given), NAV-PVT every epoch, the baud of
-// a serial output, and as sAcc a tenth of the horizontal noise sigma a second (the speed itself
-// is the truth's).
-std::optional<ubx::SessionSettings> ubx_settings(const ReceiverSettings& receiver, const ReceiverOptions& options,
-                                                 const TimelineSettings& timeline) {
-  const bool factory = factory_state(receiver);
-  if (receiver.protocol == Protocol::nmea && !factory) return std::nullopt;
-  ubx::SessionSettings s;
-  s.start.model = receiver.ublox_model;
-  s.start.measurement_period = std::chrono::milliseconds{std::llround(1000.0 / timeline.rate_hz)};
-  s.start.sentences = receiver.protocol == Protocol::ubx && !receiver.sentences_given ? nmea::SentenceSet{}
-                                                                                     : receiver.format.sentences;
-  if (!factory) s.start.ubx_messages = {ubx::msg::nav_pvt};  // from the factory: NMEA alone until a driver asks
-  for (const transport::OutputSpec& spec : receiver.outputs) {
-    if (spec.kind == transport::OutputKind::serial) {
-      const int fallback = factory ? 0 : nmea::kDefaultBaud;  // 0: the model's default baud
-      s.start.baud = static_cast<std::uint32_t>(spec.baud_bps != 0 ? spec.baud_bps : fallback);
-    }
-  }
-  if (receiver.receiver_state) s.stored = read_receiver_state(*receiver.receiver_state, receiver.ublox_model);
-  s.format = receiver.format;
-  s.speed_sigma_mps = 0.1 * std::hypot(options.noise_sigma_m.east_m, options.noise_sigma_m.north_m);
-  s.seed = receiver.seed;
-  return s;
-}
-
-// The widest epoch of a receiver's protocols: its NMEA sentences, or the u-blox port's at start.
-// Sized on the model's worst case by system (each system its own GSV group and GSA).
-std::size_t widest_epoch_bytes(const nmea::FormatOptions& format, const Geometry& sky,
-                               const std::optional<ubx::SessionSettings>& ubx) {
-  if (!ubx) return worst_case_epoch_bytes(format, sky.in_view_by_system, sky.satellites_used);
-  return widest_ubx_epoch_bytes(format, ubx::start_settings(ubx->start), ubx->start.port, ubx->start.model, sky);
 }
 
 }  // namespace
@@ -97,8 +60,7 @@ ReceiverSetup receiver_setup(const ReceiverSettings& receiver, const TimelineSet
                .noise = receiver.noise,
                .seed = receiver.seed,
                .format = receiver.format,
-               .ubx = ubx_settings(receiver, options, timeline),
-               .receiver_state = receiver.receiver_state,
+               .protocol = protocol::protocol_for(receiver, options, timeline),
                .faults = {},
                .rtk = receiver.rtk,
                .rtcm = receiver.rtcm,
@@ -107,8 +69,8 @@ ReceiverSetup receiver_setup(const ReceiverSettings& receiver, const TimelineSet
                .tee = receiver.tee,
                .realtime = !timeline.fast(),
                .rate_hz = timeline.rate_hz,
-               .widest_epoch_bytes = [format = receiver.format, sky = resolve_geometry(options), ubx = r.channel.ubx] {
-                   return widest_epoch_bytes(format, sky, ubx);
+               .widest_epoch_bytes = [spec = r.channel.protocol, sky = resolve_geometry(options)] {
+                   return spec->widest_epoch_bytes(sky);
                  }};
   r.sim_source = receiver.source.kind == sources::SourceKind::sim;
   r.source_text = receiver.source.text;

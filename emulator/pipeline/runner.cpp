@@ -9,7 +9,7 @@
 #include "emulator/pipeline/channel_set.hpp"
 #include "emulator/pipeline/epoch_loop.hpp"
 #include "emulator/pipeline/rtk_receiver.hpp"
-#include "emulator/pipeline/ubx_effects.hpp"
+#include "emulator/pipeline/protocol_effects.hpp"
 #include "emulator/ui/hub.hpp"
 #include "nmea/sentences.hpp"
 
@@ -43,12 +43,6 @@ constexpr std::size_t kHelperWriterFrom = 8;
 /// PPS marks real seconds: never with --fast.
 bool with_pps(const LoopSettings& loop, const std::optional<RunnerIo>& io) {
   return loop.clock.kind != ClockKind::fast && (io ? io->pps != nullptr : loop.pps.spec.has_value());
-}
-
-/// What a receiver writes, for the start-up lines: "NMEA", or a u-blox port's "UBX" or "NMEA+UBX".
-std::string protocol_name(const ChannelSettings& s) {
-  if (!s.ubx) return "NMEA";
-  return s.ubx->start.sentences.empty() ? "UBX" : "NMEA+UBX";
 }
 
 RunSettings one_receiver(RunSettings settings) {
@@ -142,15 +136,14 @@ void Runner::log_banner() const {
                    noise::to_string(s.noise.model), loop_.rate_hz, latency_ms, format_iso8601_utc(first_epoch));
     }
     const Geometry& g = ch.receiver().geometry();
-    // The widest epoch of what the receiver writes: its NMEA sentences, or a u-blox's NMEA and UBX.
-    const std::size_t epoch_bytes =
-        ch.ubx_encoder() ? widest_ubx_epoch_bytes(ch)
-                         : nmea::line_budget(s.format, g.in_view_by_system, g.satellites_used, loop_.rate_hz).bytes_per_epoch;
+    // The widest epoch of what the receiver's protocol writes (a u-blox: its NMEA and binary messages).
+    const std::size_t epoch_bytes = widest_epoch_bytes(ch);
+    const std::string model = ch.protocol().receiver_name();  // empty: plain NMEA
     spdlog::info("{}receiver: {}GGA quality {} (noise x{}), {} of {} satellites used, HDOP {:.2f}; {} bytes an epoch at most{}",
-                 who, ch.ubx_encoder() ? fmt::format("u-blox {}, ", ubx::model_info(s.ubx->start.model).name) : "",
-                 static_cast<int>(s.receiver.quality), noise_scale(s.receiver.quality), g.satellites_used,
-                 g.satellites_in_view, g.hdop, epoch_bytes, ch.ubx_encoder() ? " (" + protocol_name(s) + ")" : "");
-    sink_.log_opened(i, protocol_name(s));
+                 who, model.empty() ? "" : model + ", ", static_cast<int>(s.receiver.quality),
+                 noise_scale(s.receiver.quality), g.satellites_used, g.satellites_in_view, g.hdop, epoch_bytes,
+                 model.empty() ? "" : " (" + ch.protocol().written() + ")");
+    sink_.log_opened(i, ch.protocol().written());
   }
   if (pps_) pps_->log_opened();
   if (control_) spdlog::info("control socket {}: JSON lines, e.g. {{\"status\":true}}", control_->server().path());
@@ -207,14 +200,14 @@ void Runner::log_summary() const {
     if (const std::string input = client_input_summary(channels_->channel(i)); !input.empty()) {
       spdlog::info("{}{}", sink_.who(i), input);
     }
-    if (const std::string drops = tx_drops_summary(channels_->line(i)); !drops.empty()) {
+    if (const std::string drops = tx_drops_summary(channels_->channel(i), channels_->line(i)); !drops.empty()) {
       spdlog::warn("{}{}", sink_.who(i), drops);
     }
-    if (const std::string config = ubx_config_summary(channels_->channel(i)); !config.empty()) {
+    if (const std::string config = channels_->channel(i).protocol().configuration_summary(); !config.empty()) {
       spdlog::info("{}{}", sink_.who(i), config);
     }
     const Channel& ch = channels_->channel(i);
-    const std::uint64_t port_bad_crc = ch.ubx_encoder() ? ch.ubx_encoder()->session().reader_stats().rtcm_bad_crc : 0;
+    const std::uint64_t port_bad_crc = ch.protocol().corrections_bad_crc();
     if (const std::string rtk = ch.rtk().summary(port_bad_crc); !rtk.empty()) spdlog::info("{}{}", sink_.who(i), rtk);
   }
   if (pps_) pps_->log_summary();

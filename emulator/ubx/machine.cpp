@@ -182,14 +182,24 @@ void ConfigMachine::reset(std::string_view p, Answer& answer) {
     ++stats_.ignored;
     return;
   }
+  reset(get_u2(p, 0), get_u1(p, 2), answer);
+}
+
+Answer ConfigMachine::reset(std::uint16_t nav_bbr_mask, std::uint8_t reset_mode) {
+  Answer answer;
+  reset(nav_bbr_mask, reset_mode, answer);
+  return answer;
+}
+
+void ConfigMachine::reset(std::uint16_t nav_bbr_mask, std::uint8_t reset_mode, Answer& answer) {
   discard_transaction();
-  if (reloads_configuration(get_u1(p, 2))) {
+  if (reloads_configuration(reset_mode)) {
     const Before b = before({}, true);
     settings_ = power_up(defaults_, stored_);
     ++stats_.resets;
     diff(b, answer);
   }
-  if (get_u2(p, 0) == 0xFFFF) answer.effects.emplace_back(ColdStart{});
+  if (nav_bbr_mask == 0xFFFF) answer.effects.emplace_back(ColdStart{});
 }
 
 bool ConfigMachine::answer_cfg_poll(const Frame& frame, Answer& answer) {

@@ -103,6 +103,10 @@ class ConfigMachine {
   [[nodiscard]] Port port() const { return start_.port; }
   [[nodiscard]] const FrameStats& reader_stats() const { return reader_.stats(); }
   [[nodiscard]] const MachineStats& stats() const { return stats_; }
+  /// A reset no client asked for (a reset fault's reboot), as CFG-RST with `nav_bbr_mask` and
+  /// `reset_mode` would do it: RAM reloaded from the layers (counted in stats().resets), the
+  /// changes and a ColdStart (mask 0xFFFF) as effects.
+  [[nodiscard]] Answer reset(std::uint16_t nav_bbr_mask, std::uint8_t reset_mode);
 
  private:
   void handle_frame(const Frame& frame, Answer& answer);
@@ -125,6 +129,7 @@ class ConfigMachine {
   [[nodiscard]] bool apply_valdel(std::string_view payload);
   [[nodiscard]] bool apply_cfg_cfg(std::string_view payload, Before& before);
   void reset(std::string_view payload, Answer& answer);
+  void reset(std::uint16_t nav_bbr_mask, std::uint8_t reset_mode, Answer& answer);
   /// Writes `keys` (validated) to the layers of `layer_bits`.
   void write_keys(const std::vector<std::pair<std::uint32_t, std::uint64_t>>& keys, std::uint8_t layer_bits,
                   Before& before);

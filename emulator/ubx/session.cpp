@@ -122,6 +122,22 @@ void Session::handle(Answer answer, Client& c) {
   }
 }
 
+void Session::hardware_reset() {
+  constexpr std::uint16_t kColdStart = 0xFFFF;  // navBbrMask: every navigation data cleared
+  constexpr std::uint8_t kHardwareReset = 0x00;  // resetMode: hardware reset (watchdog) immediately
+  Answer answer = machine_.reset(kColdStart, kHardwareReset);
+  std::erase_if(answer.effects, [](const Effect& e) { return std::holds_alternative<ColdStart>(e); });
+  const auto waiting = std::find_if(effects_.begin(), effects_.end(),
+                                    [](const Effect& e) { return std::holds_alternative<ColdStart>(e); });
+  if (waiting != effects_.end()) {
+    effects_.erase(waiting);
+    ++stats_.effects_superseded;
+  }
+  state_.restart();
+  Client nobody;  // a reset answers no client
+  handle(std::move(answer), nobody);
+}
+
 bool Session::on_solution_grid(nmea::UtcTime t) const {
   if (machine_.settings().output_period() == settings_.start.measurement_period) return true;
   return solution_grid(machine_.settings(), machine_.model()).contains(t);

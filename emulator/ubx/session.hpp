@@ -89,6 +89,13 @@ class Session {
   /// Whether a new solution period waits in take_effects() (the loop reschedules at once).
   [[nodiscard]] bool period_change_pending() const;
 
+  /// A hardware reset with every navigation data cleared that no client asked for (a reset
+  /// fault's reboot, whose receiver model the caller restarts itself): RAM reloaded from the
+  /// layers, the receiver's own state (msss, TTFF, time validity) starts again, the period and
+  /// baud changes wait in take_effects() as a client's CFG-RST leaves them; no ColdStart effect
+  /// (a client's one still waiting is superseded).
+  void hardware_reset();
+
   /// Appends the epoch's bytes for `fix` to `out`: nothing off the measurement grid.
   void append_solution(const nmea::Fix& fix, std::string& out);
 

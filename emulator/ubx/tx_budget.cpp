@@ -5,6 +5,7 @@
 #include <cstddef>
 
 #include "emulator/ubx/frame.hpp"
+#include "nmea/line_budget.hpp"
 
 namespace gpsemu::ubx {
 namespace {
@@ -32,9 +33,7 @@ std::size_t message_length(const std::string& epoch, std::size_t at) {
 }  // namespace
 
 std::size_t line_bytes_per_period(std::uint32_t baud, std::chrono::nanoseconds period) {
-  // baud / 10 bytes a second, over the period: whole bytes.
-  return static_cast<std::size_t>(static_cast<std::uint64_t>(baud) * static_cast<std::uint64_t>(period.count()) /
-                                  10'000'000'000ULL);
+  return nmea::line_bytes_per_period(baud, period);  // baud / 10 bytes a second, whole bytes
 }
 
 TxDrops fit_epoch_to_line(std::string& epoch, std::size_t budget_bytes) {

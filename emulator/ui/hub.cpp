@@ -58,7 +58,8 @@ Hub::Hub(ChannelSet& channels, std::chrono::nanoseconds status_every)
   json names = json::array();
   for (std::size_t i = 0; i < channels.size(); ++i) {
     const Channel& ch = channels.channel(i);
-    names.push_back(fmt::format("receiver {}{}", i, ch.ubx_encoder() ? " (u-blox)" : ""));
+    const bool plain = ch.protocol().receiver_name().empty();  // an NMEA source; else "(u-blox)"
+    names.push_back(fmt::format("receiver {}{}", i, plain ? "" : " (" + ch.protocol().name() + ")"));
   }
   info_json_ = json{{"receivers", channels.size()}, {"names", names}, {"faults", catalogue_json()}}.dump();
 }

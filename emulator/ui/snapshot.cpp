@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "emulator/pipeline/rtk_receiver.hpp"
+#include "emulator/protocol/ublox/ublox_protocol.hpp"
 #include "emulator/ubx/nav.hpp"
 #include "transport/pty_output.hpp"
 #include "transport/tcp_output.hpp"
@@ -159,8 +160,8 @@ std::string message_name(ubx::MessageId id) {
 }
 
 /// What a u-blox driver configured: its answers, the rate, the baud, the messages on.
-json ubx_json(const Channel& ch, const UbxLine& line) {
-  const UbxEncoder* ubx = ch.ubx_encoder();
+json ubx_json(const Channel& ch, const ReceiverLine& line) {
+  const protocol::UbloxProtocol* ubx = protocol::as_ublox(ch.protocol());
   if (!ubx) return nullptr;
   const ubx::ConfigMachine& m = ubx->session().machine();
   const ubx::Settings& s = m.settings();

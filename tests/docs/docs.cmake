@@ -1,5 +1,6 @@
 # The documentation kept honest: docs/cli.md is what the generator writes today, and it names every
-# flag `gpsemu --help` and `gpsemu SUBCOMMAND --help` print. (The other .cmake files here are their
+# flag `gpsemu --help` and `gpsemu SUBCOMMAND --help` print; docs/ublox.md's tables are generated;
+# the pipeline names no protocol, as docs/design.md says. (The other .cmake files here are their
 # -P scripts.)
 add_test(NAME docs.cli_reference_is_current
          COMMAND ${CMAKE_COMMAND} -DGENERATOR=$<TARGET_FILE:gpsemu-cli-doc>
@@ -17,3 +18,9 @@ add_test(NAME docs.ublox_tables_are_current
                  -DDOC=${PROJECT_SOURCE_DIR}/docs/ublox.md -DOUT=${CMAKE_CURRENT_BINARY_DIR}/ublox.md.generated
                  -P ${CMAKE_CURRENT_LIST_DIR}/ublox_doc_current.cmake)
 set_tests_properties(docs.ublox_tables_are_current PROPERTIES LABELS unit)
+
+# docs/design.md's "the loop knows no protocol": emulator/pipeline names no ubx (issue 36).
+add_test(NAME docs.pipeline_knows_no_protocol
+         COMMAND ${CMAKE_COMMAND} -DDIR=${PROJECT_SOURCE_DIR}/emulator/pipeline
+                 -P ${CMAKE_CURRENT_LIST_DIR}/pipeline_knows_no_protocol.cmake)
+set_tests_properties(docs.pipeline_knows_no_protocol PROPERTIES LABELS unit)

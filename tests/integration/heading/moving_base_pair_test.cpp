@@ -11,7 +11,7 @@
 
 #include "emulator/heading/moving_base.hpp"
 #include "emulator/pipeline/channel.hpp"
-#include "emulator/pipeline/ubx_encoder.hpp"
+#include "emulator/protocol/ublox/ublox_protocol.hpp"
 #include "emulator/sources/sim.hpp"
 #include "emulator/ubx/bytes.hpp"
 #include "emulator/ubx/cfg_keys.hpp"
@@ -42,7 +42,7 @@ ChannelSettings pair_member(heading::Role role, std::uint64_t seed) {
     u.start.model = ubx::ReceiverModel::ublox_f9p;
     u.start.measurement_period = 100ms;
     u.start.sentences = {};
-    s.ubx = u;
+    s.protocol = protocol::ublox_protocol(u);
   }
   return s;
 }
@@ -117,8 +117,8 @@ TEST(MovingBasePair, RoverHeadingFollowsTheTurningCarWithinItsAccuracy) {
   EXPECT_NEAR(std::sqrt(sum_squared_error / checked) / max_sigma_deg, 1.0, 0.2);
   EXPECT_LE(outside_3_sigma, 3);
   EXPECT_GE(rover.moving_base_frames(), 329u);  // a 4072.0 each epoch
-  ASSERT_NE(rover.ubx_encoder(), nullptr);
-  const ubx::FrameStats& in = rover.ubx_encoder()->session().reader_stats();
+  ASSERT_NE(protocol::as_ublox(rover.protocol()), nullptr);
+  const ubx::FrameStats& in = protocol::as_ublox(rover.protocol())->session().reader_stats();
   EXPECT_GE(in.rtcm_ok, 3u * 329u);  // 4072.0, MSM4 (one a system), 1230 each epoch
   EXPECT_EQ(in.rtcm_bad_crc, 0u);
 

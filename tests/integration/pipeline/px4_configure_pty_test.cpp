@@ -27,8 +27,8 @@
 
 #include "emulator/pipeline/channel.hpp"
 #include "emulator/pipeline/sink.hpp"
-#include "emulator/pipeline/ubx_effects.hpp"
-#include "emulator/pipeline/ubx_encoder.hpp"
+#include "emulator/pipeline/protocol_effects.hpp"
+#include "emulator/protocol/ublox/ublox_protocol.hpp"
 #include "emulator/rtk/rtcm3_messages.hpp"
 #include "emulator/rtk/rtcm3_reader.hpp"
 #include "emulator/ubx/bytes.hpp"
@@ -64,12 +64,12 @@ std::vector<std::string> recorded_frames(const std::string& path) {
 /// frames PX4 wrote to that model (tests/data/px4/FILE).
 class Px4PtyTest : public ::testing::Test {
  protected:
-  /// `own`: the u-blox is the channel's encoder, as gpsemu's --receiver makes it (its summary lines
-  /// then read it); otherwise it is added beside the channel's NMEA encoder, whose epochs write.
+  /// `own`: the u-blox is the channel's protocol, as gpsemu's --receiver makes it (its summary lines
+  /// then read it); otherwise it is added beside the channel's NMEA protocol, whose epochs write.
   Px4PtyTest(ubx::ReceiverModel model, std::chrono::milliseconds period, const std::string& file, bool own = false)
       : channel(channel_settings(ubx_settings(model, period), own), t0),
         frames(recorded_frames(std::string(GPSEMU_SOURCE_DIR) + "/tests/data/px4/" + file)) {
-    if (!own) channel.add_encoder(std::make_unique<UbxEncoder>(ubx_settings(model, period)));
+    if (!own) channel.add_protocol(std::make_unique<protocol::UbloxProtocol>(ubx_settings(model, period)));
     std::vector<std::unique_ptr<transport::Output>> outputs;
     auto pty = std::make_unique<transport::PtyOutput>();
     out = pty.get();
@@ -90,7 +90,7 @@ class Px4PtyTest : public ::testing::Test {
   static ChannelSettings channel_settings(const ubx::SessionSettings& ubx, bool own) {
     ChannelSettings settings;
     settings.origin = {43.0725, -89.4125, 260.0};
-    if (own) settings.ubx = ubx;
+    if (own) settings.protocol = protocol::ublox_protocol(ubx);
     return settings;
   }
   void open_client() {

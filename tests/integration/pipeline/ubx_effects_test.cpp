@@ -1,4 +1,4 @@
-// The effects a u-blox client asks for, applied to a running receiver (pipeline/ubx_effects.hpp):
+// The effects a u-blox client asks for, applied to a running receiver (pipeline/protocol_effects.hpp):
 // CFG-PRT's baud on a real serial line (a socat pty pair: the ACK arrives at the old speed, then
 // the line's termios speed changes), and CFG-RST's cold start (no fix again for --cold-start).
 #include <gtest/gtest.h>
@@ -14,7 +14,8 @@
 #include "emulator/model/time.hpp"
 #include "emulator/pipeline/channel.hpp"
 #include "emulator/pipeline/sink.hpp"
-#include "emulator/pipeline/ubx_effects.hpp"
+#include "emulator/pipeline/protocol_effects.hpp"
+#include "emulator/protocol/ublox/ublox_protocol.hpp"
 #include "emulator/ubx/bytes.hpp"
 #include "tests/support/read_deadline.hpp"
 #include "tests/support/scratch.hpp"
@@ -34,7 +35,7 @@ ChannelSettings ublox_channel() {
   ubx.start.sentences = {};
   ubx.start.ubx_messages = {ubx::msg::nav_pvt};
   ubx.start.baud = 9600;
-  settings.ubx = ubx;
+  settings.protocol = protocol::ublox_protocol(ubx);
   return settings;
 }
 
@@ -78,9 +79,9 @@ TEST(UbxEffects, CfgPrtBaudIsAcknowledgedAtTheOldSpeedThenTheSerialLineChanges) 
 
   const EpochGrid grid(5.0);
   ReceiverSchedule schedule(grid, grid.index_at_or_after(t0));
-  UbxLine ubx_line = ubx_line_of(sink.outputs(i));
+  ReceiverLine ubx_line = line_of(sink.outputs(i));
   EXPECT_EQ(ubx_line.baud, 9600u);
-  apply_ubx_effects(channel, sink.outputs(i), schedule, ubx_line, t0, "");
+  apply_protocol_effects(channel, sink.outputs(i), schedule, ubx_line, t0, "");
   EXPECT_EQ(ubx_line.baud, 115200u);
   ASSERT_EQ(::tcgetattr(line->poll_fd(), &tio), 0);
   EXPECT_EQ(::cfgetospeed(&tio), B115200);
@@ -107,8 +108,8 @@ TEST(UbxEffects, CfgRstColdStartRestartsTheReceiverAtTheEpoch) {
   EXPECT_TRUE(channel.take_reply(1).empty()) << "a u-blox does not acknowledge CFG-RST";
   const EpochGrid grid(1.0);
   ReceiverSchedule schedule(grid, grid.index_at_or_after(t0));
-  UbxLine line;
-  apply_ubx_effects(channel, {}, schedule, line, t0 + 4s, "");
+  ReceiverLine line;
+  apply_protocol_effects(channel, {}, schedule, line, t0 + 4s, "");
   EXPECT_FALSE(channel.step(t0 + 4s, sources::Truth{}).has_fix());
   EXPECT_FALSE(channel.step(t0 + 5s, sources::Truth{}).has_fix());
   EXPECT_TRUE(channel.step(t0 + 6s, sources::Truth{}).has_fix());

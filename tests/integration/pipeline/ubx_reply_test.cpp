@@ -14,7 +14,7 @@
 
 #include "emulator/pipeline/channel.hpp"
 #include "emulator/pipeline/sink.hpp"
-#include "emulator/pipeline/ubx_encoder.hpp"
+#include "emulator/protocol/ublox/ublox_protocol.hpp"
 #include "emulator/ubx/bytes.hpp"
 #include "tests/support/read_deadline.hpp"
 #include "transport/pty_output.hpp"
@@ -34,9 +34,9 @@ TEST(UbxReply, PollAndAckComeBackThroughThePtyBeforeAnyEpoch) {
   Channel channel(settings, t0);
   ubx::SessionSettings ubx_settings;
   ubx_settings.start.model = ubx::ReceiverModel::ublox_m8n;
-  ubx_settings.start.sentences = {};  // the channel's NMEA encoder writes the sentences in this test
+  ubx_settings.start.sentences = {};  // the channel's NMEA protocol writes the sentences in this test
   ubx_settings.start.measurement_period = 100ms;
-  channel.add_encoder(std::make_unique<UbxEncoder>(ubx_settings));
+  channel.add_protocol(std::make_unique<protocol::UbloxProtocol>(ubx_settings));
 
   Sink sink;
   std::vector<std::unique_ptr<transport::Output>> outputs;

@@ -8,6 +8,7 @@
 #include <variant>
 
 #include "emulator/pipeline/channel.hpp"
+#include "emulator/protocol/ublox/ublox_protocol.hpp"
 #include "emulator/ubx/bytes.hpp"
 #include "tests/support/ubx_frames.hpp"
 
@@ -31,7 +32,7 @@ TEST(ChannelReset, SilentThenColdWithTheConfigurationLostUntilTheClientConfigure
   settings.origin = {43.0725, -89.4125, 260.0};
   ubx::SessionSettings ubx_settings;
   ubx_settings.start.model = ubx::ReceiverModel::ublox_m8n;
-  settings.ubx = ubx_settings;
+  settings.protocol = protocol::ublox_protocol(ubx_settings);
   settings.faults.faults.push_back(faults::make_fault(
       {{"kind", std::string("reset")}, {"at", 2.0}, {"silent_s", 2.0}, {"ttff_s", 3.0}}));
   Channel channel(settings, kT0);
@@ -42,8 +43,8 @@ TEST(ChannelReset, SilentThenColdWithTheConfigurationLostUntilTheClientConfigure
 
   const auto epoch = [&](int s) {
     const UtcNs t = kT0 + seconds(s);
-    for (const ubx::Effect& e : channel.ubx_encoder()->take_effects()) {
-      if (std::holds_alternative<ubx::ColdStart>(e)) channel.cold_start(t);  // as apply_ubx_effects does
+    for (const protocol::Effect& e : channel.protocol().take_effects()) {
+      if (std::holds_alternative<protocol::ColdStart>(e.what)) channel.cold_start(t);  // as apply_protocol_effects does
     }
     const nmea::Fix fix = channel.step(t, sources::Truth{});
     return std::pair{fix, frames_in(channel.bytes())};
@@ -62,7 +63,7 @@ TEST(ChannelReset, SilentThenColdWithTheConfigurationLostUntilTheClientConfigure
     EXPECT_TRUE(frames.empty());
     EXPECT_NE(channel.bytes().find("RMC,"), std::string::npos) << channel.bytes();
   }
-  EXPECT_EQ(channel.ubx_encoder()->session().machine().stats().resets, 1u);
+  EXPECT_EQ(protocol::as_ublox(channel.protocol())->session().machine().stats().resets, 1u);
   // The client configures it again: it takes effect; the fix is back 5 s after the reset.
   channel.client_wrote(turn_on, 1);
   (void)channel.take_reply(1);

@@ -11,8 +11,10 @@
 #include <vector>
 
 #include "emulator/pipeline/channel_set.hpp"
+#include "emulator/protocol/ublox/ublox_protocol.hpp"
 #include "emulator/ubx/bytes.hpp"
 #include "emulator/ubx/frame.hpp"
+#include "emulator/ubx/solution_grid.hpp"
 #include "tests/support/talking_output.hpp"
 
 namespace gpsemu {
@@ -38,7 +40,7 @@ std::unique_ptr<Channel> channel(bool ublox) {
     u.start.model = ubx::ReceiverModel::ublox_m8n;
     u.start.sentences = {};
     u.start.ubx_messages = {ubx::msg::nav_pvt};
-    s.ubx = u;
+    s.protocol = protocol::ublox_protocol(u);
   }
   auto ch = std::make_unique<Channel>(s, kT0);
   ch->set_source(std::make_unique<StillSource>());
@@ -155,7 +157,8 @@ TEST(ReceiverSchedule, FollowsASolutionGridFromTheEpochAfterAndReturnsToTheRunGr
   schedule.advance();
   EXPECT_EQ(schedule.next(), kT0 + 1s);
   EXPECT_EQ(schedule.period(), 1s);
-  schedule.follow(ubx::SolutionGrid{100ms, 1}, kT0 + 1s);
+  const ubx::SolutionGrid solutions{100ms, 1};
+  schedule.follow(protocol::SolutionGrid{100ms, [solutions](UtcNs t) { return solutions.next_after(t); }}, kT0 + 1s);
   EXPECT_EQ(schedule.next(), kT0 + 1100ms);
   EXPECT_EQ(schedule.period(), 100ms);
   schedule.advance();

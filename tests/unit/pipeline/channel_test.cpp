@@ -20,8 +20,11 @@ using test::TalkingOutput;
 const UtcNs kT0 = parse_iso8601_utc("2024-05-01T12:00:00Z");
 
 /// A second protocol: one line an epoch, and it records what clients wrote.
-class TagEncoder final : public Encoder {
+class TagProtocol final : public protocol::ReceiverProtocol {
  public:
+  [[nodiscard]] std::size_t widest_epoch_bytes(const Geometry& /*sky*/) const override { return 9; }
+  [[nodiscard]] std::string name() const override { return "TAG"; }
+  [[nodiscard]] std::string written() const override { return "TAG"; }
   void encode(const nmea::Fix& fix, std::string& out) override {
     out += fix.has_fix() ? "TAG fix\r\n" : "TAG none\r\n";
   }
@@ -35,10 +38,10 @@ ChannelSettings settings() {
   return s;
 }
 
-TEST(Channel, EachEncoderPublishesTheSameFixInTheOrderAdded) {
+TEST(Channel, EachProtocolPublishesTheSameFixInTheOrderAdded) {
   Channel channel(settings(), kT0);
-  auto tag = std::make_unique<TagEncoder>();
-  channel.add_encoder(std::move(tag));
+  auto tag = std::make_unique<TagProtocol>();
+  channel.add_protocol(std::move(tag));
   const nmea::Fix fix = channel.step(kT0, sources::Truth{});
   ASSERT_TRUE(fix.has_fix());
   std::string nmea_only;
@@ -49,11 +52,11 @@ TEST(Channel, EachEncoderPublishesTheSameFixInTheOrderAdded) {
   EXPECT_NE(channel.bytes().find("TAG none\r\n"), std::string::npos);
 }
 
-TEST(Channel, WhatAClientWritesReachesEveryEncoderThroughTheSink) {
+TEST(Channel, WhatAClientWritesReachesEveryProtocolThroughTheSink) {
   Channel channel(settings(), kT0);
-  auto tag = std::make_unique<TagEncoder>();
-  TagEncoder* heard = tag.get();
-  channel.add_encoder(std::move(tag));
+  auto tag = std::make_unique<TagProtocol>();
+  TagProtocol* heard = tag.get();
+  channel.add_protocol(std::move(tag));
   Sink sink;
   const auto [client, i] = test::add_talking_output(sink);
   sink.service_all();  // no channel attached yet: dropped

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "emulator/pipeline/channel.hpp"
+#include "emulator/protocol/ublox/ublox_protocol.hpp"
 #include "emulator/ubx/bytes.hpp"
 #include "tests/support/ubx_frames.hpp"
 
@@ -29,7 +30,7 @@ TEST(ChannelUbxFaults, SkyMaskSpoofAndRolloverShowInTheNavMessages) {
   ubx_settings.start.model = ubx::ReceiverModel::ublox_m8n;
   ubx_settings.start.sentences = {};
   ubx_settings.start.ubx_messages = {ubx::msg::nav_pvt, ubx::msg::nav_status, ubx::msg::nav_sat, ubx::msg::nav_timegps};
-  settings.ubx = ubx_settings;
+  settings.protocol = protocol::ublox_protocol(ubx_settings);
   using faults::make_fault;
   settings.faults.faults = {
       make_fault({{"kind", std::string("sky-mask")}, {"at", 1.0}, {"duration", 1.0}, {"mask", std::string("0-180:90")}}),

@@ -331,5 +331,24 @@ TEST(UbxSession, ColdResetStartsTheRunTimeAgain) {
   EXPECT_EQ(get_u1(status, 5) & 0x0C, 0);  // no time
 }
 
+TEST(UbxSession, AHardwareResetNoClientAskedForReloadsRamWithoutAColdStartEffect) {
+  Session session(f9p_nmea_only());
+  // RAM only: 5 Hz and 115200 baud, and a client's cold start still waiting.
+  session.client_wrote(frame_bytes(msg::cfg_valset, valset({{key::uart1_baudrate, 115200}})) + cfg_rate_frame(200, 1) +
+                       frame_bytes(msg::cfg_rst, test::unhex("ffff 0200")));
+  (void)session.take_reply();
+  (void)session.take_effects();
+  session.client_wrote(frame_bytes(msg::cfg_rst, test::unhex("ffff 0200")));
+  session.hardware_reset();
+  EXPECT_TRUE(session.take_reply().empty());
+  EXPECT_EQ(session.machine().stats().resets, 1u) << "the client's CFG-RST (GNSS only) kept RAM";
+  EXPECT_EQ(session.stats().effects_superseded, 1u) << "the client's waiting cold start";
+  // The defaults again: the start period and baud, as effects; the caller restarted its receiver itself.
+  const auto effects = session.take_effects();
+  ASSERT_EQ(effects.size(), 2u);
+  EXPECT_EQ(std::get<MeasurementPeriodChanged>(effects[0]).period, milliseconds{100});
+  EXPECT_TRUE(std::holds_alternative<BaudChanged>(effects[1]));
+}
+
 }  // namespace
 }  // namespace gpsemu::ubx

@@ -1,4 +1,4 @@
-#include "emulator/pipeline/receiver_state.hpp"
+#include "emulator/protocol/ublox/state_file.hpp"
 
 #include <cstdio>
 #include <filesystem>
@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 
-namespace gpsemu {
+namespace gpsemu::protocol {
 
 /// A state file is a few kilobytes; anything far larger is not one.
 constexpr std::uintmax_t kMaxStateBytes = 1 << 20;
@@ -53,4 +53,4 @@ bool write_receiver_state(const std::string& path, const ubx::StoredLayers& laye
   return true;
 }
 
-}  // namespace gpsemu
+}  // namespace gpsemu::protocol

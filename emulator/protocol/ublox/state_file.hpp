@@ -9,7 +9,7 @@
 
 #include "emulator/ubx/config_layers.hpp"
 
-namespace gpsemu {
+namespace gpsemu::protocol {
 
 /// The layers `path` holds for `model`; empty layers when the file does not exist. Throws
 /// std::invalid_argument naming the file and line when it cannot be read or is not a state of
@@ -20,4 +20,4 @@ namespace gpsemu {
 [[nodiscard]] bool write_receiver_state(const std::string& path, const ubx::StoredLayers& layers,
                                         ubx::ReceiverModel model, std::string& error);
 
-}  // namespace gpsemu
+}  // namespace gpsemu::protocol

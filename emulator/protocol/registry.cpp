@@ -1,0 +1,55 @@
+// Which protocol a receiver speaks (see registry.hpp).
+#include "emulator/protocol/registry.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <optional>
+
+#include "emulator/config/validate.hpp"
+#include "emulator/protocol/nmea_protocol.hpp"
+#include "emulator/protocol/ublox/state_file.hpp"
+#include "emulator/protocol/ublox/ublox_protocol.hpp"
+#include "nmea/line_budget.hpp"
+
+namespace gpsemu::protocol {
+namespace {
+
+// The u-blox port's start settings (--protocol ubx / nmea+ubx): --receiver's model, the period of
+// --rate, the sentences of --sentences (ubx: none unless given), NAV-PVT every epoch, the baud of
+// a serial output, and as sAcc a tenth of the horizontal noise sigma a second (the speed itself
+// is the truth's).
+ubx::SessionSettings ublox_settings(const ReceiverSettings& receiver, const ReceiverOptions& options,
+                                    const TimelineSettings& timeline) {
+  const bool factory = factory_state(receiver);
+  ubx::SessionSettings s;
+  s.start.model = receiver.ublox_model;
+  s.start.measurement_period = std::chrono::milliseconds{std::llround(1000.0 / timeline.rate_hz)};
+  s.start.sentences = receiver.protocol == Protocol::ubx && !receiver.sentences_given ? nmea::SentenceSet{}
+                                                                                     : receiver.format.sentences;
+  if (!factory) s.start.ubx_messages = {ubx::msg::nav_pvt};  // from the factory: NMEA alone until a driver asks
+  for (const transport::OutputSpec& spec : receiver.outputs) {
+    if (spec.kind == transport::OutputKind::serial) {
+      const int fallback = factory ? 0 : nmea::kDefaultBaud;  // 0: the model's default baud
+      s.start.baud = static_cast<std::uint32_t>(spec.baud_bps != 0 ? spec.baud_bps : fallback);
+    }
+  }
+  if (receiver.receiver_state) s.stored = read_receiver_state(*receiver.receiver_state, receiver.ublox_model);
+  s.format = receiver.format;
+  s.speed_sigma_mps = 0.1 * std::hypot(options.noise_sigma_m.east_m, options.noise_sigma_m.north_m);
+  s.seed = receiver.seed;
+  return s;
+}
+
+}  // namespace
+
+std::shared_ptr<const ProtocolSpec> protocol_for(const ReceiverSettings& receiver, const ReceiverOptions& options,
+                                                 const TimelineSettings& timeline) {
+  if (receiver.protocol == Protocol::nmea && !factory_state(receiver)) return nmea_protocol(receiver.format);
+  return ublox_protocol(ublox_settings(receiver, options, timeline), receiver.receiver_state);
+}
+
+int factory_baud(const ReceiverSettings& receiver) {
+  return factory_state(receiver) ? static_cast<int>(ubx::model_info(receiver.ublox_model).default_baud) : 0;
+}
+
+}  // namespace gpsemu::protocol
