@@ -134,19 +134,38 @@ void check_fault_overlaps(const std::vector<faults::Fault>& faults, const Timeli
 }
 
 void check_fault_times(const std::vector<faults::Fault>& faults, const TimelineSettings& timeline) {
-  if (!timeline.duration_s) return;
-  const double run_s = *timeline.duration_s;
-  for (const faults::Fault& f : faults) {
-    const std::string where = f.origin.file.empty() ? fmt::format("fault {}: ", f.describe()) : f.origin.prefix(f.at_utc ? "at_utc" : "at");
-    if (!f.at_utc && f.at_s >= run_s) {
+  if (timeline.duration_s) {
+    const double run_s = *timeline.duration_s;
+    for (const faults::Fault& f : faults) {
+      if (f.at_utc || f.at_s < run_s) continue;
+      const std::string where = f.origin.file.empty() ? fmt::format("fault {}: ", f.describe()) : f.origin.prefix("at");
       throw ConfigError(fmt::format("{}at: {:g} s is not before the end of the run (--duration {:g} s): the fault would "
                                     "never start", where, f.at_s, run_s));
     }
-    if (f.at_utc && timeline.start_time &&
-        *f.at_utc >= *timeline.start_time + std::chrono::duration_cast<UtcNs::duration>(std::chrono::duration<double>(run_s))) {
+  }
+  // Without --start-time the first epoch is known when the run starts (Runner): checked there.
+  if (timeline.start_time) check_fault_utc_times(faults, *timeline.start_time, timeline.duration_s, false);
+}
+
+void check_fault_utc_times(const std::vector<faults::Fault>& faults, UtcNs first_epoch, std::optional<double> run_s,
+                           bool first_epoch_is_now) {
+  const std::string first = first_epoch_is_now ? fmt::format("its first epoch, now: {}", format_iso8601_utc(first_epoch))
+                                               : format_iso8601_utc(first_epoch);
+  const std::string advice = first_epoch_is_now ? "; --start-time T runs it at another time" : "";
+  for (const faults::Fault& f : faults) {
+    if (!f.at_utc) continue;
+    const std::string where = f.origin.file.empty() ? fmt::format("fault {}: ", f.describe()) : f.origin.prefix("at_utc");
+    const auto seconds = [](double s) { return std::chrono::duration_cast<UtcNs::duration>(std::chrono::duration<double>(s)); };
+    if (run_s && *f.at_utc >= first_epoch + seconds(*run_s)) {
       throw ConfigError(where + fmt::format("at_utc: {} is not before the end of the run ({} + --duration {:g} s): the "
-                                            "fault would never start", format_iso8601_utc(*f.at_utc),
-                                            format_iso8601_utc(*timeline.start_time), run_s));
+                                            "fault would never start{}", format_iso8601_utc(*f.at_utc), first, *run_s,
+                                            advice));
+    }
+    // An area's fault is armed from at_utc (its duration is a visit's): never over before the run.
+    if (f.duration_s && !f.where && *f.at_utc + seconds(*f.duration_s + f.ramp_out_s) <= first_epoch) {
+      throw ConfigError(where + fmt::format("at_utc: {} + {:g} s is over before the run begins ({}): the fault would "
+                                            "never be on{}", format_iso8601_utc(*f.at_utc), *f.duration_s + f.ramp_out_s,
+                                            first, advice));
     }
   }
 }

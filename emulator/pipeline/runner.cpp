@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "emulator/config/config_options.hpp"
 #include "emulator/pipeline/channel_set.hpp"
 #include "emulator/pipeline/epoch_loop.hpp"
 #include "emulator/pipeline/rtk_receiver.hpp"
@@ -66,6 +67,14 @@ Runner::Runner(RunSettings settings, std::optional<RunnerIo> io)
     : loop_(std::move(settings.loop)),
       timeline_(choose_timeline(loop_.rate_hz, loop_.start_time, system_utc_now(), settings.receivers.size(),
                                 with_pps(loop_, io))) {
+  // Without --start-time the first epoch is known only now, and with it whether an at_utc fault
+  // falls inside the run (config/scenario.cpp checks the rest at start-up).
+  if (!loop_.start_time) {
+    std::optional<double> run_s;
+    if (loop_.epochs) run_s = static_cast<double>(*loop_.epochs) / loop_.rate_hz;
+    for (const ReceiverSetup& r : settings.receivers)
+      check_fault_utc_times(r.channel.faults.faults, timeline_.first_epoch(), run_s, true);
+  }
   channels_ = std::make_unique<ChannelSet>(timeline_, loop_.epochs);
   for (const ReceiverSetup& r : settings.receivers) {
     auto ch = std::make_unique<Channel>(r.channel, timeline_.first_epoch());
