@@ -207,5 +207,23 @@ TEST(UnixLineServer, ASilentClientIsToldAndClosedAfterTheIdleTimeoutAWatcherStay
   std::filesystem::remove_all(dir);
 }
 
+// `printf '{"status":true}' | nc -U PATH`: the last line has no '\n' and the client shuts its end
+// to wait for the answer. It was dropped unanswered and uncounted; it is answered like any line.
+TEST(UnixLineServer, ALastLineWithoutItsEndIsAnsweredWhenTheClientShutsItsEnd) {
+  const auto dir = test::scratch_dir("transport", "unix-line-eof");
+  const std::string path = (dir / "ctl.sock").string();
+  UnixLineServer server(path, settings());
+  UniqueFd client = connect_to(path);
+  const std::string request = "first\nlast";
+  ASSERT_EQ(::send(client.get(), request.data(), request.size(), MSG_NOSIGNAL), static_cast<ssize_t>(request.size()));
+  ASSERT_EQ(::shutdown(client.get(), SHUT_WR), 0);
+  ASSERT_TRUE(serve_until(server, [&] { return server.stats().lines_answered == 2; }, "answer"));
+  EXPECT_EQ(read_line(client.get()), "answer");
+  EXPECT_EQ(read_line(client.get()), "answer");
+  char c = 0;
+  EXPECT_EQ(::recv(client.get(), &c, 1, 0), 0);  // then closed
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace gpsemu::posix
