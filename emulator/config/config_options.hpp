@@ -72,12 +72,6 @@ void check_fault_receivers(const std::vector<faults::Fault>& faults, std::size_t
 /// Every fault starts before the end of the run (--duration; an `at_utc` when --start-time is
 /// known): one that never would is refused. Throws ConfigError naming its file, line and key.
 void check_fault_times(const std::vector<faults::Fault>& faults, const TimelineSettings& timeline);
-/// Every `at_utc` fault starts before the end of a run whose first epoch is `first_epoch` and
-/// lasts `run_s` (none: until stopped), and is not over before it begins. `first_epoch_is_now`:
-/// no --start-time, the run's own first epoch (the messages say so). Throws ConfigError naming
-/// its file, line and key.
-void check_fault_utc_times(const std::vector<faults::Fault>& faults, UtcNs first_epoch, std::optional<double> run_s,
-                           bool first_epoch_is_now);
 /// No two spoofs act on one receiver at once (their drags would add up unnoticed). Throws
 /// ConfigError naming the second one's file and line and the first one.
 void check_fault_overlaps(const std::vector<faults::Fault>& faults, const TimelineSettings& timeline);

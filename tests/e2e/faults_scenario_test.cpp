@@ -216,5 +216,25 @@ TEST(FaultsScenario, AnAtUtcOutsideARunThatStartsNowIsRefused) {
   std::filesystem::remove_all(dir);
 }
 
+// --duration 5 at 1 Hz: the last epoch is at 4 s, so a fault at 4.5 s would never start (it was
+// accepted, "0 epochs" in the summary). A u-blox may be asked for a faster rate by its client: there
+// the fault may still come, and it is accepted.
+TEST(FaultsScenario, AFaultAfterTheLastEpochOfTheRunIsRefused) {
+  const auto dir = test::scratch_dir("faults", "last-epoch");
+  const auto late = test::write_file(dir / "late.toml", "[[fault]]\nkind = \"outage\"\nat = 4.5\n");
+  const test::Result r = test::run_fast(GPSEMU_BINARY, {"--duration", "5", "--scenario", late.string()});
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_TRUE(test::contains(r.err, "late.toml:3: [[fault]]: at: 4.5 s is after the run's last epoch (at 4 s of --duration "
+                                    "5 s): the fault would never start"))
+      << r.err;
+  EXPECT_EQ(r.out, "");
+  const test::Result ten_hz = test::run_fast(GPSEMU_BINARY, {"--duration", "5", "--rate", "10", "--scenario", late.string()});
+  EXPECT_EQ(ten_hz.status, 0) << ten_hz.err;
+  const test::Result ublox =
+      test::run_fast(GPSEMU_BINARY, {"--duration", "5", "--receiver", "ublox-m8n", "--scenario", late.string()});
+  EXPECT_EQ(ublox.status, 0) << ublox.err;
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace gpsemu
