@@ -80,4 +80,15 @@ inline constexpr std::uint64_t kMaxConfigFileBytes = 1024 * 1024;
 [[nodiscard]] Config build_config_from_text(std::string_view toml_text, const std::string& source_name,
                                             const RawOptions& command_line);
 
+/// What the run knows of its epochs once it starts (the Runner; --start-time: at start-up too).
+struct RunTimes {
+  UtcNs first_epoch;
+  bool first_epoch_is_now = false;     ///< no --start-time: the run's own first epoch (messages say so)
+  std::optional<double> run_s;         ///< --duration (none: until stopped)
+  std::optional<double> last_epoch_s;  ///< the last epoch after the first, when no receiver leaves the run's grid
+};
+/// Every fault starts in the run: an `at_utc` before its end and not over before it begins, and
+/// none after the last epoch (when that is known). Throws ConfigError naming its file, line and key.
+void check_fault_run_times(const std::vector<faults::Fault>& faults, const RunTimes& run);
+
 }  // namespace gpsemu

@@ -134,19 +134,46 @@ void check_fault_overlaps(const std::vector<faults::Fault>& faults, const Timeli
 }
 
 void check_fault_times(const std::vector<faults::Fault>& faults, const TimelineSettings& timeline) {
-  if (!timeline.duration_s) return;
-  const double run_s = *timeline.duration_s;
-  for (const faults::Fault& f : faults) {
-    const std::string where = f.origin.file.empty() ? fmt::format("fault {}: ", f.describe()) : f.origin.prefix(f.at_utc ? "at_utc" : "at");
-    if (!f.at_utc && f.at_s >= run_s) {
+  if (timeline.duration_s) {
+    const double run_s = *timeline.duration_s;
+    for (const faults::Fault& f : faults) {
+      if (f.at_utc || f.at_s < run_s) continue;
+      const std::string where = f.origin.file.empty() ? fmt::format("fault {}: ", f.describe()) : f.origin.prefix("at");
       throw ConfigError(fmt::format("{}at: {:g} s is not before the end of the run (--duration {:g} s): the fault would "
                                     "never start", where, f.at_s, run_s));
     }
-    if (f.at_utc && timeline.start_time &&
-        *f.at_utc >= *timeline.start_time + std::chrono::duration_cast<UtcNs::duration>(std::chrono::duration<double>(run_s))) {
+  }
+  // Without --start-time the first epoch is known when the run starts (Runner): checked there.
+  if (timeline.start_time) check_fault_run_times(faults, {*timeline.start_time, false, timeline.duration_s, std::nullopt});
+}
+
+void check_fault_run_times(const std::vector<faults::Fault>& faults, const RunTimes& run) {
+  const std::string first = run.first_epoch_is_now ? fmt::format("its first epoch, now: {}", format_iso8601_utc(run.first_epoch))
+                                                   : format_iso8601_utc(run.first_epoch);
+  const std::string advice = run.first_epoch_is_now ? "; --start-time T runs it at another time" : "";
+  const auto seconds = [](double s) { return std::chrono::duration_cast<UtcNs::duration>(std::chrono::duration<double>(s)); };
+  for (const faults::Fault& f : faults) {
+    const std::string key = f.at_utc ? "at_utc" : "at";
+    const std::string where = f.origin.file.empty() ? fmt::format("fault {}: ", f.describe()) : f.origin.prefix(key);
+    if (f.at_utc && run.run_s && *f.at_utc >= run.first_epoch + seconds(*run.run_s)) {
       throw ConfigError(where + fmt::format("at_utc: {} is not before the end of the run ({} + --duration {:g} s): the "
-                                            "fault would never start", format_iso8601_utc(*f.at_utc),
-                                            format_iso8601_utc(*timeline.start_time), run_s));
+                                            "fault would never start{}", format_iso8601_utc(*f.at_utc), first, *run.run_s,
+                                            advice));
+    }
+    // An area's fault is armed from at_utc (its duration is a visit's): never over before the run.
+    if (f.at_utc && f.duration_s && !f.where && *f.at_utc + seconds(*f.duration_s + f.ramp_out_s) <= run.first_epoch) {
+      throw ConfigError(where + fmt::format("at_utc: {} + {:g} s is over before the run begins ({}): the fault would "
+                                            "never be on{}", format_iso8601_utc(*f.at_utc), *f.duration_s + f.ramp_out_s,
+                                            first, advice));
+    }
+    // Between the last epoch and the end of --duration: no epoch comes at or after it.
+    const double start_s = f.at_utc ? std::chrono::duration<double>(*f.at_utc - run.first_epoch).count() : f.at_s;
+    const auto ns = [](double s) { return std::llround(s * 1e9); };
+    if (run.last_epoch_s && run.run_s && ns(start_s) > ns(*run.last_epoch_s)) {
+      const std::string what = f.at_utc ? fmt::format("{} ({:g} s after the first epoch)", format_iso8601_utc(*f.at_utc), start_s)
+                                        : fmt::format("{:g} s", start_s);
+      throw ConfigError(where + fmt::format("{}: {} is after the run's last epoch (at {:g} s of --duration {:g} s): the "
+                                            "fault would never start", key, what, *run.last_epoch_s, *run.run_s));
     }
   }
 }

@@ -1,5 +1,6 @@
 #include "emulator/faults/control.hpp"
 
+#include <limits>
 #include <optional>
 #include <stdexcept>
 
@@ -70,6 +71,29 @@ std::optional<std::string> spoof_on(const FaultTimeline& t) {
   return std::nullopt;
 }
 
+/// A spoof of `t`'s scenario still to start (or an area's, armed) while the live spoof `live` would
+/// be on, from the next epoch to its end (its ramp_out_s included; none: until cleared): the
+/// refusal's message for receiver `i`, if any.
+std::optional<std::string> spoof_ahead(std::size_t i, const FaultTimeline& t, const Fault& live) {
+  if (t.clear_pending(FaultKind::spoof)) return std::nullopt;
+  constexpr double kForever = std::numeric_limits<double>::infinity();
+  const double now_s = t.last_epoch().since_s;
+  const double live_end_s = live.duration_s && !live.where ? now_s + *live.duration_s + live.ramp_out_s : kForever;
+  for (const FaultTimeline::Entry& e : t.entries()) {
+    const Fault& f = e.fault;
+    if (f.kind != FaultKind::spoof || e.ended || e.cleared || e.active || e.fading_from_s) continue;
+    const double end_s = f.duration_s && !f.where ? f.at_s + *f.duration_s + f.ramp_out_s : kForever;
+    if (f.at_s >= live_end_s || end_s <= now_s) continue;
+    std::string what = fmt::format("spoof: receiver {} has {} from {:g} s", i,
+                                   f.where ? "an area's spoof armed" : "a spoof scheduled", f.at_s);
+    if (!f.origin.file.empty()) what += fmt::format(" ({}:{})", f.origin.file, f.origin.table_line);
+    what += ": two spoofers would add their drags; ";
+    if (f.where || f.at_s - now_s - live.ramp_out_s <= 0.0) return what + "clear spoof first";
+    return what + fmt::format("give a duration under {:g} s, or clear spoof first", f.at_s - now_s - live.ramp_out_s);
+  }
+  return std::nullopt;
+}
+
 std::string fault_message(const json& message, const std::vector<FaultTimeline*>& timelines) {
   FaultKeys keys;
   for (const auto& [key, value] : message.items()) {
@@ -95,6 +119,7 @@ std::string fault_message(const json& message, const std::vector<FaultTimeline*>
       throw std::invalid_argument(fmt::format("spoof: receiver {} has a spoof on ({}): two spoofers would add their drags; "
                                               "clear spoof first", i, *other));
     }
+    if (const auto ahead = spoof_ahead(i, *timelines[i], fault)) throw std::invalid_argument(*ahead);
   }
   for (const std::size_t i : receivers) timelines[i]->add_live(fault, recorded(message, i));
   const std::string what = live_description(fault);

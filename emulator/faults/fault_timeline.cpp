@@ -105,16 +105,8 @@ bool fades(const Fault& f) {
 
 void FaultTimeline::take_pending(UtcNs t, double since_s, const nmea::Fix& fix) {
   applied_.clear();
-  for (std::size_t i = 0; i < pending_.size(); ++i) {
-    Fault& f = pending_[i];
-    f.at_s = since_s;
-    keeps_last_ = keeps_last_ || f.kind == FaultKind::freeze;
-    if (keeps_last_ && !last_) last_ = fix;  // a live freeze before any was kept: this epoch's
-    entries_.push_back({std::move(f)});
-    if (!pending_requests_[i].empty()) applied_.push_back({t, since_s, std::move(pending_requests_[i])});
-  }
-  pending_.clear();
-  pending_requests_.clear();
+  // The clears first: a clear took the live faults of its kind accepted before it off pending_
+  // (clear()), so those still pending came after it and must not end with it.
   for (auto& [kind, request] : pending_clears_) {
     for (Entry& e : entries_) {
       if (e.fault.kind != kind || e.ended || e.cleared) continue;
@@ -125,6 +117,16 @@ void FaultTimeline::take_pending(UtcNs t, double since_s, const nmea::Fix& fix) 
     if (!request.empty()) applied_.push_back({t, since_s, std::move(request)});
   }
   pending_clears_.clear();
+  for (std::size_t i = 0; i < pending_.size(); ++i) {
+    Fault& f = pending_[i];
+    f.at_s = since_s;
+    keeps_last_ = keeps_last_ || f.kind == FaultKind::freeze;
+    if (keeps_last_ && !last_) last_ = fix;  // a live freeze before any was kept: this epoch's
+    entries_.push_back({std::move(f)});
+    if (!pending_requests_[i].empty()) applied_.push_back({t, since_s, std::move(pending_requests_[i])});
+  }
+  pending_.clear();
+  pending_requests_.clear();
   for (const AppliedEvent& a : applied_)
     spdlog::info("{}control: applied {} at epoch {} (+{:.3f} s)", who_, a.request, format_iso8601_utc(t), since_s);
 }

@@ -112,13 +112,16 @@ void ControlSocket::log_drops() {
   const std::uint64_t not_reading = more(s.clients_not_reading, logged_.clients_not_reading);
   const std::uint64_t too_long = more(s.lines_too_long, logged_.lines_too_long);
   if (refused + idle + not_reading + too_long == 0) return;
-  if (transport::log_limited(drop_log_, spdlog::level::warn,
-                             "control socket {}: {} client(s) refused (already {} connected), {} closed idle (no request "
-                             "for {:g} s), {} dropped (not reading their answers), {} line(s) too long",
-                             server_.path(), refused, posix::UnixLineServer::kMaxClients, idle,
-                             std::chrono::duration<double>(server_.idle_timeout()).count(), not_reading, too_long)) {
-    logged_ = s;
-  }
+  // Only what happened: "1 client(s) refused (already 8 connected); 2 closed idle (no request for 30 s)".
+  std::string what;
+  const auto add = [&what](std::uint64_t n, std::string text) {
+    if (n > 0) what += (what.empty() ? "" : "; ") + fmt::format("{} {}", n, text);
+  };
+  add(refused, fmt::format("client(s) refused (already {} connected)", posix::UnixLineServer::kMaxClients));
+  add(idle, fmt::format("closed idle (no request for {:g} s)", std::chrono::duration<double>(server_.idle_timeout()).count()));
+  add(not_reading, "dropped (not reading their answers)");
+  add(too_long, "line(s) too long");
+  if (transport::log_limited(drop_log_, spdlog::level::warn, "control socket {}: {}", server_.path(), what)) logged_ = s;
 }
 
 std::string ControlSocket::summary() const {

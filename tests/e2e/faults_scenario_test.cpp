@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <string>
 
@@ -186,6 +187,53 @@ TEST(FaultsScenario, ABadKeyIsOneClearMessageAndExit2) {
   const test::Result n = test::run_fast(GPSEMU_BINARY, {"--duration", "5", "--scenario", other.string()});
   EXPECT_EQ(n.status, 2);
   EXPECT_TRUE(test::contains(n.err, "other.toml:3: [[fault]]: receiver: there is no receiver 3")) << n.err;
+}
+
+// Without --start-time the run begins now: an at_utc the run never reaches, or one over before it
+// begins, is refused at start-up as an `at` past --duration is (it was accepted, 0 epochs).
+TEST(FaultsScenario, AnAtUtcOutsideARunThatStartsNowIsRefused) {
+  const auto dir = test::scratch_dir("faults", "utc-now");
+  const auto late = test::write_file(dir / "late.toml", "[[fault]]\nkind = \"outage\"\n\nat_utc = \"2099-01-01T00:00:00Z\"\n");
+  const test::Result r = test::run({GPSEMU_BINARY, "--fast", "--duration", "5", "--output", "stdout", "--scenario", late.string()});
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_TRUE(test::contains(r.err, "late.toml:4: [[fault]]: at_utc: 2099-01-01T00:00:00.000Z is not before the end of the run "
+                                    "(its first epoch, now: "))
+      << r.err;
+  EXPECT_TRUE(test::contains(r.err, "--start-time T runs it at another time")) << r.err;
+  EXPECT_EQ(r.out, "");  // refused before the first epoch
+  const auto past = test::write_file(dir / "past.toml",
+                                     "[[fault]]\nkind = \"jam\"\ndb = 30\nat_utc = \"2020-01-01T00:00:00Z\"\nduration = 60\n");
+  const test::Result p = test::run({GPSEMU_BINARY, "--fast", "--duration", "5", "--output", "stdout", "--scenario", past.string()});
+  EXPECT_EQ(p.status, 2) << p.err;
+  EXPECT_TRUE(test::contains(p.err, "past.toml:4: [[fault]]: at_utc: 2020-01-01T00:00:00.000Z + 60 s is over before the run "
+                                    "begins"))
+      << p.err;
+  // Begun before the run and still on: accepted, on from the first epoch.
+  const auto on = test::write_file(dir / "on.toml", "[[fault]]\nkind = \"outage\"\nat_utc = \"2020-01-01T00:00:00Z\"\n");
+  const test::Result ok = test::run({GPSEMU_BINARY, "--fast", "--duration", "3", "--output", "stdout", "--scenario", on.string()});
+  EXPECT_EQ(ok.status, 0) << ok.err;
+  EXPECT_TRUE(test::contains(ok.err, "3 epochs emitted (3 without fix)")) << ok.err;
+  std::filesystem::remove_all(dir);
+}
+
+// --duration 5 at 1 Hz: the last epoch is at 4 s, so a fault at 4.5 s would never start (it was
+// accepted, "0 epochs" in the summary). A u-blox may be asked for a faster rate by its client: there
+// the fault may still come, and it is accepted.
+TEST(FaultsScenario, AFaultAfterTheLastEpochOfTheRunIsRefused) {
+  const auto dir = test::scratch_dir("faults", "last-epoch");
+  const auto late = test::write_file(dir / "late.toml", "[[fault]]\nkind = \"outage\"\nat = 4.5\n");
+  const test::Result r = test::run_fast(GPSEMU_BINARY, {"--duration", "5", "--scenario", late.string()});
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_TRUE(test::contains(r.err, "late.toml:3: [[fault]]: at: 4.5 s is after the run's last epoch (at 4 s of --duration "
+                                    "5 s): the fault would never start"))
+      << r.err;
+  EXPECT_EQ(r.out, "");
+  const test::Result ten_hz = test::run_fast(GPSEMU_BINARY, {"--duration", "5", "--rate", "10", "--scenario", late.string()});
+  EXPECT_EQ(ten_hz.status, 0) << ten_hz.err;
+  const test::Result ublox =
+      test::run_fast(GPSEMU_BINARY, {"--duration", "5", "--receiver", "ublox-m8n", "--scenario", late.string()});
+  EXPECT_EQ(ublox.status, 0) << ublox.err;
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -150,6 +150,16 @@ void UnixLineServer::service(const WatchHandler& handle) {
     while (true) {
       const ssize_t n = ::recv(c.fd.get(), buffer, sizeof buffer, MSG_DONTWAIT);
       if (n == 0 || (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) {
+        // Its end closed: a last line without '\n' is still a request (printf '...' | nc -U PATH).
+        if (n == 0 && !c.discarding && !c.pending.empty()) {
+          std::string line = std::move(c.pending);
+          c.pending.clear();
+          if (line.back() == '\r') line.pop_back();
+          if (!line.empty()) {
+            ++stats_.lines_answered;
+            (void)send_line(c.fd.get(), handle(line, c.watch));
+          }
+        }
         gone = true;
         break;
       }

@@ -1,6 +1,7 @@
 // A Unix-domain (or loopback TCP) stream socket that takes text lines from a few clients and
 // answers each line with one line (the control socket: JSON lines in, one JSON answer each). Never blocks: the caller
-// polls fds() and calls service() when one is readable (and between epochs). A line longer than
+// polls fds() and calls service() when one is readable (and between epochs). A client's last line
+// may lack its '\n' (it is answered when the client shuts its end). A line longer than
 // kMaxLineBytes, or a client whose answers do not fit its socket buffer, is dropped; a client beyond
 // kMaxClients is told so and closed; a client silent for the idle timeout is told so and closed (so
 // idle connections never lock the operator out); each counted in stats(). A path where another

@@ -76,5 +76,30 @@ TEST(Scenario, TwoSpoofsOnOneReceiverAtOnceAreRefused) {
   EXPECT_NO_THROW((void)build_config(std::nullopt, {{"scenario", {apart}}, {"receivers", {"2"}}, {"output", {"file:/tmp/gpsemu_scn_{i}.nmea"}}}));
 }
 
+// What the run knows once it starts (its first epoch, its last one on the run's grid): an at_utc
+// outside it, or an at after the last epoch, is refused naming file, line and key.
+TEST(Scenario, AFaultOutsideTheRunsOwnEpochsIsRefused) {
+  const auto file = write_temp("run.toml", "[[fault]]\nkind = \"outage\"\nat = 9.5\n[[fault]]\nkind = \"outage\"\n"
+                                           "at_utc = \"2026-05-01T11:00:00Z\"\nduration = 60\n");
+  const Config c = build_config(std::nullopt, {{"scenario", {file}}});
+  const UtcNs first = parse_iso8601_utc("2026-05-01T12:00:00Z");
+  const auto error_of_run = [&](const RunTimes& run) {
+    try {
+      check_fault_run_times(c.timeline.faults, run);
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error_of_run({first, true, 10.0, 9.0}),
+            "scenario file " + file + ":3: [[fault]]: at: 9.5 s is after the run's last epoch (at 9 s of --duration 10 s): the "
+            "fault would never start");
+  EXPECT_EQ(error_of_run({first, true, 10.0, std::nullopt}),  // a u-blox's client may ask for a faster rate
+            "scenario file " + file + ":6: [[fault]]: at_utc: 2026-05-01T11:00:00.000Z + 60 s is over before the run begins "
+            "(its first epoch, now: 2026-05-01T12:00:00.000Z): the fault would never be on; --start-time T runs it at another "
+            "time");
+  EXPECT_EQ(error_of_run({parse_iso8601_utc("2026-05-01T11:00:30Z"), false, 10.0, 9.5}), "");
+}
+
 }  // namespace
 }  // namespace gpsemu

@@ -164,5 +164,53 @@ TEST(FaultControl, ASecondSpoofOnAReceiverWithOneOnIsRefused) {
   EXPECT_EQ(r.ask(R"({"fault":"spoof","speed_mps":1,"receiver":0})")["class"], "FAULT");  // after the clear
 }
 
+// A live spoof on a receiver whose scenario has a spoof to come would stack with it when that one
+// starts (the two drags added, 95 m in the trial): refused, naming the scheduled one and the longest
+// duration that ends before it; one that ends in time is accepted.
+TEST(FaultControl, ALiveSpoofThatWouldOverlapAScheduledSpoofIsRefused) {
+  Fault scheduled = make_fault({{"kind", std::string("spoof")}, {"at", 2.0}, {"duration", 3.0}, {"speed_mps", 5.0}});
+  scheduled.origin = {"scenario file s.toml", 1, {}};
+  FaultTimeline t({{scheduled}, ""}, kStart);
+  FaultControl control({&t});
+  const LocalFrame frame({47.0, 8.0, 400.0});
+  nmea::Fix fix;
+  (void)t.apply(kStart + milliseconds(500), fix, Enu{}, frame, nullptr);
+  const json on = json::parse(control.handle(R"({"fault":"spoof","speed_mps":2})"));
+  EXPECT_EQ(on["class"], "ERROR");
+  EXPECT_EQ(on["message"], "spoof: receiver 0 has a spoof scheduled from 2 s (scenario file s.toml:1): two spoofers would add "
+                           "their drags; give a duration under 1.5 s, or clear spoof first");
+  const json fading = json::parse(control.handle(R"({"fault":"spoof","speed_mps":2,"duration":1,"ramp_out_s":1})"));
+  EXPECT_EQ(fading["class"], "ERROR") << fading;  // its fade out would still be on at 2 s
+  const json brief = json::parse(control.handle(R"({"fault":"spoof","speed_mps":2,"duration":1})"));
+  EXPECT_EQ(brief["class"], "FAULT") << brief;
+  // After the scheduled one ends, a spoof until cleared is fine.
+  for (int ms = 1000; ms <= 5000; ms += 500) (void)t.apply(kStart + milliseconds(ms), fix, Enu{}, frame, nullptr);
+  EXPECT_EQ(json::parse(control.handle(R"({"fault":"spoof","speed_mps":2})"))["class"], "FAULT");
+}
+
+// `clear spoof` then `spoof ...` before the next epoch (an operator changing the spoof's speed):
+// the clear ends the old spoof only; the new one starts at the next epoch (it was ended unstarted,
+// though the answer said it would start), and the --tee file records them in that order.
+TEST(FaultControl, AFaultAskedForAfterAClearOfItsKindStartsAtTheNextEpoch) {
+  TwoReceivers r;
+  r.epoch(0);
+  ASSERT_EQ(r.ask(R"({"fault":"spoof","speed_mps":2,"receiver":0})")["class"], "FAULT");
+  r.epoch(100);
+  ASSERT_EQ(r.ask(R"({"clear":"spoof","receiver":0})")["cleared"], 1);
+  ASSERT_EQ(r.ask(R"({"fault":"spoof","speed_mps":4,"receiver":0})")["class"], "FAULT");
+  r.epoch(200);
+  ASSERT_EQ(r.a.entries().size(), 2u);
+  EXPECT_TRUE(r.a.entries()[0].cleared);
+  EXPECT_FALSE(r.a.entries()[1].ended);
+  EXPECT_TRUE(r.a.entries()[1].active);
+  EXPECT_DOUBLE_EQ(r.a.entries()[1].fault.speed_mps, 4.0);
+  ASSERT_EQ(r.a.applied_events().size(), 2u);
+  EXPECT_EQ(r.a.applied_events()[0].request, R"({"clear":"spoof","receiver":0})");
+  EXPECT_EQ(r.a.applied_events()[1].request, R"({"fault":"spoof","receiver":0,"speed_mps":4})");
+  const json status = r.ask(R"({"status":true})");
+  EXPECT_EQ(status["receivers"][0]["faults"].size(), 1u) << status;
+  EXPECT_EQ(status["receivers"][0]["faults"][0]["describe"], "spoof speed_mps=4 bearing_deg=0 undetected at 0.2 s to the end");
+}
+
 }  // namespace
 }  // namespace gpsemu::faults
