@@ -103,9 +103,8 @@ int run_base(const Config& config, const BaseOptions& options, const CLI::App& m
   for (const OptionDef& o : option_table()) {
     if (main_app.get_option("--" + o.name)->count() == 0) continue;
     if (std::find(kBaseReads.begin(), kBaseReads.end(), o.name) != kBaseReads.end()) continue;
-    throw std::invalid_argument(fmt::format("--{} does not apply to 'gpsemu base' (it reads --output, --origin, "
-                                            "--duration, --clock, --fast, --start-time, --ephemeris, --elevation-mask "
-                                            "and its own options: gpsemu base --help)", o.name));
+    throw std::invalid_argument(fmt::format("--{} does not apply to 'gpsemu base' (gpsemu base --help lists what it "
+                                            "reads)", o.name));
   }
   TimelineSettings timeline = config.timeline;
   timeline.rate_hz = 1.0;  // a base writes once a second
@@ -186,11 +185,11 @@ Subcommand add_base_command(CLI::App& app) {
       ->option_text("N");
   sub->add_option("--antenna-height", options->antenna_height, "antenna height above the marker, 0..6.5535 metres: "
                   "1006 with it instead of 1005 (default: 1005)")->option_text("M");
-  sub->footer("Also reads: --origin LAT,LON,ALT (the antenna reference point; default the emulator's 43.0725,-89.4125,260), "
-              "--output SPEC (repeatable), --tee FILE, --duration S, --clock realtime|scaled:K, --fast, --start-time, "
-              "--latency S, --ephemeris FILE, --elevation-mask DEG, --seed N, --log-level.\n"
-              "Example: gpsemu base --output udp:127.0.0.1:2101 --clock scaled:10 & "
-              "gpsemu --receiver ublox-f9p --rtcm udp:2101 --clock scaled:10");
+  sub->footer("Of the options of gpsemu it reads only: --origin LAT,LON,ALT (the antenna reference point; default the "
+              "emulator's 43.0725,-89.4125,260), --output SPEC (repeatable), --tee FILE, --duration S, --clock "
+              "realtime|scaled:K, --fast, --start-time, --latency S, --ephemeris FILE, --elevation-mask DEG, --seed N, "
+              "--log-level, --realtime-priority, --lock-memory, --timer-slack; any other is refused (exit 2).\n"
+              "Example: gpsemu base --clock scaled:10 & gpsemu --receiver ublox-f9p --rtcm udp:2101 --clock scaled:10");
   return {sub, [options, &app](const Config& config, const std::atomic<bool>& stop) {
             return run_base(config, *options, app, stop);
           }};
