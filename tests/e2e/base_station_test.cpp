@@ -248,6 +248,15 @@ TEST(BaseStation, GpsdecodeReadsEveryMessageType) {
   fs::remove_all(dir);
 }
 
+TEST(BaseStation, WithoutAnOutputItSendsToTheRoversDefaultPort) {
+  // Not the emulator's pty:/tmp/gpsemu: the UDP port `gpsemu --rtcm udp:2101` listens on (sending
+  // needs no listener, so no port is taken here).
+  const test::Result r = test::run({GPSEMU_BINARY, "base", "--fast", "--duration", "2"});
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(test::contains(r.err, "RTCM3 on udp:127.0.0.1:2101")) << r.err;
+  EXPECT_TRUE(test::contains(r.err, "udp:127.0.0.1:2101: 2 epochs written")) << r.err;
+}
+
 TEST(BaseStation, BadOptionsExitTwoWithOneLineNamingThem) {
   const struct {
     std::vector<std::string> args;
