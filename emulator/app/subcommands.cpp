@@ -9,6 +9,7 @@ namespace gpsemu {
 std::vector<Subcommand> add_subcommands(CLI::App& app) {
   std::vector<Subcommand> all;
   // each subcommand adds its line here
+  all.push_back(add_base_command(app));
   all.push_back(add_calibrate_command(app));
   all.push_back(add_compare_command(app));
   all.push_back(add_ctl_command(app));

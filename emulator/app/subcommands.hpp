@@ -1,4 +1,4 @@
-// Subcommands of gpsemu besides the emulator itself (calibrate, compare, replay, ports, ...).
+// Subcommands of gpsemu besides the emulator itself (base, calibrate, compare, replay, ports, ...).
 // Each lives in its own file and registers here; the main options (--output, --seed, ...) are
 // parsed for them too, before or after the subcommand's name.
 #pragma once
@@ -19,6 +19,8 @@ struct Subcommand {
   std::function<int(const Config&, const std::atomic<bool>& stop)> run;
 };
 
+/// `gpsemu base`: a simulated RTK base station writing RTCM3 (base_command.cpp).
+[[nodiscard]] Subcommand add_base_command(CLI::App& app);
 /// `gpsemu ctl PATH ...`: the control socket's client (ctl_command.cpp).
 [[nodiscard]] Subcommand add_ctl_command(CLI::App& app);
 /// `gpsemu profiles [NAME]`: the receiver profiles (profiles_command.cpp).

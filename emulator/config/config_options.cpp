@@ -346,7 +346,10 @@ std::vector<OptionDef> make_option_table() {
   add("output", "SPEC", "where NMEA goes, repeatable: pty[:LINK] | file:PATH[?mode=append|new] (truncated unless append; new: must not exist) | stdout | serial:DEVICE[@BAUD] | "
       "serial:usb:VID:PID[:SERIAL][@BAUD] (8N1; BAUD 4800..921600, default 9600) | tcp:[HOST:]PORT (server; HOST "
       "default 127.0.0.1) | udp:HOST:PORT, e.g. pty:/tmp/gps or serial:/dev/ttyUSB0@115200 (default pty:/tmp/gpsemu)",
-      [](ConfigDraft& d, V v) { d.receiver.outputs = v; }, true);
+      [](ConfigDraft& d, V v) {
+        d.receiver.outputs = v;
+        d.receiver.settings.outputs_given = true;
+      }, true);
   add("tee", "FILE", "also write everything sent to FILE, each epoch after a '# sent <UTC send time>' line "
       "(gpsemu replay reads it back; truncated) (default none)",
       [](ConfigDraft& d, V v) { d.receiver.tee = v.back(); });

@@ -81,6 +81,7 @@ struct ReceiverSettings {
   std::optional<std::string> receiver_state;   ///< --receiver-state: a u-blox's BBR and flash kept across runs
   ubx::ReceiverModel ublox_model = ubx::ReceiverModel::generic;  ///< --receiver (MON-VER, configuration interface)
   std::vector<transport::OutputSpec> outputs;  ///< where NMEA goes (parsed --output specs)
+  bool outputs_given = false;                  ///< --output was given (else the default; `gpsemu base` has its own)
   std::optional<std::string> tee;              ///< file copying everything sent, with send times (default none)
   std::optional<transport::RtcmInputSpec> rtcm;  ///< --rtcm: a base station's RTCM3 stream (docs/rtk.md)
   rtk::RtkTimeline rtk;                        ///< --rtk-*: the RTK state timeline (docs/rtk.md)

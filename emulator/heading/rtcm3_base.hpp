@@ -4,13 +4,10 @@
 // multiple-message bit set on all but the last), then 1230 (GLONASS code-phase biases, none).
 // Pure: the base's fix in, frames out.
 //
-// MSM4 (RTCM 10403.3): header DF002 DF003, the system's epoch time (GPS/Galileo/QZSS TOW ms,
-// BeiDou TOW ms of BDT = GPS - 14 s, GLONASS day of week + time of day of Moscow time), DF393
-// DF409 DF001(7) DF411 DF412 DF417 DF418, satellite mask (64), signal mask (32: one L1/B1/E1/G1
-// signal, ID 2), cell mask; then DF397/DF398 rough ranges per satellite and DF400 DF401 DF402
-// DF420 DF403 per cell. The ranges are geometric: from the satellite's elevation and its orbit's
-// radius (no clocks, no atmosphere), so a decoder sees plausible 64-90 ms ranges; the rover
-// emulator does not use them.
+// MSM4 (rtk/rtcm3_msm.hpp, the encoder `gpsemu base` shares): one L1/B1/E1/G1 signal a satellite.
+// The ranges are geometric from the satellite's elevation and its orbit's radius (no clocks, no
+// atmosphere), so a decoder sees plausible 64-90 ms ranges; the rover emulator does not use them.
+// (`gpsemu base` computes its ranges from the orbits themselves: base/base_station.hpp.)
 //
 // 4072.0 is u-blox proprietary and undocumented; gpsemu writes message 4072, sub-type 0 (12 bits)
 // and its own body: station ID (12), GPS TOW ms (30), the base antenna's ECEF X, Y, Z (38 bits

@@ -179,11 +179,15 @@ std::string encode_msm(std::uint16_t type, std::uint16_t station_id, std::uint32
   return w.bytes();
 }
 
-std::string encode_1230(std::uint16_t station_id) {
+std::string encode_1230(std::uint16_t station_id, unsigned signals_mask) {
   BitWriter w;
   w.u(1230, 12);
   w.u(station_id, 12);
-  w.u(0, 1 + 3 + 4);
+  w.u(0, 1 + 3);                  // DF421 not aligned, reserved
+  w.u(signals_mask & 0xFu, 4);    // DF422
+  for (int bit = 3; bit >= 0; --bit) {
+    if ((signals_mask >> bit) & 1u) w.s(0, 16);  // DF423..DF426: 0 m (units of 0.02 m)
+  }
   return w.bytes();
 }
 

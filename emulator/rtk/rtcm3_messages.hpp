@@ -86,7 +86,8 @@ struct Rtcm3Message {
 /// them, MSM4..7 with each satellite's rough range 70 + its index ms, every other field zero.
 [[nodiscard]] std::string encode_msm(std::uint16_t type, std::uint16_t station_id, std::uint32_t epoch_time,
                                      int satellites, int signals);
-/// The payload of a 1230 (GLONASS code-phase biases, none given).
-[[nodiscard]] std::string encode_1230(std::uint16_t station_id);
+/// The payload of a 1230 (GLONASS code-phase biases): not aligned, a bias of 0 m for each signal of
+/// `signals_mask` (DF423: bit 3 L1 C/A, 2 L1 P, 1 L2 C/A, 0 L2 P); none by default.
+[[nodiscard]] std::string encode_1230(std::uint16_t station_id, unsigned signals_mask = 0);
 
 }  // namespace gpsemu::rtk
