@@ -17,3 +17,10 @@ add_test(NAME docs.ublox_tables_are_current
                  -DDOC=${PROJECT_SOURCE_DIR}/docs/ublox.md -DOUT=${CMAKE_CURRENT_BINARY_DIR}/ublox.md.generated
                  -P ${CMAKE_CURRENT_LIST_DIR}/ublox_doc_current.cmake)
 set_tests_properties(docs.ublox_tables_are_current PROPERTIES LABELS unit)
+
+# docs/sky.md's table of the default sky by place is what tools/update-sky-doc writes from this
+# build's gpsemu (48 one-epoch runs, a few seconds).
+add_test(NAME docs.sky_table_is_current
+         COMMAND python3 ${PROJECT_SOURCE_DIR}/tools/update-sky-doc --check
+                 --gpsemu $<TARGET_FILE:gpsemu> --doc ${PROJECT_SOURCE_DIR}/docs/sky.md)
+set_tests_properties(docs.sky_table_is_current PROPERTIES LABELS e2e)
