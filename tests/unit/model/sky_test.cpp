@@ -276,6 +276,10 @@ TEST(SkyOrbits, AnyDateMapsToTheDataDayAtTheSameSiderealTime) {
   EXPECT_NEAR(orbits->map_time(t + sky::kSiderealDayS), m, 1e-6) << "a sidereal day later: the same sky";
   EXPECT_NEAR(orbits->map_time(t + 10.0), m + 10.0, 1e-6) << "time runs on";
   EXPECT_EQ(orbits->map_time(start + 3600.0), start + 3600.0) << "the data's own day is its true sky";
+  // Dates after the file's (a 2026 run of the 2025 file) map into its day too.
+  const double later = orbits->map_time(gps_seconds_of(parse_iso8601_utc("2026-11-28T10:00:00Z")));
+  EXPECT_GE(later, start);
+  EXPECT_LT(later, start + sky::kSiderealDayS);
 }
 
 // --- DOP -----------------------------------------------------------------------------------
