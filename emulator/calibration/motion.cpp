@@ -87,8 +87,9 @@ std::string MotionCheck::describe() const {
   std::string out = fmt::format("net displacement {:.1f} m, sustained speed {:.2f} m/s (median over {:.0f} s windows)",
                                 displacement_m, speed_mps, window_s);
   if (reported_speed_mps)
-    out += fmt::format(", reported speed over ground {:.3f} m/s (median of {:.0f} s means, {} reports)",
-                       *reported_speed_mps, window_s, speed_reports);
+    out += fmt::format(", reported speed over ground {:.3f} m/s (median of {:.0f} s means, {} reports), smoothed "
+                       "track spanning {:.1f} m (its tenths' means; positions scatter {:.1f} m about them)",
+                       *reported_speed_mps, window_s, speed_reports, track_extent_m, block_scatter_m);
   return out;
 }
 
@@ -96,8 +97,10 @@ std::string MotionCheck::describe_limits() const {
   if (reported_speed_mps)
     return fmt::format("limits read from the receiver: a reported speed of {:.2f} m/s with a track at least {:.0f}% "
                        "as fast and {:.2f} m/s, and at most {:.0f}x as fast (a faster track is position error, not "
-                       "motion)", kReportedSpeedLimit_mps, 100 * kTrackShareOfReported, kMinTrackSpeed_mps,
-                       kTrackMultipleOfReported);
+                       "motion), and a smoothed track spanning more than {:.1f} m ({:.0f}x the positions' scatter "
+                       "about it: a track within its own scatter is noise)", kReportedSpeedLimit_mps,
+                       100 * kTrackShareOfReported, kMinTrackSpeed_mps, kTrackMultipleOfReported,
+                       track_extent_limit_m, kTrackExtentInScatter);
   return fmt::format("limits for this log's noise ({:.2f} m about a straight line, {:.3f} m first differences): "
                      "{:.1f} m and {:.2f} m/s", noise_sd_m, noise_d1_sd_m, displacement_limit_m, speed_limit_mps);
 }
@@ -119,6 +122,32 @@ std::optional<double> sustained_reported_speed(std::span<const SpeedReport> spee
   if (count > 0.0) means.push_back(sum / count);
   std::nth_element(means.begin(), means.begin() + static_cast<std::ptrdiff_t>(means.size() / 2), means.end());
   return means[means.size() / 2];
+}
+
+// The smoothed track of the series: the mean horizontal positions of `blocks` consecutive blocks
+// of samples (those with a fix), the largest distance between two of them, and the rms distance of
+// the positions from their own block's mean.
+void smoothed_track(const EnuSeries& s, int blocks, double& extent_m, double& scatter_m) {
+  const std::size_t n = s.size();
+  std::vector<std::array<double, 2>> means;
+  double sum2 = 0.0, count = 0.0;
+  for (int b = 0; b < blocks; ++b) {
+    const std::size_t from = n * static_cast<std::size_t>(b) / static_cast<std::size_t>(blocks);
+    const std::size_t to = n * static_cast<std::size_t>(b + 1) / static_cast<std::size_t>(blocks);
+    double e = 0.0, no = 0.0;
+    if (!mean_over(s, from, to, e, no)) continue;
+    means.push_back({e, no});
+    for (std::size_t k = from; k < to; ++k)
+      if (present(s, k)) {
+        sum2 += std::pow(s.axis_m[0][k] - e, 2) + std::pow(s.axis_m[1][k] - no, 2);
+        count += 1.0;
+      }
+  }
+  extent_m = 0.0;
+  for (std::size_t i = 0; i < means.size(); ++i)
+    for (std::size_t j = i + 1; j < means.size(); ++j)
+      extent_m = std::max(extent_m, std::hypot(means[i][0] - means[j][0], means[i][1] - means[j][1]));
+  scatter_m = count > 0.0 ? std::sqrt(sum2 / count) : 0.0;
 }
 
 }  // namespace
@@ -150,10 +179,13 @@ MotionCheck check_motion(const EnuSeries& s, std::span<const SpeedReport> report
                                                        std::sqrt(static_cast<double>(lag)) / m.window_s);
   m.speed_reports = reports.size();
   m.reported_speed_mps = sustained_reported_speed(reports, m.window_s);
+  smoothed_track(s, kTrackBlocks, m.track_extent_m, m.block_scatter_m);
+  m.track_extent_limit_m = std::max(kMinDisplacementLimit_m, kTrackExtentInScatter * m.block_scatter_m);
   if (m.reported_speed_mps) {
     m.moving = *m.reported_speed_mps >= kReportedSpeedLimit_mps &&
                m.speed_mps >= std::max(kMinTrackSpeed_mps, kTrackShareOfReported * *m.reported_speed_mps) &&
-               m.speed_mps <= kTrackMultipleOfReported * *m.reported_speed_mps;
+               m.speed_mps <= kTrackMultipleOfReported * *m.reported_speed_mps &&
+               m.track_extent_m > m.track_extent_limit_m;
   } else {
     m.moving = m.displacement_m > m.displacement_limit_m || m.speed_mps > m.speed_limit_mps;
   }

@@ -2,8 +2,11 @@
 // driving log would be calibrated as noise as wide as the route. When the log states speeds over
 // ground (RMC, VTG: the receiver's Doppler velocity, which its slow position wander does not
 // show, while the velocity's own noise does not add up to a track), the receiver is read: it moves
-// when its reported speed, sustained over windows, is at least kReportedSpeedLimit_mps and its
-// track goes at least kTrackShareOfReported as fast and kMinTrackSpeed_mps. Otherwise a track moves
+// when its reported speed, sustained over windows, is at least kReportedSpeedLimit_mps, its
+// track goes at least kTrackShareOfReported as fast and kMinTrackSpeed_mps, and its smoothed track
+// (the means of its tenths) spans more than kTrackExtentInScatter times the scatter of its
+// positions about those means (an older chipset reports 5-10 cm/s at rest while its position only
+// scatters about one place). Otherwise a track moves
 // when its net displacement or its sustained speed is well beyond what the log's own noise
 // explains (limits scaled by the noise, see check_motion and docs/noise-and-calibration.md). With --detrend a
 // smooth trajectory (local quadratic least squares over a 10 s window) is removed first instead.
@@ -44,6 +47,13 @@ inline constexpr double kMinTrackSpeed_mps = 0.04;
 /// north in 72 s, 0.14 m/s, while it reports 0.05 m/s; rx210.log's M8 jumps about at 0.37 m/s
 /// over 13 s while it reports 0.07 m/s). On a drifting boat or a creeping vehicle the two agree.
 inline constexpr double kTrackMultipleOfReported = 2.0;
+/// ...and when the smoothed track (the mean positions of the log's kTrackBlocks consecutive
+/// blocks) spans more than this many times the scatter of the positions about their block's mean,
+/// and kMinDisplacementLimit_m. A steady drift of L spans 0.9 L against a scatter of at least
+/// L / 10 / sqrt(12) (31 of them); a stationary receiver's block means stay within its scatter
+/// (1-2 of them for noise correlated over minutes; the generated logs of motion_test.cpp).
+inline constexpr double kTrackExtentInScatter = 4.0;
+inline constexpr int kTrackBlocks = 10;
 /// The detrending window (seconds): the trajectory is smooth over it, the noise's faster part is not.
 inline constexpr double kDetrendWindow_s = 10.0;
 
@@ -63,6 +73,11 @@ struct MotionCheck {
   /// speed in each; empty when the log states none (the noise's limits decide then).
   std::optional<double> reported_speed_mps;
   std::size_t speed_reports = 0;
+  /// The smoothed track: the largest distance between the mean positions of the log's
+  /// kTrackBlocks blocks, and the rms horizontal distance of the positions from their block's mean.
+  double track_extent_m = 0.0, block_scatter_m = 0.0;
+  /// max(kMinDisplacementLimit_m, kTrackExtentInScatter x block_scatter_m).
+  double track_extent_limit_m = 0.0;
   bool moving = false;          ///< beyond the limits (the reported speed's when there is one)
   /// "net displacement 123 m, sustained speed 2.0 m/s (median over 30 s windows)".
   [[nodiscard]] std::string describe() const;

@@ -24,3 +24,10 @@ add_test(NAME docs.pipeline_knows_no_protocol
          COMMAND ${CMAKE_COMMAND} -DDIR=${PROJECT_SOURCE_DIR}/emulator/pipeline
                  -P ${CMAKE_CURRENT_LIST_DIR}/pipeline_knows_no_protocol.cmake)
 set_tests_properties(docs.pipeline_knows_no_protocol PROPERTIES LABELS unit)
+
+# docs/sky.md's table of the default sky by place is what tools/update-sky-doc writes from this
+# build's gpsemu (48 one-epoch runs, a few seconds).
+add_test(NAME docs.sky_table_is_current
+         COMMAND python3 ${PROJECT_SOURCE_DIR}/tools/update-sky-doc --check
+                 --gpsemu $<TARGET_FILE:gpsemu> --doc ${PROJECT_SOURCE_DIR}/docs/sky.md)
+set_tests_properties(docs.sky_table_is_current PROPERTIES LABELS e2e)

@@ -334,18 +334,30 @@ void Orbits::Impl::read_tle(const std::vector<nmea::GnssSystem>& systems) {
 std::shared_ptr<const Orbits> Orbits::read_embedded() {
   auto impl = std::make_unique<Impl>();
   impl->description =
-      "embedded sky: RINEX navigation of IGS station ELKO, 2018-07-29 (GPS, GLONASS, Galileo, BeiDou), and "
-      "two-line elements of 2020-12-01 (QZSS, SBAS)";
+      "embedded sky: merged RINEX navigation of IGS/BKG BRDC00WRD, 2025-03-28 (GPS, GLONASS, Galileo, BeiDou, "
+      "QZSS), and two-line elements of 2020-12-01 (SBAS, QZSS the file lacks)";
   {
     const TextFile rinex(embedded_rinex_nav_text());
     using S = nmea::GnssSystem;
-    impl->read_rinex(rinex.path(), "sky: the embedded navigation file", {S::gps, S::glonass, S::galileo, S::beidou});
+    impl->read_rinex(rinex.path(), "sky: the embedded navigation file",
+                     {S::gps, S::glonass, S::galileo, S::beidou, S::qzss});
   }
-  // The file has no QZSS or SBAS records (a station in Nevada sees no QZSS; its receiver wrote no
-  // SBAS navigation): theirs come from the two-line elements. Their Earth-fixed tracks repeat
-  // every sidereal day (geostationary; QZSS inclined geosynchronous), so the elements' day gives
-  // the same geometry.
+  // SBAS comes from the two-line elements (the thinned file keeps no SBAS records: their 6-minute
+  // validity would need hundreds), and so do the QZSS satellites the file has no record of.
+  // Geostationary and inclined geosynchronous satellites repeat their Earth-fixed track every
+  // sidereal day, so the elements' day gives the same geometry.
+  const std::vector<SatelliteId> from_rinex = impl->satellites;
   impl->read_tle({nmea::GnssSystem::qzss, nmea::GnssSystem::sbas});
+  for (std::size_t i = from_rinex.size(); i < impl->satellites.size();) {
+    if (std::find(from_rinex.begin(), from_rinex.end(), impl->satellites[i]) == from_rinex.end()) {
+      ++i;
+      continue;
+    }
+    impl->satellites.erase(impl->satellites.begin() + static_cast<std::ptrdiff_t>(i));
+    impl->rtklib_sat.erase(impl->rtklib_sat.begin() + static_cast<std::ptrdiff_t>(i));
+    impl->tle_name.erase(impl->tle_name.begin() + static_cast<std::ptrdiff_t>(i));
+    impl->valid_at.erase(impl->valid_at.begin() + static_cast<std::ptrdiff_t>(i));
+  }
   // One list sorted by system then number.
   std::vector<std::size_t> order(impl->satellites.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;

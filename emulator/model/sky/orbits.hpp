@@ -1,8 +1,8 @@
 // Satellite orbits from real data, computed by Debian's RTKLIB and wrapped once here: a RINEX 2/3
 // navigation file (broadcast ephemerides: RTKLIB's readrnx and satpos, i.e. eph2pos/geph2pos/
-// seph2pos) or the embedded default sky (a real multi-GNSS RINEX 3 navigation file of 2018-07-29,
-// GPS/GLONASS/Galileo/BeiDou, plus GNSS two-line elements of 2020-12-01 for QZSS and SBAS through
-// RTKLIB's tle_pos; data/sky/README.md, docs/sky.md). Also the geometry helpers the sky needs from RTKLIB: azimuth/elevation
+// seph2pos) or the embedded default sky (a real merged multi-GNSS RINEX 3 navigation file of
+// 2025-03-28, GPS/GLONASS/Galileo/BeiDou/QZSS, plus GNSS two-line elements of 2020-12-01 for SBAS
+// and the QZSS satellites the file lacks, through RTKLIB's tle_pos; data/sky/README.md, docs/sky.md). Also the geometry helpers the sky needs from RTKLIB: azimuth/elevation
 // (satazel), single-clock DOP (dops) and the geoid (geoidh, its embedded EGM96 1x1 degree model).
 // No RTKLIB type appears in this header. Times are GPS time in seconds since 1980-01-06.
 #pragma once

@@ -3,7 +3,9 @@
 // smooth trajectory first; the real stationary logs still pass.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -235,6 +237,57 @@ TEST(Motion, SmoothWanderWithASmallReportedSpeedIsNotMotion) {
   ASSERT_TRUE(by_receiver.reported_speed_mps.has_value());
   EXPECT_NEAR(*by_receiver.reported_speed_mps, 0.015, 1e-6);
   EXPECT_TRUE(check_motion(s, moving).moving);
+}
+
+// Issue 33: an older chipset at rest reports 5-10 cm/s over ground (its velocity noise), and its
+// position, scattering metres, goes as fast over 30 s windows: the reported speed and the track
+// agreed, and the log was refused as moving, although its smoothed track stays within its own
+// scatter. A receiver creeping at 5 cm/s for an hour (180 m) is still refused.
+constexpr double kCreep_mps = 0.05;
+Enu creep(double t_s) { return {kCreep_mps * t_s, 0.0, 0.0}; }
+
+/// An hour at 1 Hz of a receiver wandering 1.5 m (second-order Gauss-Markov, 20 s), moving along
+/// `track`, with a reported speed over ground of its velocity noise (5-10 cm/s, seeded, in a
+/// direction turning by the golden angle) added to `drift_mps` east.
+ReceiverLog older_chipset(Enu (*track)(double t_s), double drift_mps) {
+  ReceiverLog r = read_receiver_log(test::model_log(gm2(1.5, 20.0), 11, 1.0, 3600.0, 6, false, track));
+  std::uint64_t state = 33;
+  double angle = 0.0;
+  for (const LogFix& f : r.fixes) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    const double noise_mps = 0.05 + 0.05 * static_cast<double>(state >> 11) / 9007199254740992.0;
+    angle += 2.399963;
+    r.speeds.push_back({f.time_s, static_cast<float>(std::hypot(drift_mps + noise_mps * std::cos(angle),
+                                                                 noise_mps * std::sin(angle)))});
+  }
+  return r;
+}
+
+TEST(Motion, OlderChipsetAtRestWithANoisyReportedSpeedPasses) {
+  ReceiverLog r = older_chipset(nullptr, 0.0);
+  const MotionCheck m = check_motion(to_enu_series(r), r.speeds);
+  ASSERT_TRUE(m.reported_speed_mps.has_value());
+  // What refused it before: a reported speed beyond the limit that the track follows.
+  EXPECT_GE(*m.reported_speed_mps, kReportedSpeedLimit_mps) << m.describe();
+  EXPECT_GE(m.speed_mps, std::max(kMinTrackSpeed_mps, kTrackShareOfReported * *m.reported_speed_mps)) << m.describe();
+  EXPECT_LE(m.speed_mps, kTrackMultipleOfReported * *m.reported_speed_mps) << m.describe();
+  // What passes it now: the smoothed track stays within the positions' scatter.
+  EXPECT_LT(m.track_extent_m, m.track_extent_limit_m) << m.describe() << "; " << m.describe_limits();
+  EXPECT_GT(m.block_scatter_m, 1.0) << "metres of scatter, as an older chipset";
+  EXPECT_FALSE(m.moving) << m.describe() << "; " << m.describe_limits();
+}
+
+TEST(Motion, TheSameReceiverCreepingAt5CmPerSecondForAnHourIsRefused) {
+  ReceiverLog r = older_chipset(creep, kCreep_mps);
+  const MotionCheck m = check_motion(to_enu_series(r), r.speeds);
+  EXPECT_TRUE(m.moving) << m.describe() << "; " << m.describe_limits();
+  EXPECT_GT(m.track_extent_m, 150.0) << "180 m in the hour, 162 m between the first and last tenth's means";
+  try {
+    (void)calibrate(r, CalibrateOptions{1, 1});
+    FAIL() << "a receiver creeping 180 m in an hour was calibrated as noise";
+  } catch (const MotionError& e) {
+    EXPECT_NE(std::string(e.what()).find("smoothed track spanning 1"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

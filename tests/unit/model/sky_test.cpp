@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <GeographicLib/LocalCartesian.hpp>
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -155,19 +156,79 @@ sky::Ecef kepler_j2_ecef(const Tle& t, double unix_s) {
   return {std::cos(gmst) * x + std::sin(gmst) * y, -std::sin(gmst) * x + std::cos(gmst) * y, z};
 }
 
-TEST(SkyOrbits, EmbeddedSkyHasFourSystemsFromRinexAndQzssSbasFromElements) {
+TEST(SkyOrbits, EmbeddedSkyHasFiveSystemsFromRinexAndSbasFromElements) {
   const auto orbits = sky::Orbits::embedded_default();
   std::map<nmea::GnssSystem, int> per_system;
   for (const auto& id : orbits->satellites()) ++per_system[id.system];
+  // The merged file of 2025-03-28 (data/sky/README.md): GPS 31, GLONASS 25, Galileo 29, BeiDou
+  // 44 satellites with a record of that day, QZSS 2 (J02, J03) plus the elements' J01, J04.
   EXPECT_GE(per_system[nmea::GnssSystem::gps], 30);
-  EXPECT_GE(per_system[nmea::GnssSystem::glonass], 20);
-  EXPECT_GE(per_system[nmea::GnssSystem::galileo], 12);  // 14 healthy in 2018
-  EXPECT_GE(per_system[nmea::GnssSystem::beidou], 5);  // what a station in Nevada received in 2018
-  EXPECT_GE(per_system[nmea::GnssSystem::qzss], 3);
+  EXPECT_GE(per_system[nmea::GnssSystem::glonass], 22);
+  EXPECT_GE(per_system[nmea::GnssSystem::galileo], 24);
+  EXPECT_GE(per_system[nmea::GnssSystem::beidou], 40);  // BDS-2 and BDS-3, GEO and IGSO included
+  EXPECT_GE(per_system[nmea::GnssSystem::qzss], 4);
   EXPECT_GE(per_system[nmea::GnssSystem::sbas], 5);
-  // The RINEX file's day (2018-07-29: most of its records; it starts the evening before).
-  EXPECT_EQ(orbits->coverage_start(), gps_seconds_of(parse_iso8601_utc("2018-07-28T23:59:42Z")))
+  // The RINEX file's day (2025-03-28: most of its records; it starts the evening before).
+  EXPECT_EQ(orbits->coverage_start(), gps_seconds_of(parse_iso8601_utc("2025-03-27T23:59:42Z")))
       << "00:00 GPS time (18 leap seconds ahead of UTC)";
+}
+
+// BeiDou's geostationary satellites (PRN 1-5 and 59-63; RTKLIB rotates their broadcast orbit by
+// the 5 degrees of their frame) stay put over the Earth: over the whole day each stays within
+// 8 000 km of where it was (an inclination of up to 5 degrees swings it 7 300 km from north to
+// south; an inclined geosynchronous orbit of 55 degrees moves 70 000 km, a medium one more), at
+// a geostationary radius.
+TEST(SkyOrbits, EmbeddedBeidouGeostationarySatellitesStayPut) {
+  const auto orbits = sky::Orbits::embedded_default();
+  const double start = orbits->coverage_start();
+  int geo = 0;
+  for (std::size_t i = 0; i < orbits->satellites().size(); ++i) {
+    const auto& id = orbits->satellites()[i];
+    if (id.system != nmea::GnssSystem::beidou || (id.sv_id > 5 && id.sv_id < 59)) continue;
+    const auto first = orbits->position(i, start);
+    ASSERT_TRUE(first) << "C" << id.sv_id;
+    const double radius_m = std::sqrt(first->x_m * first->x_m + first->y_m * first->y_m + first->z_m * first->z_m);
+    EXPECT_NEAR(radius_m, 42164e3, 100e3) << "C" << id.sv_id;
+    for (double t = start; t < start + 86400.0; t += 3600.0) {
+      const auto p = orbits->position(i, t);
+      if (p) {
+        EXPECT_LT(distance_m(*p, *first), 8000e3) << "C" << id.sv_id << " at +" << t - start << " s";
+      }
+    }
+    ++geo;
+  }
+  EXPECT_GE(geo, 3);
+}
+
+// The issue-33 acceptance: over a day (every 30 minutes), an F9P (its systems, its 5-degree mask)
+// has a median of at least 12 BeiDou satellites above its mask at Tokyo and at least 7 Galileo at
+// Madison, Tokyo and Sydney (a 2026 sky: about 8-12 Galileo everywhere, 15-25 BeiDou over Asia
+// and Australia).
+TEST(SkyOrbits, EmbeddedSkyGivesAnF9pTodaysGalileoEverywhereAndBeidouOverAsia) {
+  SkyOptions o;
+  o.profile = sky::profile_of(ubx::ReceiverModel::ublox_f9p);
+  const Geodetic tokyo{35.68, 139.77, 40.0}, sydney{-33.87, 151.21, 50.0};
+  const auto median_above_mask = [&](const Geodetic& where, nmea::GnssSystem system) {
+    std::vector<int> counts;
+    for (int half_hour = 0; half_hour < 48; ++half_hour) {
+      Sky sky(o, where);
+      nmea::Fix fix;
+      const UtcNs when = parse_iso8601_utc("2026-06-15T00:00:00Z") + std::chrono::minutes(30 * half_hour);
+      (void)sky.fill(when, {}, fix);
+      int n = 0;
+      for (int i = 0; i < fix.satellites_in_view; ++i) {
+        const auto& s = fix.satellites[static_cast<std::size_t>(i)];
+        if (s.system == system && s.elevation_deg >= o.profile.elevation_mask_deg) ++n;
+      }
+      counts.push_back(n);
+    }
+    std::sort(counts.begin(), counts.end());
+    return (counts[23] + counts[24]) / 2.0;
+  };
+  EXPECT_GE(median_above_mask(tokyo, nmea::GnssSystem::beidou), 12.0);
+  EXPECT_GE(median_above_mask(kMadison, nmea::GnssSystem::galileo), 7.0);
+  EXPECT_GE(median_above_mask(tokyo, nmea::GnssSystem::galileo), 7.0);
+  EXPECT_GE(median_above_mask(sydney, nmea::GnssSystem::galileo), 7.0);
 }
 
 // QZSS and SBAS come from the two-line elements of another day, at the same sidereal time: at the
@@ -215,6 +276,10 @@ TEST(SkyOrbits, AnyDateMapsToTheDataDayAtTheSameSiderealTime) {
   EXPECT_NEAR(orbits->map_time(t + sky::kSiderealDayS), m, 1e-6) << "a sidereal day later: the same sky";
   EXPECT_NEAR(orbits->map_time(t + 10.0), m + 10.0, 1e-6) << "time runs on";
   EXPECT_EQ(orbits->map_time(start + 3600.0), start + 3600.0) << "the data's own day is its true sky";
+  // Dates after the file's (a 2026 run of the 2025 file) map into its day too.
+  const double later = orbits->map_time(gps_seconds_of(parse_iso8601_utc("2026-11-28T10:00:00Z")));
+  EXPECT_GE(later, start);
+  EXPECT_LT(later, start + sky::kSiderealDayS);
 }
 
 // --- DOP -----------------------------------------------------------------------------------
@@ -273,7 +338,7 @@ TEST(SkyModels, EachModelListsTheSystemsItTracks) {
   f9.profile = sky::profile_of(ubx::ReceiverModel::ublox_f9p);
   const auto b = listed_by_system(sky_fix(f9));
   EXPECT_GE(b.at(nmea::GnssSystem::galileo), 4);
-  EXPECT_GE(b.at(nmea::GnssSystem::beidou), 1);  // the 2018 file's: few BeiDou over North America
+  EXPECT_GE(b.at(nmea::GnssSystem::beidou), 4);  // BeiDou's medium orbits reach North America too
   EXPECT_EQ(b.at(nmea::GnssSystem::gps), a.at(nmea::GnssSystem::gps)) << "the same sky";
 }
 
