@@ -63,12 +63,12 @@ Runner::Runner(RunSettings settings, std::optional<RunnerIo> io)
       timeline_(choose_timeline(loop_.rate_hz, loop_.start_time, system_utc_now(), settings.receivers.size(),
                                 with_pps(loop_, io))) {
   // The faults against the run's own epochs: without --start-time the first is known only now
-  // (and with it whether an at_utc falls inside the run); with no u-blox to change a receiver's
+  // (and with it whether an at_utc falls inside the run); with no protocol letting a client change a receiver's
   // rate every epoch is on the run's grid, and a fault after the last one would never start.
   {
     RunTimes run{timeline_.first_epoch(), !loop_.start_time, std::nullopt, std::nullopt};
     const bool on_the_grid = std::none_of(settings.receivers.begin(), settings.receivers.end(),
-                                          [](const ReceiverSetup& r) { return r.channel.ubx.has_value(); });
+                                          [](const ReceiverSetup& r) { return r.channel.protocol && r.channel.protocol->client_may_change_period(); });
     if (loop_.epochs) run.run_s = static_cast<double>(*loop_.epochs) / loop_.rate_hz;
     if (loop_.epochs && *loop_.epochs > 0 && on_the_grid) run.last_epoch_s = static_cast<double>(*loop_.epochs - 1) / loop_.rate_hz;
     for (const ReceiverSetup& r : settings.receivers) check_fault_run_times(r.channel.faults.faults, run);

@@ -140,6 +140,9 @@ class ProtocolSpec {
   [[nodiscard]] virtual std::unique_ptr<ReceiverProtocol> make() const = 0;
   /// Its widest epoch with its start settings (the line budget checked at start-up, bytes).
   [[nodiscard]] virtual std::size_t widest_epoch_bytes(const Geometry& sky) const = 0;
+  /// Whether a client may move the receiver's solutions off the run's grid (a u-blox's CFG-RATE):
+  /// then a time between the run's epochs may still see one. Default: no.
+  [[nodiscard]] virtual bool client_may_change_period() const { return false; }
 };
 
 }  // namespace gpsemu::protocol

@@ -165,6 +165,7 @@ class UbloxSpec final : public ProtocolSpec {
     return widest_ublox_epoch_bytes(settings_.format, ubx::start_settings(settings_.start), settings_.start.port,
                                     settings_.start.model, sky);
   }
+  [[nodiscard]] bool client_may_change_period() const override { return true; }
 
  private:
   ubx::SessionSettings settings_;
