@@ -78,7 +78,13 @@ TEST(OutputPipeGone, AnotherOutputKeepsTheRunGoing) {
                            "head -1", seconds(30));
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(r.err.find("every output is gone"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("file " + file.string() + ": 20 epochs written"), std::string::npos) << r.err;
+  // Every epoch reaches the file: written, or (a loaded machine, real time) skipped as late and
+  // counted; the pipe's end loses none of them.
+  std::smatch written, skipped;
+  ASSERT_TRUE(std::regex_search(r.err, written, std::regex("file " + file.string() + ": ([0-9]+) epochs written"))) << r.err;
+  const int late = std::regex_search(r.err, skipped, std::regex("([0-9]+) late epochs skipped")) ? std::stoi(skipped[1]) : 0;
+  EXPECT_EQ(std::stoi(written[1]) + late, 20) << r.err;
+  EXPECT_LE(late, 2) << r.err;
 }
 
 }  // namespace

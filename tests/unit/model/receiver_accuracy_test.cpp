@@ -20,15 +20,17 @@ const sources::Truth kAtOrigin{};
 
 UtcNs at(double seconds) { return kStart + nanoseconds{std::llround(seconds * 1e9)}; }
 
-/// RMS of the emulated error and the mean reported sigma, per axis, over `seconds` at 1 Hz.
+/// RMS of the emulated error, the mean reported sigma, and the RMS of the error in units of the
+/// sigma reported with it (1 for an honest receiver, whatever the sigma does from epoch to epoch),
+/// per axis, over `seconds` at 1 Hz.
 struct Comparison {
-  Enu scatter_m, reported_m;
+  Enu scatter_m, reported_m, normalised;
 };
 Comparison compare(const noise::NoiseConfig& config, ReceiverOptions o, int seconds) {
   // The sigma is estimated with one seed and the run uses another: the claim is about the model.
   o.noise_sigma_m = estimate_noise_sigma_m(config, 11);
   Receiver rx(kFrame, o, noise::make_noise_model(config, 12), kStart);
-  Enu sum_sq{}, sum_sigma{};
+  Enu sum_sq{}, sum_sigma{}, sum_z{};
   int n = 0;
   for (int k = 0; k < seconds; ++k) {
     const nmea::Fix fix = rx.fix_at(at(k), kAtOrigin);
@@ -36,22 +38,29 @@ Comparison compare(const noise::NoiseConfig& config, ReceiverOptions o, int seco
     const Enu e = kFrame.to_enu({fix.lat_deg, fix.lon_deg, fix.alt_msl_m});
     sum_sq = {sum_sq.east_m + e.east_m * e.east_m, sum_sq.north_m + e.north_m * e.north_m, sum_sq.up_m + e.up_m * e.up_m};
     sum_sigma = {sum_sigma.east_m + fix.sigma_lon_m, sum_sigma.north_m + fix.sigma_lat_m, sum_sigma.up_m + fix.sigma_alt_m};
+    const auto z2 = [](double e, double sigma) { return (e / sigma) * (e / sigma); };
+    sum_z = {sum_z.east_m + z2(e.east_m, fix.sigma_lon_m), sum_z.north_m + z2(e.north_m, fix.sigma_lat_m),
+             sum_z.up_m + z2(e.up_m, fix.sigma_alt_m)};
     ++n;
   }
   EXPECT_GT(n, seconds - 5);
   return {{std::sqrt(sum_sq.east_m / n), std::sqrt(sum_sq.north_m / n), std::sqrt(sum_sq.up_m / n)},
-          {sum_sigma.east_m / n, sum_sigma.north_m / n, sum_sigma.up_m / n}};
+          {sum_sigma.east_m / n, sum_sigma.north_m / n, sum_sigma.up_m / n},
+          {std::sqrt(sum_z.east_m / n), std::sqrt(sum_z.north_m / n), std::sqrt(sum_z.up_m / n)}};
 }
 
+/// The reported sigma is `ratio` x the error's: the error in units of the reported sigma has an
+/// RMS of 1 / ratio, within `tolerance` (relative).
 void expect_within(const Comparison& c, double ratio, double tolerance, const std::string& what) {
-  const auto check = [&](double scatter, double reported, const char* axis) {
+  const auto check = [&](double scatter, double reported, double normalised, const char* axis) {
     EXPECT_GT(scatter, 0.0) << what << " " << axis;
-    EXPECT_NEAR(reported / scatter, ratio, tolerance * ratio)
-        << what << " " << axis << ": reported " << reported << " m, scatter " << scatter << " m";
+    EXPECT_NEAR(1.0 / normalised, ratio, tolerance * ratio)
+        << what << " " << axis << ": the error is " << normalised << " reported sigmas RMS (reported " << reported
+        << " m on average, scatter " << scatter << " m)";
   };
-  check(c.scatter_m.east_m, c.reported_m.east_m, "east");
-  check(c.scatter_m.north_m, c.reported_m.north_m, "north");
-  check(c.scatter_m.up_m, c.reported_m.up_m, "up");
+  check(c.scatter_m.east_m, c.reported_m.east_m, c.normalised.east_m, "east");
+  check(c.scatter_m.north_m, c.reported_m.north_m, c.normalised.north_m, "north");
+  check(c.scatter_m.up_m, c.reported_m.up_m, c.normalised.up_m, "up");
 }
 
 noise::NoiseConfig of(noise::Model model) {
