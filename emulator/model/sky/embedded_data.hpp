@@ -1,6 +1,7 @@
 // The embedded default sky's data (data/sky/ compiled into the program by CMake, so a binary
 // needs no data directory): merged multi-GNSS navigation data of the whole of 2026-03-09 (DLR's
-// BRD400DLR of IGS and CONGO stations, as RINEX 3.05, thinned), RTKLIB's GNSS two-line elements of 2020-12-01 and its satellite name table.
+// BRD400DLR of IGS and CONGO stations, as RINEX 3.05, thinned), RTKLIB's GNSS two-line elements
+// of 2020-12-01 and its satellite name table.
 // See data/sky/README.md.
 #pragma once
 

@@ -158,8 +158,9 @@ TEST(SkyOrbits, InterpolatedPositionsStayCloseToRtklibs) {
 
 // The file holds a satellite's records only for the hours they were broadcast and merged (the
 // embedded file covers the whole day, data/sky/README.md; a file given with --ephemeris may
-// not); at other moments the nearest record is extrapolated. Every satellite of the file then has a position all day, except while the
-// record in force marks it unhealthy (the sky leaves it out, as a receiver does), and where the
+// not); at other moments the nearest record is extrapolated. Every satellite of the file then
+// has a position all day, except while the record in force marks it unhealthy (the sky leaves
+// it out, as a receiver does), and where the
 // sky switches from an extrapolated record to a valid one the orbit does not jump by more than
 // the extrapolation's error (docs/sky.md; 10 km is 0.03 degree seen from the ground). Each
 // 5-minute step is checked against the trapezoid of its two ends' velocities (within ~0.2 km on
@@ -206,9 +207,9 @@ TEST(SkyOrbits, EverySatelliteOfTheFileHasAPositionAllDayWithoutAJumpAtItsRecord
 // to 03:00 of its day (read from a temporary file) against the whole file's orbit then (its own
 // later records, which cover the whole day), every satellite in both at 05, 07, 10, 14 and 21
 // o'clock (2-21 hours after the cut's last records: a file given with --ephemeris that was
-// fetched part-way through its day is extrapolated that far). Measured and written in docs/sky.md; the bounds here are 20 km, and 200 km for
-// GLONASS, whose orbit is integrated from a state vector (0.05 and 0.5 degree seen from the
-// ground at their distance).
+// fetched part-way through its day is extrapolated that far). Measured and written in
+// docs/sky.md; the bounds here are 20 km, and 200 km for GLONASS, whose orbit is integrated from
+// a state vector (0.05 and 0.5 degree seen from the ground at their distance).
 TEST(SkyOrbits, ExtrapolatedRecordsStayWithinKilometresOfTheValidOnes) {
   const std::string text(sky::embedded_rinex_nav_text());
   std::istringstream in(text);
