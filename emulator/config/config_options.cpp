@@ -247,7 +247,7 @@ std::vector<OptionDef> make_option_table() {
       "the satellites used)",
       [](ConfigDraft& d, V v) { d.receiver.settings.model.hdop = parse_number("hdop", v.back(), 0.5, 50.0); });
   add("ephemeris", "FILE", "RINEX 2/3 navigation file: the true sky of its date (default: the embedded sky, a real "
-      "merged RINEX file of 2025-03-28 at the same sidereal time; docs/sky.md)",
+      "merged RINEX file of 2026-03-09 at the same sidereal time; docs/sky.md)",
       [](ConfigDraft& d, V v) { d.receiver.settings.ephemeris = v.back(); });
   add("elevation-mask", "DEG", "satellites below this elevation are tracked but not used, 0..60 degrees "
       "(default: the model's, 5)",

@@ -334,7 +334,7 @@ void Orbits::Impl::read_tle(const std::vector<nmea::GnssSystem>& systems) {
 std::shared_ptr<const Orbits> Orbits::read_embedded() {
   auto impl = std::make_unique<Impl>();
   impl->description =
-      "embedded sky: merged RINEX navigation of IGS/BKG BRDC00WRD, 2025-03-28 (GPS, GLONASS, Galileo, BeiDou, "
+      "embedded sky: merged RINEX navigation of DLR BRD400DLR, 2026-03-09 (GPS, GLONASS, Galileo, BeiDou, "
       "QZSS), and two-line elements of 2020-12-01 (SBAS, QZSS the file lacks)";
   {
     const TextFile rinex(embedded_rinex_nav_text());

@@ -1,7 +1,7 @@
 // Satellite orbits from real data, computed by Debian's RTKLIB and wrapped once here: a RINEX 2/3
 // navigation file (broadcast ephemerides: RTKLIB's readrnx and satpos, i.e. eph2pos/geph2pos/
-// seph2pos) or the embedded default sky (a real merged multi-GNSS RINEX 3 navigation file of
-// 2025-03-28, GPS/GLONASS/Galileo/BeiDou/QZSS, plus GNSS two-line elements of 2020-12-01 for SBAS
+// seph2pos) or the embedded default sky (a real merged multi-GNSS navigation file of the whole of
+// 2026-03-09, GPS/GLONASS/Galileo/BeiDou/QZSS, plus GNSS two-line elements of 2020-12-01 for SBAS
 // and the QZSS satellites the file lacks, through RTKLIB's tle_pos; data/sky/README.md, docs/sky.md). Also the geometry helpers the sky needs from RTKLIB: azimuth/elevation
 // (satazel), single-clock DOP (dops) and the geoid (geoidh, its embedded EGM96 1x1 degree model).
 // No RTKLIB type appears in this header. Times are GPS time in seconds since 1980-01-06.

@@ -112,7 +112,9 @@ TEST(BaseStation, Msm7AndASystemChoice) {
 
 TEST(BaseStation, RangesAreTheOrbitsDistances) {
   // GPS MSM4: each satellite's rough range (DF397 whole ms + DF398 1/1024 ms) against the distance of
-  // a satellite on a 26 560 km orbit seen at its elevation: within 300 km (eccentricity <= 0.02).
+  // a satellite on a 26 560 km orbit seen at its elevation: within 600 km (an eccentricity of up
+  // to 0.02 puts the satellite 530 km off that circle, 550 km of range near the horizon, and the
+  // sky's whole degrees of elevation are up to 55 km of range there).
   BaseSettings s;
   s.systems = {rtk::Gnss::gps};
   s.dual_band = false;
@@ -147,7 +149,7 @@ TEST(BaseStation, RangesAreTheOrbitsDistances) {
     ASSERT_NE(seen, nullptr) << "G" << sv << " is not in the sky";
     const double el = seen->elevation_deg * std::numbers::pi / 180.0, re = 6371.0, orbit = 26560.0;
     const double expected_km = std::sqrt(orbit * orbit - std::pow(re * std::cos(el), 2)) - re * std::sin(el);
-    EXPECT_NEAR(range_km[k], expected_km, 300.0) << "G" << sv << " at " << seen->elevation_deg << " degrees";
+    EXPECT_NEAR(range_km[k], expected_km, 600.0) << "G" << sv << " at " << seen->elevation_deg << " degrees";
     // And the satellite's distance at the epoch itself, from the orbits: within the ~300 m it moves
     // while the signal travels (the base writes the range at transmission, rounded to 1/1024 ms).
     const sky::Orbits& orbits = sky.orbits();

@@ -77,8 +77,8 @@ TEST(SkyOrbits, SkyAzimuthElevationMatchesAHandComputationOfTheRealRecords) {
   for (const auto& [prn, k] : embedded_gps_records()) {
     const double toe_gps_s = k.week * 604800.0 + k.toe;
     const double t_gps_s = toe_gps_s + 600.0;
-    if (t_gps_s < gps_seconds_of(parse_iso8601_utc("2025-03-28T00:00:00Z")) ||
-        t_gps_s >= gps_seconds_of(parse_iso8601_utc("2025-03-29T00:00:00Z"))) {
+    if (t_gps_s < gps_seconds_of(parse_iso8601_utc("2026-03-09T00:00:00Z")) ||
+        t_gps_s >= gps_seconds_of(parse_iso8601_utc("2026-03-10T00:00:00Z"))) {
       continue;  // the sky maps times outside the file's day; keep to its own day
     }
     const sky::Ecef hand = is_gps_200(k, 600.0);
@@ -104,27 +104,31 @@ TEST(SkyOrbits, SkyAzimuthElevationMatchesAHandComputationOfTheRealRecords) {
   EXPECT_GE(checked, 10);
 }
 
-/// Whether satellite `i`'s orbit jumps (by more than 100 m beyond its motion) within [t0, t1]:
+/// Whether satellite `i`'s orbit jumps (by more than 10 m beyond its motion) within [t0, t1]:
 /// the sky switched from one record to another there.
 bool switches_record(const sky::Orbits& orbits, std::size_t i, double t0, double t1) {
+  // Over 1 s the velocity predicts any orbit to within a metre (0.6 m/s² of gravity at most).
   auto previous = orbits.motion(i, t0);
   for (double t = t0 + 1.0; previous && t <= t1; t += 1.0) {
     const auto now = orbits.motion(i, t);
     if (!now) return true;
     const sky::Ecef expected{previous->position.x_m + previous->vx_mps, previous->position.y_m + previous->vy_mps,
                              previous->position.z_m + previous->vz_mps};
-    if (distance_m(expected, now->position) > 100.0) return true;
+    if (distance_m(expected, now->position) > 10.0) return true;
     previous = now;
   }
   return false;
 }
 
 // Positions between the nodes (ten minutes apart, cubic Hermite) against RTKLIB's own at every
-// minute: within 50 m (0.0002 degree seen from the ground), except across the moment a satellite's
-// extrapolated record gives way to a valid one (a jump of the extrapolation's error, below).
+// minute: within 50 m (0.0002 degree seen from the ground), except across the moment the sky
+// switches from one record of a satellite to the next (a jump of the two records' difference
+// near the ends of their validity, or of an extrapolation's error, below). At 07:05, between the
+// moments the thinned file hands most satellites over to their next record (GPS every 4 h from
+// 02:00, BeiDou at 06:00 and 18:00, GLONASS on the hour and half hour).
 TEST(SkyOrbits, InterpolatedPositionsStayCloseToRtklibs) {
   const auto orbits = sky::Orbits::embedded_default();
-  const double start = orbits->coverage_start() + 6 * 3600.0;
+  const double start = orbits->coverage_start() + 7 * 3600.0 + 300.0;
   constexpr double node_s = 600.0;
   int checked = 0, switched = 0;
   for (std::size_t i = 0; i < orbits->satellites().size(); ++i) {
@@ -147,14 +151,16 @@ TEST(SkyOrbits, InterpolatedPositionsStayCloseToRtklibs) {
       ++checked;
     }
   }
+  std::printf("%d positions checked, %d satellites switch records in the interval\n", checked, switched);
   EXPECT_GE(checked, 200);
   EXPECT_LE(switched, 10);
 }
 
 // The file holds a satellite's records only for the hours they were broadcast and merged (the
-// embedded file ends at 10:00, data/sky/README.md); at other moments the nearest record is
-// extrapolated. Every satellite of the file then has a position all day, except while the
-// record in force marks it unhealthy (the sky leaves it out, as a receiver does), and where the
+// embedded file covers the whole day, data/sky/README.md; a file given with --ephemeris may
+// not); at other moments the nearest record is extrapolated. Every satellite of the file then
+// has a position all day, except while the record in force marks it unhealthy (the sky leaves
+// it out, as a receiver does), and where the
 // sky switches from an extrapolated record to a valid one the orbit does not jump by more than
 // the extrapolation's error (docs/sky.md; 10 km is 0.03 degree seen from the ground). Each
 // 5-minute step is checked against the trapezoid of its two ends' velocities (within ~0.2 km on
@@ -163,7 +169,7 @@ TEST(SkyOrbits, EverySatelliteOfTheFileHasAPositionAllDayWithoutAJumpAtItsRecord
   const auto orbits = sky::Orbits::embedded_default();
   const double start = orbits->coverage_start();
   constexpr double step_s = 300.0;
-  int satellites = 0, all_day = 0;
+  int satellites = 0, all_day = 0, unhealthy_most_of_the_day = 0;
   for (std::size_t i = 0; i < orbits->satellites().size(); ++i) {
     const auto system = orbits->satellites()[i].system;
     const int sv = orbits->satellites()[i].sv_id;
@@ -184,28 +190,33 @@ TEST(SkyOrbits, EverySatelliteOfTheFileHasAPositionAllDayWithoutAJumpAtItsRecord
       }
       previous = now;
     }
-    // Left out only while a record in force says unhealthy: at most a few hours of the day.
-    EXPECT_LE(missing * step_s, 6 * 3600.0) << static_cast<int>(system) << " " << sv;
+    // Left out only while a record in force says unhealthy: at most a few hours of the day, but
+    // for the few satellites whose records say so most of the day (G20, R17, R20 on 2026-03-09).
+    if (missing * step_s > 6 * 3600.0) {
+      ++unhealthy_most_of_the_day;
+      std::printf("system %d, %d: left out %.1f h\n", static_cast<int>(system), sv, missing * step_s / 3600.0);
+    }
     if (missing == 0) ++all_day;
     EXPECT_LT(worst_m, 10'000.0) << static_cast<int>(system) << " " << sv;
   }
-  EXPECT_GE(satellites, 120);  // GPS 31, GLONASS 25, Galileo 29, BeiDou 44 in the thinned file
+  EXPECT_LE(unhealthy_most_of_the_day, 3);
+  EXPECT_GE(satellites, 120);  // GPS 32, GLONASS 24, Galileo 26, BeiDou 43 healthy in the file
   EXPECT_GE(all_day, satellites - 10) << "all but a few satellites are healthy all day";
 }
 // How far the extrapolation of a record is off: the embedded file cut to its records of epoch up
 // to 03:00 of its day (read from a temporary file) against the whole file's orbit then (its own
-// later records where it has them), every satellite in both at 05, 07 and 10 o'clock (2-8 hours after the
-// cut's last records; the file's records end at 10:00, so the sky extrapolates up to 14 hours in
-// the afternoon). Measured and written in docs/sky.md; the bounds here are 20 km, and 200 km for
-// GLONASS, whose orbit is integrated from a state vector (0.05 and 0.5 degree seen from the
-// ground at their distance).
+// later records, which cover the whole day), every satellite in both at 05, 07, 10, 14 and 21
+// o'clock (2-21 hours after the cut's last records: a file given with --ephemeris that was
+// fetched part-way through its day is extrapolated that far). Measured and written in
+// docs/sky.md; the bounds here are 20 km, and 200 km for GLONASS, whose orbit is integrated from
+// a state vector (0.05 and 0.5 degree seen from the ground at their distance).
 TEST(SkyOrbits, ExtrapolatedRecordsStayWithinKilometresOfTheValidOnes) {
   const std::string text(sky::embedded_rinex_nav_text());
   std::istringstream in(text);
   std::ostringstream early;
   bool body = false, keep = true;
   for (std::string line; std::getline(in, line);) {
-    if (body && !line.empty() && line[0] != ' ') keep = line.substr(4, 19) <= "2025 03 28 03 00 00";
+    if (body && !line.empty() && line[0] != ' ') keep = line.substr(4, 19) <= "2026 03 09 03 00 00";
     if (!body || keep) early << line << "\n";
     body = body || line.find("END OF HEADER") != std::string::npos;
   }
@@ -222,13 +233,13 @@ TEST(SkyOrbits, ExtrapolatedRecordsStayWithinKilometresOfTheValidOnes) {
     const auto j = std::find(cut->satellites().begin(), cut->satellites().end(), id);
     if (j == cut->satellites().end()) continue;
     const auto k = static_cast<std::size_t>(j - cut->satellites().begin());
-    for (const int hours : {5, 7, 10}) {
+    for (const int hours : {5, 7, 10, 14, 21}) {
       const double t = start + hours * 3600.0;
       const auto a = whole->position(i, t), b = cut->position(k, t);
       if (!a || !b) continue;
       double& w = worst_m[{id.system, hours}];
       w = std::max(w, distance_m(*a, *b));
-      if (hours == 10) ++compared[id.system];
+      if (hours == 21) ++compared[id.system];
     }
   }
   for (const auto& [key, m] : worst_m) {
