@@ -20,11 +20,11 @@ std::string error_of(const FaultKeys& keys) {
 
 TEST(MakeFault, TheIssuesFormWithParametersByName) {
   const Fault jump = make_fault({{"kind", std::string("jump")}, {"at", 30.0}, {"duration", 10.0}, {"east_m", 20.0}});
-  EXPECT_EQ(jump.kind, FaultKind::jump);
+  EXPECT_EQ(jump.kind(), FaultKind::jump);
   EXPECT_DOUBLE_EQ(jump.at_s, 30.0);
   ASSERT_TRUE(jump.duration_s);
   EXPECT_DOUBLE_EQ(*jump.duration_s, 10.0);
-  EXPECT_DOUBLE_EQ(jump.offset_m.east_m, 20.0);
+  EXPECT_DOUBLE_EQ(std::get<Jump>(jump.params).offset_m.east_m, 20.0);
   EXPECT_FALSE(jump.receiver);  // every receiver
 
   const Fault jam = make_fault({{"kind", std::string("jam")}, {"at", 5.0}, {"end", 15.0}, {"db", 25.0},
@@ -41,8 +41,8 @@ TEST(MakeFault, TheIssuesFormWithParametersByName) {
   const Fault outage = make_fault({{"kind", std::string("outage")}, {"at", 1.0}});
   EXPECT_FALSE(outage.duration_s);  // to the end
   EXPECT_TRUE(outage.active_at(1e6));
-  EXPECT_EQ(make_fault({{"kind", std::string("fix-quality")}, {"quality", std::string("rtk-float")}}).quality,
-            nmea::FixQuality::rtk_float);
+  const Fault rtk_float = make_fault({{"kind", std::string("fix-quality")}, {"quality", std::string("rtk-float")}});
+  EXPECT_EQ(std::get<ForcedQuality>(rtk_float.params).quality, nmea::FixQuality::rtk_float);
 }
 
 TEST(MakeFault, BadKeysAndValuesNameTheKey) {
