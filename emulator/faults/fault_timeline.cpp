@@ -97,6 +97,7 @@ struct EpochContext {
   ubx::RfState* rf;  ///< a u-blox's RF state, or null
   EpochEffect& effect;
   const std::optional<nmea::Fix>& frozen;  ///< the fix a freeze repeats
+  std::optional<double> ended_s;  ///< fading out: when it ended (spoof fades by its offsets)
 };
 
 // Each kind's effect on an epoch (its parameters, the epoch's context).
@@ -185,6 +186,10 @@ void act(const Jam& p, EpochContext& c) {
 void act(const SkyMask& p, EpochContext& c) { mask_sky(c.fix, p.mask, c.truth_m, c.frame); }
 
 void act(const Spoof& p, EpochContext& c) {
+  if (c.ended_s) {  // fading: the offsets reached shrink to nothing, not a strength
+    spoof(c.fix, c.fault, p, c.since_s, c.frame, c.ended_s);
+    return;
+  }
   if (c.rf) c.rf->spoof_detection_state = spoof_detection_state(p.detected);
   spoof(c.fix, c.fault, p, c.since_s, c.frame);
 }
@@ -200,6 +205,41 @@ void act(const Garble& p, EpochContext& c) { c.effect.garble_rate = std::max(c.e
 void act(const Latency& p, EpochContext& c) {
   c.effect.delay_ms += p.delay_ms;
   c.effect.jitter_ms += p.jitter_ms;
+}
+
+/// What a kind's start, end and being over act on beside the epoch's fix (the timeline's state).
+struct Moment {
+  const std::optional<nmea::Fix>& last;   ///< the last epoch's fix as written
+  std::optional<nmea::Fix>& frozen;       ///< the fix a freeze repeats
+  std::optional<ubx::RfState>& clean_rf;  ///< the RF state before a jam
+  ubx::RfState* rf;                       ///< a u-blox's RF state, or null
+  EpochEffect& effect;
+};
+
+// A kind's first epoch (most do nothing then beyond their effect).
+template <class Kind>
+void on_start(const Kind&, Moment&) {}
+void on_start(const Freeze&, Moment& m) { m.frozen = m.last; }
+void on_start(const Jam&, Moment& m) {
+  if (m.rf && !m.clean_rf) m.clean_rf = *m.rf;
+}
+void on_start(const Reset& p, Moment& m) { m.effect.reboot_cold_start_s = p.silent_s + p.ttff_s; }
+
+// The epoch it ends at (its fade out, if any, still to come).
+template <class Kind>
+void on_end(const Kind&, Moment&) {}
+void on_end(const Spoof&, Moment& m) {
+  if (m.rf) m.rf->spoof_detection_state = 0;
+}
+
+// The first epoch it no longer acts at (its fade out over).
+template <class Kind>
+void on_over(const Kind&, Moment&) {}
+void on_over(const Jam&, Moment& m) {
+  if (!m.rf || !m.clean_rf) return;
+  const std::uint8_t spoofing = m.rf->spoof_detection_state;  // a spoof's, still active or not
+  *m.rf = *m.clean_rf;
+  m.rf->spoof_detection_state = spoofing;
 }
 
 }  // namespace
@@ -282,22 +322,21 @@ EpochEffect FaultTimeline::apply(UtcNs t, nmea::Fix& fix, const std::optional<En
     return effect;
   }
   bool freeze_ahead = false;
+  Moment moment{last_, frozen_, clean_rf_, rf, effect};
   for (Entry& e : entries_) {
     if (e.ended) continue;
     const bool was_acting = e.active || e.fading_from_s.has_value();
     const bool active = active_now(e, since_s, truth_m, frame);
     if (active && !e.active) {
       spdlog::info("{}fault {} starts at epoch {} (+{:.3f} s)", who_, e.fault.describe(), format_iso8601_utc(t), since_s);
-      if (e.fault.is<Freeze>()) frozen_ = last_;
-      if (e.fault.is<Jam>() && rf && !clean_rf_) clean_rf_ = *rf;
-      if (const Reset* reset = e.fault.as<Reset>()) effect.reboot_cold_start_s = reset->silent_s + reset->ttff_s;
+      std::visit([&moment](const auto& params) { on_start(params, moment); }, e.fault.params);
       e.fading_from_s.reset();
     } else if (!active && e.active) {
       spdlog::info("{}fault {} ends at epoch {} (+{:.3f} s) after {} epochs{}", who_, kind_name(e.fault.kind()),
                    format_iso8601_utc(t), since_s, e.epochs,
                    fades(e.fault) ? fmt::format(", fading out over {:.6g} s", e.fault.ramp_out_s) : std::string());
       if (fades(e.fault)) e.fading_from_s = since_s;
-      if (e.fault.is<Spoof>() && rf) rf->spoof_detection_state = 0;
+      std::visit([&moment](const auto& params) { on_end(params, moment); }, e.fault.params);
     }
     e.active = active;
     // Ramp in from the start of this visit (`at`, or entering the area); fade out after the end.
@@ -310,22 +349,14 @@ EpochEffect FaultTimeline::apply(UtcNs t, nmea::Fix& fix, const std::optional<En
       strength = e.strength * std::clamp(1.0 - (since_s - *e.fading_from_s) / e.fault.ramp_out_s, 0.0, 1.0);
       if (strength <= 0.0) e.fading_from_s.reset();
     }
-    // A spoof fades by its offsets, not a strength (sky_faults.hpp); over when they reach nothing.
-    const Spoof* spoofing = e.fault.as<Spoof>();
-    if (!active && e.fading_from_s && spoofing && since_s - *e.fading_from_s >= e.fault.ramp_out_s) e.fading_from_s.reset();
-    if (!active && e.fading_from_s && spoofing) {
+    // The fade is over when its strength reaches nothing (a spoof's too: ramp_out_s after its end).
+    if (active || e.fading_from_s) {
       ++e.epochs;
-      spoof(fix, e.fault, *spoofing, since_s, frame, e.fading_from_s);
-    } else if (active || e.fading_from_s) {
-      ++e.epochs;
-      EpochContext c{e.fault, since_s, start_s, strength, fix, truth_m, frame, rf, effect, frozen_};
+      const std::optional<double> ended_s = active ? std::nullopt : e.fading_from_s;
+      EpochContext c{e.fault, since_s, start_s, strength, fix, truth_m, frame, rf, effect, frozen_, ended_s};
       std::visit([&c](const auto& params) { act(params, c); }, e.fault.params);
     } else {
-      if (e.fault.is<Jam>() && rf && clean_rf_ && was_acting) {
-        const std::uint8_t spoofing = rf->spoof_detection_state;  // a spoof's, still active or not
-        *rf = *clean_rf_;
-        rf->spoof_detection_state = spoofing;
-      }
+      if (was_acting) std::visit([&moment](const auto& params) { on_over(params, moment); }, e.fault.params);
       // Over for good: its time passed, or cleared (an area's fault can start again on the next visit).
       const bool past = e.fault.duration_s && !e.fault.where && ns_of(since_s) >= ns_of(e.fault.at_s + *e.fault.duration_s);
       e.ended = e.cleared || past;
