@@ -118,10 +118,10 @@ std::string named(const faults::Fault& f) {
 void check_fault_overlaps(const std::vector<faults::Fault>& faults, const TimelineSettings& timeline) {
   for (std::size_t i = 0; i < faults.size(); ++i) {
     const faults::Fault& a = faults[i];
-    if (a.kind != faults::FaultKind::spoof) continue;
+    if (!a.is<faults::Spoof>()) continue;
     for (std::size_t j = i + 1; j < faults.size(); ++j) {
       const faults::Fault& b = faults[j];
-      if (b.kind != faults::FaultKind::spoof) continue;
+      if (!b.is<faults::Spoof>()) continue;
       if (a.receiver && b.receiver && *a.receiver != *b.receiver) continue;
       const auto wa = fault_window_s(a, timeline), wb = fault_window_s(b, timeline);
       if (!wa || !wb || wb->first >= wa->second || wa->first >= wb->second) continue;

@@ -1,7 +1,8 @@
 // The fault catalogue as one table (docs/faults.md, "The catalogue"): each kind's name and the
 // parameters it takes, each parameter with its unit and range. The key parser (fault.cpp), the
 // control socket's error messages and `gpsemu ctl`'s flags and help all read this table, so a new
-// parameter is one row here (and its value check in make_fault()).
+// parameter is one row here (its field in the kind's struct, kinds.hpp, and its parse_key() in
+// fault.cpp). FaultKind is the index of the kind's alternative in FaultParams (kinds.hpp).
 #pragma once
 
 #include <array>

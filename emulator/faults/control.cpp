@@ -62,11 +62,11 @@ std::string live_description(const Fault& fault) {
 /// The spoof acting on `t` (or starting at its next epoch) that a clear does not end, if any.
 std::optional<std::string> spoof_on(const FaultTimeline& t) {
   for (const Fault& p : t.pending()) {
-    if (p.kind == FaultKind::spoof) return live_description(p);
+    if (p.is<Spoof>()) return live_description(p);
   }
   if (t.clear_pending(FaultKind::spoof)) return std::nullopt;
   for (const FaultTimeline::Entry& e : t.entries()) {
-    if (e.fault.kind == FaultKind::spoof && !e.ended && !e.cleared && (e.active || e.fading_from_s)) return e.fault.describe();
+    if (e.fault.is<Spoof>() && !e.ended && !e.cleared && (e.active || e.fading_from_s)) return e.fault.describe();
   }
   return std::nullopt;
 }
@@ -81,7 +81,7 @@ std::optional<std::string> spoof_ahead(std::size_t i, const FaultTimeline& t, co
   const double live_end_s = live.duration_s && !live.where ? now_s + *live.duration_s + live.ramp_out_s : kForever;
   for (const FaultTimeline::Entry& e : t.entries()) {
     const Fault& f = e.fault;
-    if (f.kind != FaultKind::spoof || e.ended || e.cleared || e.active || e.fading_from_s) continue;
+    if (!f.is<Spoof>() || e.ended || e.cleared || e.active || e.fading_from_s) continue;
     const double end_s = f.duration_s && !f.where ? f.at_s + *f.duration_s + f.ramp_out_s : kForever;
     if (f.at_s >= live_end_s || end_s <= now_s) continue;
     std::string what = fmt::format("spoof: receiver {} has {} from {:g} s", i,
@@ -114,7 +114,7 @@ std::string fault_message(const json& message, const std::vector<FaultTimeline*>
   const Fault fault = make_fault(keys, FaultSource::live);
   const std::vector<std::size_t> receivers = receivers_of(message, timelines.size());
   for (const std::size_t i : receivers) {
-    if (fault.kind != FaultKind::spoof) break;
+    if (!fault.is<Spoof>()) break;
     if (const auto other = spoof_on(*timelines[i])) {
       throw std::invalid_argument(fmt::format("spoof: receiver {} has a spoof on ({}): two spoofers would add their drags; "
                                               "clear spoof first", i, *other));
@@ -124,7 +124,7 @@ std::string fault_message(const json& message, const std::vector<FaultTimeline*>
   for (const std::size_t i : receivers) timelines[i]->add_live(fault, recorded(message, i));
   const std::string what = live_description(fault);
   spdlog::info("control: fault {} for receivers {}: from the next epoch", what, receivers_json(receivers).dump());
-  json answer{{"class", "FAULT"}, {"fault", std::string(kind_name(fault.kind))}, {"describe", what},
+  json answer{{"class", "FAULT"}, {"fault", std::string(kind_name(fault.kind()))}, {"describe", what},
               {"receivers", receivers_json(receivers)}, {"starts", "next epoch"}};
   add_last_epoch(answer, *timelines[receivers.front()]);
   return answer.dump();
@@ -163,14 +163,14 @@ std::string status_message(const std::vector<FaultTimeline*>& timelines,
     json faults = json::array();
     for (const FaultTimeline::Entry& e : t.entries()) {
       if (e.ended) continue;
-      json f{{"fault", std::string(kind_name(e.fault.kind))}, {"describe", e.fault.describe()}, {"active", e.active},
+      json f{{"fault", std::string(kind_name(e.fault.kind()))}, {"describe", e.fault.describe()}, {"active", e.active},
              {"epochs", e.epochs}};
-      if (!e.cleared && t.clear_pending(e.fault.kind)) f["ends"] = "next epoch";
+      if (!e.cleared && t.clear_pending(e.fault.kind())) f["ends"] = "next epoch";
       faults.push_back(std::move(f));
     }
     // Accepted since the last epoch: they start at the next one.
     for (const Fault& p : t.pending()) {
-      faults.push_back({{"fault", std::string(kind_name(p.kind))}, {"describe", live_description(p)}, {"active", false},
+      faults.push_back({{"fault", std::string(kind_name(p.kind()))}, {"describe", live_description(p)}, {"active", false},
                         {"pending", true}, {"starts", "next epoch"}, {"epochs", 0}});
     }
     receivers.push_back({{"receiver", i}, {"epochs", last.epochs}, {"time_s", last.since_s},

@@ -17,6 +17,7 @@
 
 #include "emulator/faults/area.hpp"
 #include "emulator/faults/catalogue.hpp"
+#include "emulator/faults/kinds.hpp"
 #include "emulator/model/enu.hpp"
 #include "emulator/model/sky.hpp"
 #include "emulator/model/time.hpp"
@@ -24,12 +25,6 @@
 
 namespace gpsemu::faults {
 
-/// What a `time` fault does to the reported time.
-enum class TimeFaultMode {
-  jump,      ///< the reported time steps by jump_s (and stays off while the fault lasts)
-  rollover,  ///< GPS week-number rollover as buggy firmware does it: the date 1024 weeks early
-  leap_second,  ///< a leap second announced from the fault's start and inserted at the end of leap_day
-};
 /// Weeks a week-number rollover takes the date back (the 10-bit GPS week).
 inline constexpr int kRolloverWeeks = 1024;
 
@@ -48,42 +43,35 @@ struct FaultOrigin {
   [[nodiscard]] std::string prefix(std::string_view key = {}) const;
 };
 
+/// A fault: the part every kind shares (when, for which receiver, where, its ramp) and its own
+/// parameters, one type per kind (kinds.hpp).
 struct Fault {
-  FaultKind kind = FaultKind::outage;
+  FaultParams params;                 ///< the kind and its own parameters (kinds.hpp)
   double at_s = 0.0;                  ///< start, seconds after the first epoch (`at`)
   std::optional<double> duration_s;   ///< length in seconds (`duration`, or `end` - `at`); empty: to the end
-  double ramp_s = 0.0;                ///< jam, wrong, degrade: reaches full strength over this long (seconds)
   std::optional<int> receiver;        ///< fleet index it applies to; empty: every receiver
-  Enu offset_m{};                     ///< jump, wrong: east_m, north_m, up_m
-  std::optional<double> decay_s;      ///< jump: the step decays with this time constant (seconds); empty: stays
-  nmea::FixQuality quality = nmea::FixQuality::gps;  ///< fix-quality: `quality`
-  std::optional<int> satellites;      ///< degrade: at most this many satellites used
-  std::optional<double> dop_k;        ///< degrade: DOP factor (default: from the satellites dropped)
-  std::optional<double> noise_k;      ///< degrade: factor on the position error and sigmas (default: dop_k)
-  double db = 0.0;                    ///< jam: C/N0 reduction at full strength (dB)
-  std::vector<SkyMaskSector> mask;    ///< sky-mask: the sectors blocked (`mask`: a preset or FROM-TO:ELEV,...)
-  std::string mask_name;              ///< sky-mask: `mask` as given (for logs)
-  double speed_mps = 0.0;             ///< spoof: the position is dragged away at this speed (m/s)
-  double bearing_deg = 0.0;           ///< spoof: towards this direction (degrees true)
-  double time_drift_ms_per_s = 0.0;   ///< spoof: the reported time drifts this much a second (ms/s)
-  bool detected = false;              ///< spoof: the receiver says so (NAV-STATUS spoofDetState 3, else 1)
-  TimeFaultMode time_mode = TimeFaultMode::jump;  ///< time: `mode`
-  double jump_s = 0.0;                ///< time: the step of a jump (seconds, whole milliseconds)
-  /// time, mode leap-second: the UTC day at whose end the second is inserted (`leap_utc`, the
-  /// inserted second itself: "2026-12-31T23:59:60Z")
-  std::chrono::sys_days leap_day{};
-  double silent_s = 2.0;              ///< reset: the receiver boots this long, writing nothing (seconds)
-  double ttff_s = 26.0;               ///< reset: then a cold start, no fix for this long (seconds)
-  // Triggers and the ramp out (docs/faults.md#triggers).
+  // The ramp in and out: only the kinds whose catalogue row lists ramp_s and ramp_out_s (wrong,
+  // degrade, jam, spoof) take them (make_fault refuses them elsewhere), so they stay 0 for the others.
+  double ramp_s = 0.0;                ///< reaches full strength over this long (seconds)
+  double ramp_out_s = 0.0;            ///< fades to nothing over this long after its end (seconds)
+  // Triggers (docs/faults.md#triggers).
   std::optional<UtcNs> at_utc;        ///< starts at this UTC time (`at_utc`) in place of `at`
   std::optional<Area> where;          ///< active while the truth is inside (`where`), armed from `at`
   std::optional<double> disarm_s;     ///< where: no longer armed from this time (s; a replayed live clear)
-  double ramp_out_s = 0.0;            ///< jam, wrong, degrade: fades to nothing over this long after its end (s)
-  // Byte-level faults.
-  double rate = 0.0;                  ///< garble: fraction of sentences and frames hit (0..1)
-  double delay_ms = 0.0;              ///< latency: the bytes leave this much after the epoch's deadline (ms)
-  double jitter_ms = 0.0;             ///< latency: plus a uniform draw in [0, jitter_ms) each epoch (ms)
   FaultOrigin origin;                 ///< the file and lines it came from, for start-up messages
+
+  /// The kind: the index of `params`' alternative.
+  [[nodiscard]] FaultKind kind() const { return kind_of(params); }
+  /// Whether it is of kind `K` (a type of kinds.hpp).
+  template <class K>
+  [[nodiscard]] bool is() const {
+    return std::holds_alternative<K>(params);
+  }
+  /// Its parameters as kind `K`, or null when it is of another kind.
+  template <class K>
+  [[nodiscard]] const K* as() const {
+    return std::get_if<K>(&params);
+  }
 
   /// Whether epoch time `since_s` (seconds after the first epoch) is inside the fault.
   /// Compared in whole nanoseconds, so 0.1 + 0.2 s ends at the epoch of 0.3 s.

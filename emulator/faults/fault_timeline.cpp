@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <variant>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -82,9 +83,170 @@ void drop_fix(nmea::Fix& fix) {
   fix = lost;
 }
 
+namespace {
+
+/// What a kind's effect acts on at one epoch.
+struct EpochContext {
+  const Fault& fault;    ///< the common part (at_s, ramp_out_s, ...)
+  double since_s = 0.0;  ///< the epoch, seconds after the first
+  double start_s = 0.0;  ///< the start of this visit (`at`, or entering the area)
+  double strength = 0.0;  ///< 0..1: ramp in and out
+  nmea::Fix& fix;
+  const std::optional<Enu>& truth_m;
+  const LocalFrame& frame;
+  ubx::RfState* rf;  ///< a u-blox's RF state, or null
+  EpochEffect& effect;
+  const std::optional<nmea::Fix>& frozen;  ///< the fix a freeze repeats
+  std::optional<double> ended_s;  ///< fading out: when it ended (spoof fades by its offsets)
+};
+
+// Each kind's effect on an epoch (its parameters, the epoch's context).
+void act(const Outage&, EpochContext& c) {
+  nmea::Fix none;
+  none.time_utc = c.fix.time_utc;
+  c.fix = none;
+}
+
+void act(const Freeze&, EpochContext& c) {
+  if (!c.frozen) return;
+  const nmea::UtcTime now = c.fix.time_utc;
+  c.fix = *c.frozen;
+  c.fix.time_utc = now;
+}
+
+/// jump, wrong: `offset_m` at the ramp's strength, decaying with `decay_s`.
+void move_by(const Enu& offset_m, std::optional<double> decay_s, EpochContext& c) {
+  if (!c.fix.has_fix()) return;
+  double k = c.strength;
+  if (decay_s) k *= std::exp(-(c.since_s - c.start_s) / *decay_s);
+  offset_position(c.fix, k * offset_m, c.frame);
+}
+void act(const Jump& p, EpochContext& c) { move_by(p.offset_m, p.decay_s, c); }
+void act(const Wrong& p, EpochContext& c) { move_by(p.offset_m, std::nullopt, c); }
+
+void act(const ForcedQuality& p, EpochContext& c) {
+  if (!c.fix.has_fix()) return;
+  const double k = noise_scale(p.quality) / noise_scale(c.fix.quality);
+  c.fix.quality = p.quality;
+  scale_dops(c.fix, 1.0, k);
+  if (c.truth_m) scale_error(c.fix, *c.truth_m, k, c.frame);
+}
+
+void act(const Degrade& p, EpochContext& c) {
+  nmea::Fix& fix = c.fix;
+  if (!fix.has_fix()) return;
+  const int before = count_used(fix);
+  const int after = p.satellites ? keep_strongest(fix, *p.satellites) : before;
+  if (after < kMinFixSatellites) {
+    drop_fix(fix);
+    return;
+  }
+  fix.satellites_used = after;
+  const double dop_k = p.dop_k ? *p.dop_k : (after > 0 && before > after ? std::sqrt(double(before) / after) : 1.0);
+  const double noise_k = p.noise_k.value_or(dop_k);
+  const double dk = 1.0 + c.strength * (dop_k - 1.0);
+  const double nk = 1.0 + c.strength * (noise_k - 1.0);
+  scale_dops(fix, dk, nk);
+  if (c.truth_m) scale_error(fix, *c.truth_m, nk, c.frame);
+}
+
+void act(const Silence&, EpochContext& c) { c.effect.silent = true; }
+
+void act(const Jam& p, EpochContext& c) {
+  nmea::Fix& fix = c.fix;
+  const double drop_db = c.strength * p.db;
+  if (ubx::RfState* rf = c.rf) {
+    rf->jamming_indicator = static_cast<std::uint8_t>(std::clamp(9.0 + 8.0 * drop_db, 0.0, 255.0));
+    rf->jamming_state = drop_db < 6.0 ? 1 : drop_db < 15.0 ? 2 : 3;
+    rf->agc_count = static_cast<std::uint16_t>(std::lround(3140.0 * std::max(0.1, 1.0 - drop_db / 40.0)));
+    rf->noise_per_ms = static_cast<std::uint16_t>(std::lround(89.0 + 4.0 * drop_db));
+  }
+  const int before = count_used(fix);
+  for (int i = 0; i < fix.satellites_in_view; ++i) {
+    nmea::SatelliteInView& s = sat(fix, i);
+    if (!s.snr_dbhz) continue;
+    const double cn0 = *s.snr_dbhz - drop_db;
+    if (cn0 < kTrackingThresholdDbHz) {
+      s.snr_dbhz.reset();
+      s.used = false;
+    } else {
+      s.snr_dbhz = static_cast<int>(std::lround(cn0));
+    }
+  }
+  if (!fix.has_fix()) return;
+  const int after = count_used(fix);
+  if (after < kMinFixSatellites) {
+    drop_fix(fix);
+    return;
+  }
+  // The tracking error grows as 1/sqrt(C/N0): x 10^(dB/20) on the remaining satellites.
+  fewer_satellites(fix, before, after, std::pow(10.0, drop_db / 20.0), c.truth_m, c.frame);
+}
+
+void act(const SkyMask& p, EpochContext& c) { mask_sky(c.fix, p.mask, c.truth_m, c.frame); }
+
+void act(const Spoof& p, EpochContext& c) {
+  if (c.ended_s) {  // fading: the offsets reached shrink to nothing, not a strength
+    spoof(c.fix, c.fault, p, c.since_s, c.frame, c.ended_s);
+    return;
+  }
+  if (c.rf) c.rf->spoof_detection_state = spoof_detection_state(p.detected);
+  spoof(c.fix, c.fault, p, c.since_s, c.frame);
+}
+
+void act(const TimeFault& p, EpochContext& c) { shift_time(c.fix, p); }
+
+void act(const Reset& p, EpochContext& c) {
+  c.effect.silent = c.effect.silent || c.since_s < c.fault.at_s + p.silent_s;
+}
+
+void act(const Garble& p, EpochContext& c) { c.effect.garble_rate = std::max(c.effect.garble_rate, p.rate); }
+
+void act(const Latency& p, EpochContext& c) {
+  c.effect.delay_ms += p.delay_ms;
+  c.effect.jitter_ms += p.jitter_ms;
+}
+
+/// What a kind's start, end and being over act on beside the epoch's fix (the timeline's state).
+struct Moment {
+  const std::optional<nmea::Fix>& last;   ///< the last epoch's fix as written
+  std::optional<nmea::Fix>& frozen;       ///< the fix a freeze repeats
+  std::optional<ubx::RfState>& clean_rf;  ///< the RF state before a jam
+  ubx::RfState* rf;                       ///< a u-blox's RF state, or null
+  EpochEffect& effect;
+};
+
+// A kind's first epoch (most do nothing then beyond their effect).
+template <class Kind>
+void on_start(const Kind&, Moment&) {}
+void on_start(const Freeze&, Moment& m) { m.frozen = m.last; }
+void on_start(const Jam&, Moment& m) {
+  if (m.rf && !m.clean_rf) m.clean_rf = *m.rf;
+}
+void on_start(const Reset& p, Moment& m) { m.effect.reboot_cold_start_s = p.silent_s + p.ttff_s; }
+
+// The epoch it ends at (its fade out, if any, still to come).
+template <class Kind>
+void on_end(const Kind&, Moment&) {}
+void on_end(const Spoof&, Moment& m) {
+  if (m.rf) m.rf->spoof_detection_state = 0;
+}
+
+// The first epoch it no longer acts at (its fade out over).
+template <class Kind>
+void on_over(const Kind&, Moment&) {}
+void on_over(const Jam&, Moment& m) {
+  if (!m.rf || !m.clean_rf) return;
+  const std::uint8_t spoofing = m.rf->spoof_detection_state;  // a spoof's, still active or not
+  *m.rf = *m.clean_rf;
+  m.rf->spoof_detection_state = spoofing;
+}
+
+}  // namespace
+
 FaultTimeline::FaultTimeline(FaultPlan plan, UtcNs first_epoch) : who_(std::move(plan.who)), first_epoch_(first_epoch) {
   for (Fault& f : plan.faults) {
-    keeps_last_ = keeps_last_ || f.kind == FaultKind::freeze;
+    keeps_last_ = keeps_last_ || f.is<Freeze>();
     // at_utc: its time after the first epoch (before it: negative, active from the start if it lasts).
     if (f.at_utc) f.at_s = std::chrono::duration<double>(*f.at_utc - first_epoch).count();
     entries_.push_back({std::move(f)});
@@ -95,11 +257,9 @@ namespace {
 
 std::int64_t ns_of(double s) { return std::llround(s * 1e9); }
 
-/// Faults whose effect has a strength fade out over ramp_out_s after they end.
-bool fades(const Fault& f) {
-  return f.ramp_out_s > 0.0 && (f.kind == FaultKind::jam || f.kind == FaultKind::wrong || f.kind == FaultKind::degrade ||
-                                f.kind == FaultKind::spoof);
-}
+/// Faults whose effect fades out over ramp_out_s after they end (only the kinds that take the key
+/// have one: jam, wrong, degrade, spoof).
+bool fades(const Fault& f) { return f.ramp_out_s > 0.0; }
 
 }  // namespace
 
@@ -109,7 +269,7 @@ void FaultTimeline::take_pending(UtcNs t, double since_s, const nmea::Fix& fix) 
   // (clear()), so those still pending came after it and must not end with it.
   for (auto& [kind, request] : pending_clears_) {
     for (Entry& e : entries_) {
-      if (e.fault.kind != kind || e.ended || e.cleared) continue;
+      if (e.fault.kind() != kind || e.ended || e.cleared) continue;
       e.cleared = true;
       e.cleared_s = since_s;
       if (!e.active && !e.fading_from_s) e.ended = true;  // had not started: it never will
@@ -120,7 +280,7 @@ void FaultTimeline::take_pending(UtcNs t, double since_s, const nmea::Fix& fix) 
   for (std::size_t i = 0; i < pending_.size(); ++i) {
     Fault& f = pending_[i];
     f.at_s = since_s;
-    keeps_last_ = keeps_last_ || f.kind == FaultKind::freeze;
+    keeps_last_ = keeps_last_ || f.is<Freeze>();
     if (keeps_last_ && !last_) last_ = fix;  // a live freeze before any was kept: this epoch's
     entries_.push_back({std::move(f)});
     if (!pending_requests_[i].empty()) applied_.push_back({t, since_s, std::move(pending_requests_[i])});
@@ -162,22 +322,21 @@ EpochEffect FaultTimeline::apply(UtcNs t, nmea::Fix& fix, const std::optional<En
     return effect;
   }
   bool freeze_ahead = false;
+  Moment moment{last_, frozen_, clean_rf_, rf, effect};
   for (Entry& e : entries_) {
     if (e.ended) continue;
     const bool was_acting = e.active || e.fading_from_s.has_value();
     const bool active = active_now(e, since_s, truth_m, frame);
     if (active && !e.active) {
       spdlog::info("{}fault {} starts at epoch {} (+{:.3f} s)", who_, e.fault.describe(), format_iso8601_utc(t), since_s);
-      if (e.fault.kind == FaultKind::freeze) frozen_ = last_;
-      if (e.fault.kind == FaultKind::jam && rf && !clean_rf_) clean_rf_ = *rf;
-      if (e.fault.kind == FaultKind::reset) effect.reboot_cold_start_s = e.fault.silent_s + e.fault.ttff_s;
+      std::visit([&moment](const auto& params) { on_start(params, moment); }, e.fault.params);
       e.fading_from_s.reset();
     } else if (!active && e.active) {
-      spdlog::info("{}fault {} ends at epoch {} (+{:.3f} s) after {} epochs{}", who_, kind_name(e.fault.kind),
+      spdlog::info("{}fault {} ends at epoch {} (+{:.3f} s) after {} epochs{}", who_, kind_name(e.fault.kind()),
                    format_iso8601_utc(t), since_s, e.epochs,
                    fades(e.fault) ? fmt::format(", fading out over {:.6g} s", e.fault.ramp_out_s) : std::string());
       if (fades(e.fault)) e.fading_from_s = since_s;
-      if (e.fault.kind == FaultKind::spoof && rf) rf->spoof_detection_state = 0;
+      std::visit([&moment](const auto& params) { on_end(params, moment); }, e.fault.params);
     }
     e.active = active;
     // Ramp in from the start of this visit (`at`, or entering the area); fade out after the end.
@@ -190,26 +349,19 @@ EpochEffect FaultTimeline::apply(UtcNs t, nmea::Fix& fix, const std::optional<En
       strength = e.strength * std::clamp(1.0 - (since_s - *e.fading_from_s) / e.fault.ramp_out_s, 0.0, 1.0);
       if (strength <= 0.0) e.fading_from_s.reset();
     }
-    // A spoof fades by its offsets, not a strength (sky_faults.hpp); over when they reach nothing.
-    if (!active && e.fading_from_s && e.fault.kind == FaultKind::spoof && since_s - *e.fading_from_s >= e.fault.ramp_out_s)
-      e.fading_from_s.reset();
-    if (!active && e.fading_from_s && e.fault.kind == FaultKind::spoof) {
+    // The fade is over when its strength reaches nothing (a spoof's too: ramp_out_s after its end).
+    if (active || e.fading_from_s) {
       ++e.epochs;
-      spoof(fix, e.fault, since_s, frame, e.fading_from_s);
-    } else if (active || e.fading_from_s) {
-      ++e.epochs;
-      apply_one(e.fault, since_s, start_s, strength, fix, truth_m, frame, rf, effect);
+      const std::optional<double> ended_s = active ? std::nullopt : e.fading_from_s;
+      EpochContext c{e.fault, since_s, start_s, strength, fix, truth_m, frame, rf, effect, frozen_, ended_s};
+      std::visit([&c](const auto& params) { act(params, c); }, e.fault.params);
     } else {
-      if (e.fault.kind == FaultKind::jam && rf && clean_rf_ && was_acting) {
-        const std::uint8_t spoofing = rf->spoof_detection_state;  // a spoof's, still active or not
-        *rf = *clean_rf_;
-        rf->spoof_detection_state = spoofing;
-      }
+      if (was_acting) std::visit([&moment](const auto& params) { on_over(params, moment); }, e.fault.params);
       // Over for good: its time passed, or cleared (an area's fault can start again on the next visit).
       const bool past = e.fault.duration_s && !e.fault.where && ns_of(since_s) >= ns_of(e.fault.at_s + *e.fault.duration_s);
       e.ended = e.cleared || past;
     }
-    freeze_ahead = freeze_ahead || (e.fault.kind == FaultKind::freeze && !e.ended);
+    freeze_ahead = freeze_ahead || (e.fault.is<Freeze>() && !e.ended);
   }
   keeps_last_ = freeze_ahead;
   last_epoch_.quality = fix.quality;
@@ -223,108 +375,12 @@ EpochEffect FaultTimeline::apply(UtcNs t, nmea::Fix& fix, const std::optional<En
   return effect;
 }
 
-void FaultTimeline::apply_one(const Fault& f, double since_s, double start_s, double strength, nmea::Fix& fix,
-                              const std::optional<Enu>& truth_m, const LocalFrame& frame, ubx::RfState* rf,
-                              EpochEffect& effect) {
-  switch (f.kind) {
-    case FaultKind::outage: {
-      nmea::Fix none;
-      none.time_utc = fix.time_utc;
-      fix = none;
-      break;
-    }
-    case FaultKind::freeze:
-      if (frozen_) {
-        const nmea::UtcTime now = fix.time_utc;
-        fix = *frozen_;
-        fix.time_utc = now;
-      }
-      break;
-    case FaultKind::jump:
-    case FaultKind::wrong: {
-      if (!fix.has_fix()) break;
-      double k = strength;
-      if (f.decay_s) k *= std::exp(-(since_s - start_s) / *f.decay_s);
-      offset_position(fix, k * f.offset_m, frame);
-      break;
-    }
-    case FaultKind::fix_quality: {
-      if (!fix.has_fix()) break;
-      const double k = noise_scale(f.quality) / noise_scale(fix.quality);
-      fix.quality = f.quality;
-      scale_dops(fix, 1.0, k);
-      if (truth_m) scale_error(fix, *truth_m, k, frame);
-      break;
-    }
-    case FaultKind::degrade: {
-      if (!fix.has_fix()) break;
-      const int before = count_used(fix);
-      const int after = f.satellites ? keep_strongest(fix, *f.satellites) : before;
-      if (after < kMinFixSatellites) {
-        drop_fix(fix);
-        break;
-      }
-      fix.satellites_used = after;
-      const double dop_k = f.dop_k ? *f.dop_k : (after > 0 && before > after ? std::sqrt(double(before) / after) : 1.0);
-      const double noise_k = f.noise_k.value_or(dop_k);
-      const double dk = 1.0 + strength * (dop_k - 1.0);
-      const double nk = 1.0 + strength * (noise_k - 1.0);
-      scale_dops(fix, dk, nk);
-      if (truth_m) scale_error(fix, *truth_m, nk, frame);
-      break;
-    }
-    case FaultKind::silence: effect.silent = true; break;
-    case FaultKind::garble: effect.garble_rate = std::max(effect.garble_rate, f.rate); break;
-    case FaultKind::latency:
-      effect.delay_ms += f.delay_ms;
-      effect.jitter_ms += f.jitter_ms;
-      break;
-    case FaultKind::jam: {
-      const double drop_db = strength * f.db;
-      if (rf) {
-        rf->jamming_indicator = static_cast<std::uint8_t>(std::clamp(9.0 + 8.0 * drop_db, 0.0, 255.0));
-        rf->jamming_state = drop_db < 6.0 ? 1 : drop_db < 15.0 ? 2 : 3;
-        rf->agc_count = static_cast<std::uint16_t>(std::lround(3140.0 * std::max(0.1, 1.0 - drop_db / 40.0)));
-        rf->noise_per_ms = static_cast<std::uint16_t>(std::lround(89.0 + 4.0 * drop_db));
-      }
-      const int before = count_used(fix);
-      for (int i = 0; i < fix.satellites_in_view; ++i) {
-        nmea::SatelliteInView& s = sat(fix, i);
-        if (!s.snr_dbhz) continue;
-        const double cn0 = *s.snr_dbhz - drop_db;
-        if (cn0 < kTrackingThresholdDbHz) {
-          s.snr_dbhz.reset();
-          s.used = false;
-        } else {
-          s.snr_dbhz = static_cast<int>(std::lround(cn0));
-        }
-      }
-      if (!fix.has_fix()) break;
-      const int after = count_used(fix);
-      if (after < kMinFixSatellites) {
-        drop_fix(fix);
-        break;
-      }
-      // The tracking error grows as 1/sqrt(C/N0): x 10^(dB/20) on the remaining satellites.
-      fewer_satellites(fix, before, after, std::pow(10.0, drop_db / 20.0), truth_m, frame);
-      break;
-    }
-    case FaultKind::sky_mask: mask_sky(fix, f.mask, truth_m, frame); break;
-    case FaultKind::spoof:
-      if (rf) rf->spoof_detection_state = spoof_detection_state(f.detected);
-      spoof(fix, f, since_s, frame);
-      break;
-    case FaultKind::time: shift_time(fix, f); break;
-    case FaultKind::reset: effect.silent = effect.silent || since_s < f.at_s + f.silent_s; break;
-  }
-}
-
 int FaultTimeline::clear(FaultKind kind, std::string request) {
   int n = 0;
-  for (const Entry& e : entries_) n += e.fault.kind == kind && !e.ended && !e.cleared;
+  for (const Entry& e : entries_) n += e.fault.kind() == kind && !e.ended && !e.cleared;
   int waiting = 0;
   for (std::size_t i = pending_.size(); i-- > 0;) {
-    if (pending_[i].kind != kind) continue;
+    if (pending_[i].kind() != kind) continue;
     // Never applied: neither is it written to the --tee file.
     pending_.erase(pending_.begin() + static_cast<std::ptrdiff_t>(i));
     pending_requests_.erase(pending_requests_.begin() + static_cast<std::ptrdiff_t>(i));

@@ -111,9 +111,6 @@ class FaultTimeline {
   void take_pending(UtcNs t, double since_s, const nmea::Fix& fix);
   /// Whether entry `e` is active at `since_s` (its trigger: time, UTC, or the truth in an area).
   bool active_now(Entry& e, double since_s, const std::optional<Enu>& truth_m, const LocalFrame& frame) const;
-  /// Applies `f` at `strength` (0..1: ramp in and out), its visit begun at `start_s`.
-  void apply_one(const Fault& f, double since_s, double start_s, double strength, nmea::Fix& fix,
-                 const std::optional<Enu>& truth_m, const LocalFrame& frame, ubx::RfState* rf, EpochEffect& effect);
 
   std::vector<Entry> entries_;
   std::vector<Fault> pending_;             ///< live faults to start at the next epoch

@@ -67,16 +67,17 @@ void mask_sky(nmea::Fix& fix, const std::vector<SkyMaskSector>& mask, const std:
   if (truth_m) scale_error(fix, *truth_m, kh, frame);
 }
 
-void spoof(nmea::Fix& fix, const Fault& f, double since_s, const LocalFrame& frame, std::optional<double> ended_s) {
+void spoof(nmea::Fix& fix, const Fault& f, const Spoof& p, double since_s, const LocalFrame& frame,
+           std::optional<double> ended_s) {
   // Fading out: the offsets reached at the end, times k falling from 1 to 0 over ramp_out_s.
   const double until_s = ended_s ? std::min(since_s, *ended_s) : since_s;
   const double k = ended_s && f.ramp_out_s > 0.0 ? std::clamp(1.0 - (since_s - *ended_s) / f.ramp_out_s, 0.0, 1.0) : 1.0;
   const double elapsed_s = std::max(0.0, until_s - f.at_s);
-  fix.time_utc += std::chrono::milliseconds(std::llround(k * f.time_drift_ms_per_s * elapsed_s));
+  fix.time_utc += std::chrono::milliseconds(std::llround(k * p.time_drift_ms_per_s * elapsed_s));
   if (!fix.has_fix()) return;
-  const double bearing = f.bearing_deg * kDegToRad;
-  const Enu drag_mps{f.speed_mps * std::sin(bearing), f.speed_mps * std::cos(bearing), 0.0};
-  const Enu reached_m = elapsed_s * drag_mps + f.strength_at(until_s) * f.offset_m;
+  const double bearing = p.bearing_deg * kDegToRad;
+  const Enu drag_mps{p.speed_mps * std::sin(bearing), p.speed_mps * std::cos(bearing), 0.0};
+  const Enu reached_m = elapsed_s * drag_mps + f.strength_at(until_s) * p.offset_m;
   offset_position(fix, k * reached_m, frame);
   // The velocity of the false trajectory: the drag while on, the return (-reached / ramp_out_s) while fading.
   const Enu moving_mps = !ended_s ? drag_mps : k > 0.0 ? (-1.0 / f.ramp_out_s) * reached_m : Enu{};
@@ -111,13 +112,13 @@ void insert_leap_second(nmea::Fix& fix, std::chrono::sys_days day) {
   fix.time_utc -= seconds{1};
 }
 
-void shift_time(nmea::Fix& fix, const Fault& f) {
-  if (f.time_mode == TimeFaultMode::leap_second) {
-    insert_leap_second(fix, f.leap_day);
-  } else if (f.time_mode == TimeFaultMode::rollover) {
+void shift_time(nmea::Fix& fix, const TimeFault& p) {
+  if (p.mode == TimeFaultMode::leap_second) {
+    insert_leap_second(fix, p.leap_day);
+  } else if (p.mode == TimeFaultMode::rollover) {
     fix.time_utc -= std::chrono::weeks(kRolloverWeeks);
   } else {
-    fix.time_utc += std::chrono::milliseconds(std::llround(f.jump_s * 1000.0));
+    fix.time_utc += std::chrono::milliseconds(std::llround(p.jump_s * 1000.0));
   }
 }
 

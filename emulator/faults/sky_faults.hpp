@@ -25,18 +25,19 @@ namespace gpsemu::faults {
 void mask_sky(nmea::Fix& fix, const std::vector<SkyMaskSector>& mask, const std::optional<Enu>& truth_m,
               const LocalFrame& frame);
 
-/// spoof, `since_s` after the first epoch: the position moved by speed_mps x (since_s - at_s)
-/// towards bearing_deg plus the offset (ramped in over ramp_s), the velocity (speed, course) plus
-/// the drag's, the time plus time_drift_ms_per_s x (since_s - at_s): a consistent false
-/// trajectory a naive filter follows. Without a fix only the time moves. `ended_s`: the spoof ended
-/// then and fades out over f.ramp_out_s: the position and time offsets it had reached shrink
-/// linearly to nothing (the velocity carries the return), so the position does not snap back.
-void spoof(nmea::Fix& fix, const Fault& f, double since_s, const LocalFrame& frame,
+/// spoof `p` of fault `f`, `since_s` after the first epoch: the position moved by speed_mps x
+/// (since_s - at_s) towards bearing_deg plus the offset (ramped in over f.ramp_s), the velocity
+/// (speed, course) plus the drag's, the time plus time_drift_ms_per_s x (since_s - at_s): a
+/// consistent false trajectory a naive filter follows. Without a fix only the time moves.
+/// `ended_s`: the spoof ended then and fades out over f.ramp_out_s: the position and time offsets
+/// it had reached shrink linearly to nothing (the velocity carries the return), so the position
+/// does not snap back.
+void spoof(nmea::Fix& fix, const Fault& f, const Spoof& p, double since_s, const LocalFrame& frame,
            std::optional<double> ended_s = std::nullopt);
 
 /// time: the reported time stepped by jump_s, the date 1024 weeks early (a rollover), or a leap
-/// second inserted at the end of f.leap_day (insert_leap_second).
-void shift_time(nmea::Fix& fix, const Fault& f);
+/// second inserted at the end of p.leap_day (insert_leap_second).
+void shift_time(nmea::Fix& fix, const TimeFault& p);
 
 /// A leap second inserted at the end of UTC day `day`, `fix.time_utc` on the receiver's running
 /// clock (UTC as counted before it): before the event the change is announced (fix.leap: +1, the

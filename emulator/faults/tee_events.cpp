@@ -36,7 +36,7 @@ FaultKeys keys_of(const json& request) {
 void clear_faults(std::vector<Fault>& faults, std::optional<FaultKind> kind, std::optional<int> receiver, double since_s) {
   const auto ns = [](double s) { return std::llround(s * 1e9); };
   for (auto it = faults.begin(); it != faults.end();) {
-    const bool matches = (!kind || it->kind == *kind) && (!receiver || !it->receiver || *it->receiver == *receiver);
+    const bool matches = (!kind || it->kind() == *kind) && (!receiver || !it->receiver || *it->receiver == *receiver);
     if (matches && it->where) {
       // An area's fault: disarmed from the clear on (its visits before stay as they were).
       if (!it->disarm_s || ns(*it->disarm_s) > ns(since_s)) it->disarm_s = since_s;

@@ -34,7 +34,7 @@ void add_faults(ChannelSettings& channel, const std::vector<faults::Fault>& scen
     if (f.receiver && static_cast<std::size_t>(*f.receiver) != i) continue;
     plan.faults.push_back(f);
     // A jam acts on each satellite's C/N0: the sky fills them even when no sentence lists them.
-    if (f.kind == faults::FaultKind::jam) channel.receiver.satellite_details = true;
+    if (f.is<faults::Jam>()) channel.receiver.satellite_details = true;
   }
   if (receivers > 1) plan.who = fmt::format("receiver {}: ", i);
 }

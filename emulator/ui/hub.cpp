@@ -123,7 +123,7 @@ void Hub::epoch(const EpochView& view) {
 void Hub::log_status_line(std::size_t i, const Receiver& r, const Channel& channel) const {
   std::string active;
   for (const faults::FaultTimeline::Entry& e : channel.faults().entries()) {
-    if (e.active) active += (active.empty() ? "" : ",") + std::string(faults::kind_name(e.fault.kind));
+    if (e.active) active += (active.empty() ? "" : ",") + std::string(faults::kind_name(e.fault.kind()));
   }
   spdlog::info("{}status: epoch {} ({:.1f} s), fix {}, {} of {} satellites used, HDOP {:.2f}, error against the truth "
                "{} horizontal {} vertical; {:.0f} bytes/s; {} late epochs; faults {}; {} page(s) open",

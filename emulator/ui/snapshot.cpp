@@ -87,8 +87,9 @@ json sky_json(const Channel& ch) {
   const ReceiverOptions& r = ch.settings().receiver;
   json mask = sectors_json(r.sky_mask, "--sky-mask");
   for (const faults::FaultTimeline::Entry& e : ch.faults().entries()) {
-    if (e.active && e.fault.kind == faults::FaultKind::sky_mask) {
-      for (json& s : sectors_json(e.fault.mask, "fault")) mask.push_back(std::move(s));
+    const faults::SkyMask* sky_mask = e.fault.as<faults::SkyMask>();
+    if (e.active && sky_mask) {
+      for (json& s : sectors_json(sky_mask->mask, "fault")) mask.push_back(std::move(s));
     }
   }
   return {{"elevation_mask_deg", r.elevation_mask_deg.value_or(r.profile.elevation_mask_deg)}, {"sky_mask", mask}};
@@ -99,14 +100,14 @@ json faults_json(const faults::FaultTimeline& t) {
   const double now_s = t.last_epoch().since_s;
   for (const faults::FaultTimeline::Entry& e : t.entries()) {
     if (e.ended) continue;
-    json f{{"fault", std::string(faults::kind_name(e.fault.kind))}, {"describe", e.fault.describe()},
+    json f{{"fault", std::string(faults::kind_name(e.fault.kind()))}, {"describe", e.fault.describe()},
            {"active", e.active}, {"pending", false}, {"epochs", e.epochs}, {"remaining_s", nullptr}};
     if (e.active && e.fault.duration_s) f["remaining_s"] = rounded(std::max(0.0, e.fault.at_s + *e.fault.duration_s - now_s), 1);
-    if (!e.cleared && t.clear_pending(e.fault.kind)) f["ends"] = "next epoch";
+    if (!e.cleared && t.clear_pending(e.fault.kind())) f["ends"] = "next epoch";
     out.push_back(std::move(f));
   }
   for (const faults::Fault& p : t.pending()) {
-    out.push_back({{"fault", std::string(faults::kind_name(p.kind))}, {"describe", p.parameters()}, {"active", false},
+    out.push_back({{"fault", std::string(faults::kind_name(p.kind()))}, {"describe", p.parameters()}, {"active", false},
                    {"pending", true}, {"epochs", 0}, {"remaining_s", optional_json(p.duration_s, 1)}});
   }
   return out;

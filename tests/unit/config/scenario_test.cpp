@@ -57,8 +57,8 @@ TEST(Scenario, SeveralScenarioFilesAddUpInTheOrderGiven) {
   const auto b = write_temp("b.toml", "[[fault]]\nkind = \"jam\"\nat = 5\ndb = 20\n");
   const Config c = build_config(std::nullopt, {{"scenario", {a, b}}});
   ASSERT_EQ(c.timeline.faults.size(), 2u);
-  EXPECT_EQ(c.timeline.faults[0].kind, faults::FaultKind::outage);
-  EXPECT_EQ(c.timeline.faults[1].kind, faults::FaultKind::jam);
+  EXPECT_EQ(c.timeline.faults[0].kind(), faults::FaultKind::outage);
+  EXPECT_EQ(c.timeline.faults[1].kind(), faults::FaultKind::jam);
 }
 
 TEST(Scenario, TwoSpoofsOnOneReceiverAtOnceAreRefused) {

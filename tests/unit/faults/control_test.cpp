@@ -203,7 +203,7 @@ TEST(FaultControl, AFaultAskedForAfterAClearOfItsKindStartsAtTheNextEpoch) {
   EXPECT_TRUE(r.a.entries()[0].cleared);
   EXPECT_FALSE(r.a.entries()[1].ended);
   EXPECT_TRUE(r.a.entries()[1].active);
-  EXPECT_DOUBLE_EQ(r.a.entries()[1].fault.speed_mps, 4.0);
+  EXPECT_DOUBLE_EQ(std::get<Spoof>(r.a.entries()[1].fault.params).speed_mps, 4.0);
   ASSERT_EQ(r.a.applied_events().size(), 2u);
   EXPECT_EQ(r.a.applied_events()[0].request, R"({"clear":"spoof","receiver":0})");
   EXPECT_EQ(r.a.applied_events()[1].request, R"({"fault":"spoof","receiver":0,"speed_mps":4})");

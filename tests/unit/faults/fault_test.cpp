@@ -5,6 +5,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace gpsemu::faults {
 namespace {
@@ -20,11 +21,11 @@ std::string error_of(const FaultKeys& keys) {
 
 TEST(MakeFault, TheIssuesFormWithParametersByName) {
   const Fault jump = make_fault({{"kind", std::string("jump")}, {"at", 30.0}, {"duration", 10.0}, {"east_m", 20.0}});
-  EXPECT_EQ(jump.kind, FaultKind::jump);
+  EXPECT_EQ(jump.kind(), FaultKind::jump);
   EXPECT_DOUBLE_EQ(jump.at_s, 30.0);
   ASSERT_TRUE(jump.duration_s);
   EXPECT_DOUBLE_EQ(*jump.duration_s, 10.0);
-  EXPECT_DOUBLE_EQ(jump.offset_m.east_m, 20.0);
+  EXPECT_DOUBLE_EQ(std::get<Jump>(jump.params).offset_m.east_m, 20.0);
   EXPECT_FALSE(jump.receiver);  // every receiver
 
   const Fault jam = make_fault({{"kind", std::string("jam")}, {"at", 5.0}, {"end", 15.0}, {"db", 25.0},
@@ -41,8 +42,50 @@ TEST(MakeFault, TheIssuesFormWithParametersByName) {
   const Fault outage = make_fault({{"kind", std::string("outage")}, {"at", 1.0}});
   EXPECT_FALSE(outage.duration_s);  // to the end
   EXPECT_TRUE(outage.active_at(1e6));
-  EXPECT_EQ(make_fault({{"kind", std::string("fix-quality")}, {"quality", std::string("rtk-float")}}).quality,
-            nmea::FixQuality::rtk_float);
+  const Fault rtk_float = make_fault({{"kind", std::string("fix-quality")}, {"quality", std::string("rtk-float")}});
+  EXPECT_EQ(std::get<ForcedQuality>(rtk_float.params).quality, nmea::FixQuality::rtk_float);
+}
+
+TEST(MakeFault, EachKindFillsItsOwnAlternative) {
+  // The fewest keys each kind takes, in catalogue order.
+  const std::vector<FaultKeys> minimal{
+      {},
+      {},
+      {{"east_m", 1.0}},
+      {{"north_m", 2.0}},
+      {{"quality", std::string("dgps")}},
+      {{"satellites", 5.0}},
+      {},
+      {{"db", 10.0}},
+      {{"mask", std::string("tree-line")}},
+      {{"speed_mps", 3.0}},
+      {{"mode", std::string("rollover")}},
+      {},
+      {{"rate", 0.5}},
+      {{"delay_ms", 120.0}},
+  };
+  ASSERT_EQ(minimal.size(), catalogue().size());
+  for (std::size_t i = 0; i < catalogue().size(); ++i) {
+    const KindInfo& k = catalogue()[i];
+    FaultKeys keys{{"kind", std::string(k.name)}};
+    keys.insert(keys.end(), minimal[i].begin(), minimal[i].end());
+    const Fault f = make_fault(keys);
+    EXPECT_EQ(f.kind(), k.kind) << k.name;
+    EXPECT_EQ(f.params.index(), i) << k.name;
+    EXPECT_EQ(kind_of(default_params(k.kind)), k.kind) << k.name;
+    EXPECT_EQ(f.parameters().substr(0, k.name.size()), k.name);
+  }
+  const Fault latency = make_fault({{"kind", std::string("latency")}, {"delay_ms", 120.0}});
+  ASSERT_TRUE(latency.is<Latency>());
+  EXPECT_EQ(latency.as<Latency>()->delay_ms, 120.0);
+  EXPECT_EQ(latency.as<Jam>(), nullptr);
+  const Fault wrong = make_fault({{"kind", std::string("wrong")}, {"north_m", 2.0}, {"ramp_s", 4.0}});
+  EXPECT_EQ(std::get<Wrong>(wrong.params).offset_m.north_m, 2.0);
+  EXPECT_EQ(wrong.ramp_s, 4.0);  // the ramp is the common part's
+  // Another kind's key stays refused, naming the kind's own.
+  EXPECT_NE(error_of({{"kind", std::string("latency")}, {"delay_ms", 1.0}, {"db", 3.0}})
+                .find("db: not a parameter of latency (its parameters: delay_ms, jitter_ms;"),
+            std::string::npos);
 }
 
 TEST(MakeFault, BadKeysAndValuesNameTheKey) {

@@ -59,16 +59,16 @@ struct Epochs {
   ubx::RfState rf;
 };
 
-Fault fault(FaultKind kind, double at_s, double duration_s) {
+Fault fault(FaultParams params, double at_s, double duration_s) {
   Fault f;
-  f.kind = kind;
+  f.params = std::move(params);
   f.at_s = at_s;
   f.duration_s = duration_s;
   return f;
 }
 
 TEST(FaultTimeline, OutageLeavesNoSatellitesAndNoFixThenReturns) {
-  Epochs run({fault(FaultKind::outage, 2, 3)});
+  Epochs run({fault(Outage{}, 2, 3)});
   EXPECT_TRUE(run.at(1).has_fix());
   for (int s = 2; s < 5; ++s) {
     const nmea::Fix f = run.at(s);
@@ -82,7 +82,7 @@ TEST(FaultTimeline, OutageLeavesNoSatellitesAndNoFixThenReturns) {
 }
 
 TEST(FaultTimeline, FreezeRepeatsTheLastFixWithNewTimes) {
-  Epochs run({fault(FaultKind::freeze, 2, 2)});
+  Epochs run({fault(Freeze{}, 2, 2)});
   const nmea::Fix before = run.at(1);
   const nmea::Fix frozen = run.at(2);
   EXPECT_DOUBLE_EQ(frozen.lat_deg, before.lat_deg);
@@ -92,11 +92,8 @@ TEST(FaultTimeline, FreezeRepeatsTheLastFixWithNewTimes) {
 }
 
 TEST(FaultTimeline, JumpStepsByItsOffsetAndDecays) {
-  Fault jump = fault(FaultKind::jump, 2, 10);
-  jump.offset_m = {20.0, -10.0, 5.0};
-  Fault decaying = fault(FaultKind::jump, 20, 10);
-  decaying.offset_m = {10.0, 0.0, 0.0};
-  decaying.decay_s = 2.0;
+  Fault jump = fault(Jump{.offset_m = {20.0, -10.0, 5.0}, .decay_s = {}}, 2, 10);
+  Fault decaying = fault(Jump{.offset_m = {10.0, 0.0, 0.0}, .decay_s = 2.0}, 20, 10);
   Epochs run({jump, decaying});
   const Enu e1 = error_of(run.at(1), run.frame);
   EXPECT_NEAR(e1.east_m, kError.east_m, 1e-6);
@@ -110,8 +107,7 @@ TEST(FaultTimeline, JumpStepsByItsOffsetAndDecays) {
 }
 
 TEST(FaultTimeline, WrongIsAConstantOffsetRampedIn) {
-  Fault wrong = fault(FaultKind::wrong, 0, 100);
-  wrong.offset_m = {0.0, 50.0, 0.0};
+  Fault wrong = fault(Wrong{.offset_m = {0.0, 50.0, 0.0}}, 0, 100);
   wrong.ramp_s = 10.0;
   Epochs run({wrong});
   EXPECT_NEAR(error_of(run.at(5), run.frame).north_m, kError.north_m + 25.0, 1e-6);
@@ -120,8 +116,7 @@ TEST(FaultTimeline, WrongIsAConstantOffsetRampedIn) {
 }
 
 TEST(FaultTimeline, FixQualityForcesTheQualityAndScalesTheAccuracy) {
-  Fault q = fault(FaultKind::fix_quality, 0, 10);
-  q.quality = nmea::FixQuality::rtk_fixed;
+  Fault q = fault(ForcedQuality{.quality = nmea::FixQuality::rtk_fixed}, 0, 10);
   Epochs run({q});
   const nmea::Fix f = run.at(1);
   EXPECT_EQ(f.quality, nmea::FixQuality::rtk_fixed);
@@ -131,9 +126,7 @@ TEST(FaultTimeline, FixQualityForcesTheQualityAndScalesTheAccuracy) {
 }
 
 TEST(FaultTimeline, DegradeUsesFewerSatellitesWithLargerDopAndError) {
-  Fault d = fault(FaultKind::degrade, 0, 10);
-  d.satellites = 5;
-  d.noise_k = 3.0;
+  Fault d = fault(Degrade{.satellites = 5, .dop_k = {}, .noise_k = 3.0}, 0, 10);
   Epochs run({d});
   const nmea::Fix f = run.at(1);
   EXPECT_EQ(f.satellites_used, 5);
@@ -146,8 +139,7 @@ TEST(FaultTimeline, DegradeUsesFewerSatellitesWithLargerDopAndError) {
   EXPECT_NEAR(error_of(f, run.frame).east_m, 3.0 * kError.east_m, 1e-6);
   EXPECT_NEAR(f.sigma_lon_m, 3.0 * 0.6, 1e-12);
 
-  Fault too_few = fault(FaultKind::degrade, 0, 10);
-  too_few.satellites = 3;
+  Fault too_few = fault(Degrade{.satellites = 3, .dop_k = {}, .noise_k = {}}, 0, 10);
   Epochs lost({too_few});
   const nmea::Fix g = lost.at(1);
   EXPECT_FALSE(g.has_fix());
@@ -156,7 +148,7 @@ TEST(FaultTimeline, DegradeUsesFewerSatellitesWithLargerDopAndError) {
 }
 
 TEST(FaultTimeline, SilenceWritesNothingForItsDuration) {
-  Epochs run({fault(FaultKind::silence, 2, 2)});
+  Epochs run({fault(Silence{}, 2, 2)});
   bool silent = true;
   (void)run.at(1, &silent);
   EXPECT_FALSE(silent);
@@ -169,8 +161,7 @@ TEST(FaultTimeline, SilenceWritesNothingForItsDuration) {
 }
 
 TEST(FaultTimeline, JamLowersCn0DropsWeakSatellitesAndLosesTheFix) {
-  Fault jam = fault(FaultKind::jam, 10, 20);
-  jam.db = 25.0;
+  Fault jam = fault(Jam{.db = 25.0}, 10, 20);
   jam.ramp_s = 10.0;
   Epochs run({jam});
   const ubx::RfState clean = run.rf;
@@ -207,9 +198,8 @@ TEST(FaultTimeline, JamLowersCn0DropsWeakSatellitesAndLosesTheFix) {
 }
 
 TEST(FaultTimeline, ScenarioOrderAppliesAndOnlyActiveFaultsCount) {
-  Fault jump = fault(FaultKind::jump, 0, 5);
-  jump.offset_m = {5.0, 0.0, 0.0};
-  Epochs run({jump, fault(FaultKind::outage, 3, 1)});
+  Fault jump = fault(Jump{.offset_m = {5.0, 0.0, 0.0}, .decay_s = {}}, 0, 5);
+  Epochs run({jump, fault(Outage{}, 3, 1)});
   EXPECT_NEAR(error_of(run.at(2), run.frame).east_m, kError.east_m + 5.0, 1e-6);
   EXPECT_FALSE(run.at(3).has_fix());  // the outage wins over the jump
   EXPECT_EQ(run.timeline.entries()[0].epochs, 2u);

@@ -75,6 +75,10 @@ struct Epochs {
 };
 
 Fault fault_of(FaultKeys keys) { return make_fault(keys); }
+/// The sectors of a sky-mask fault with `mask` (a preset or FROM-TO:ELEV sectors).
+std::vector<SkyMaskSector> mask_of(const std::string& mask) {
+  return std::get<SkyMask>(fault_of({{"kind", std::string("sky-mask")}, {"mask", mask}}).params).mask;
+}
 
 TEST(SkyMaskFault, SatellitesBehindTheMaskLeaveTheSkyAndTheDopsFollowTheRest) {
   Epochs run({fault_of({{"kind", std::string("sky-mask")}, {"at", 1.0}, {"duration", 2.0}, {"mask", std::string("0-180:90")}})});
@@ -108,10 +112,10 @@ TEST(SkyMaskFault, FewerThanFourLeftLoseTheFixAndTheMaskPresetsParse) {
   EXPECT_EQ(f.satellites_in_view, 2);
   EXPECT_EQ(f.satellites_used, 0);
   for (int i = 0; i < f.satellites_in_view; ++i) EXPECT_FALSE(f.satellites[static_cast<std::size_t>(i)].used);
-  EXPECT_EQ(fault_of({{"kind", std::string("sky-mask")}, {"mask", std::string("urban-canyon")}}).mask.size(), 4u);
-  EXPECT_EQ(fault_of({{"kind", std::string("sky-mask")}, {"mask", std::string("tree-line")}}).mask.size(), 1u);
-  EXPECT_TRUE(masked(fault_of({{"kind", std::string("sky-mask")}, {"mask", std::string("tree-line")}}).mask, 270, 29));
-  EXPECT_FALSE(masked(fault_of({{"kind", std::string("sky-mask")}, {"mask", std::string("tree-line")}}).mask, 90, 5));
+  EXPECT_EQ(mask_of("urban-canyon").size(), 4u);
+  EXPECT_EQ(mask_of("tree-line").size(), 1u);
+  EXPECT_TRUE(masked(mask_of("tree-line"), 270, 29));
+  EXPECT_FALSE(masked(mask_of("tree-line"), 90, 5));
 }
 
 TEST(SpoofFault, PositionVelocityAndTimeAreDraggedTogether) {

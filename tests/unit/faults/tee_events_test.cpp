@@ -31,14 +31,14 @@ TEST(TeeEvents, FaultsStartAtTheirEpochAndClearsEndThem) {
       "# fault +7.500000000 2024-05-01T00:00:07.500Z {\"clear\":\"jam\",\"receiver\":0}\n";
   const std::vector<Fault> faults = faults_from_tee(tee);
   ASSERT_EQ(faults.size(), 2u);
-  EXPECT_EQ(faults[0].kind, FaultKind::jam);
+  EXPECT_EQ(faults[0].kind(), FaultKind::jam);
   EXPECT_EQ(faults[0].at_s, 2.0);
-  EXPECT_EQ(faults[0].db, 25.0);
+  EXPECT_EQ(std::get<Jam>(faults[0].params).db, 25.0);
   EXPECT_EQ(faults[0].ramp_s, 5.0);
   ASSERT_TRUE(faults[0].duration_s);
   EXPECT_DOUBLE_EQ(*faults[0].duration_s, 5.5);
   EXPECT_EQ(faults[0].receiver, 0);
-  EXPECT_EQ(faults[1].kind, FaultKind::outage);
+  EXPECT_EQ(faults[1].kind(), FaultKind::outage);
   EXPECT_EQ(faults[1].at_s, 3.0);
   EXPECT_EQ(faults[1].duration_s, 1.5);  // over before the clear: untouched
 }
