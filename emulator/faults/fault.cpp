@@ -409,7 +409,10 @@ Fault make_fault(const FaultKeys& keys, FaultSource source) {
     } else if (key == "ramp_out_s") {  // ... and fade out
       f.ramp_out_s = number(key, value, 0.0, kMaxSeconds);
     } else {
-      std::visit([&key, &value](auto& p) { parse_key(p, key, value); }, f.params);
+      // Named references: clang 14 captures no structured binding in a lambda (C++20's P1091 came later).
+      const auto& k = key;
+      const auto& v = value;
+      std::visit([&k, &v](auto& p) { parse_key(p, k, v); }, f.params);
     }
   }
   if (f.at_utc && (seen.count("at") || seen.count("end")))
