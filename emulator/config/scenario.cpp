@@ -33,7 +33,9 @@ std::vector<faults::Fault> parse_fault_tables(const std::string& file, const tom
       origin.key_lines.emplace_back(name, key_line);
       if (value.is_string()) {
         keys.emplace_back(name, *value.value<std::string>());
-      } else if (value.is_integer() || value.is_floating_point()) {
+      } else if (value.is_integer()) {  // value<double>() is empty for an integer a double cannot hold exactly
+        keys.emplace_back(name, static_cast<double>(*value.value<std::int64_t>()));
+      } else if (value.is_floating_point()) {
         keys.emplace_back(name, *value.value<double>());
       } else if (value.is_boolean()) {
         keys.emplace_back(name, std::string(*value.value<bool>() ? "true" : "false"));
