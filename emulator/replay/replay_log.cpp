@@ -108,13 +108,18 @@ std::string retime_epoch(const LogEpoch& epoch, UtcNs time) {
     const year_month_day date{floor<days>(rounded)};
     const unsigned dd = static_cast<unsigned>(date.day()), mm = static_cast<unsigned>(date.month());
     const int yyyy = static_cast<int>(date.year());
-    if (s.parsed.talker != "P" && s.parsed.type == "RMC" && fields.size() > 8 && !fields[8].empty()) {
+    // Likewise only a date the log held in its own width (ddmmyy, dd, mm, yyyy) is rewritten: a
+    // 1-character field would grow to 6 and could push the sentence over the parser's limit.
+    const auto digits = [](const std::string& f, std::size_t n) {
+      return f.size() == n && std::all_of(f.begin(), f.end(), [](char c) { return c >= '0' && c <= '9'; });
+    };
+    if (s.parsed.talker != "P" && s.parsed.type == "RMC" && fields.size() > 8 && digits(fields[8], 6)) {
       fields[8] = fmt::format("{:02}{:02}{:02}", dd, mm, yyyy % 100);
     }
     if (s.parsed.talker != "P" && s.parsed.type == "ZDA" && fields.size() > 3) {
-      if (!fields[1].empty()) fields[1] = fmt::format("{:02}", dd);
-      if (!fields[2].empty()) fields[2] = fmt::format("{:02}", mm);
-      if (!fields[3].empty()) fields[3] = fmt::format("{:04}", yyyy);
+      if (digits(fields[1], 2)) fields[1] = fmt::format("{:02}", dd);
+      if (digits(fields[2], 2)) fields[2] = fmt::format("{:02}", mm);
+      if (digits(fields[3], 4)) fields[3] = fmt::format("{:04}", yyyy);
     }
     std::string body = s.parsed.talker + s.parsed.type;
     for (const auto& f : fields) {
