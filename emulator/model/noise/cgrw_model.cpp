@@ -69,7 +69,15 @@ void CgrwNoise::restart() {
   for (Axis& a : axes_) {
     a.rng.reset();
     a.p_m = a.v_m = 0.0;
-    for (std::size_t i = 0; i < burn_in_steps_; ++i) a.step();
+  }
+  // The three axes step side by side (each on its own numbers, as one after the other would): the
+  // steps of one axis form a chain of dependent operations, and three chains overlap in the CPU.
+  for (std::size_t i = 0; i < burn_in_steps_; ++i) {
+    axes_[0].step();
+    axes_[1].step();
+    axes_[2].step();
+  }
+  for (Axis& a : axes_) {
     // The burn-in's last step is step 0; the one before it is p_0 - v_0.
     a.node_m[0] = a.p_m - a.v_m;
     a.node_m[1] = a.p_m;
