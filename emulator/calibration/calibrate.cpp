@@ -174,10 +174,10 @@ Calibration calibrate(ReceiverLog log, const CalibrateOptions& options) {
   configs.push_back(gaussian);
   configs.push_back(gm1);
   configs.push_back(gm2);
-  configs.push_back(fit_composite(s, c.real, c.window_samples, &c.notes));
+  configs.push_back(fit_composite(s, c.real, c.window_samples, &c.notes, {}, options.runs));
   c.composite.cgrw_score = std::numeric_limits<double>::infinity();
   try {
-    configs.push_back(fit_composite_cgrw(s, c.real, c.window_samples, &c.notes));
+    configs.push_back(fit_composite_cgrw(s, c.real, c.window_samples, &c.notes, options.runs));
     (void)noise::make_noise_model(configs.back(), 1);
   } catch (const std::exception& e) {
     if (configs.back().model == noise::Model::composite && configs.back().composite.smooth == noise::CompositeSmooth::cgrw)
@@ -224,7 +224,7 @@ Calibration calibrate(ReceiverLog log, const CalibrateOptions& options) {
     if (composite != c.models.end()) {
       unheld_fit = *composite;
       std::vector<std::string> held_notes;
-      composite->config = fit_composite(s, c.real, c.window_samples, &held_notes, c.hold.hold);
+      composite->config = fit_composite(s, c.real, c.window_samples, &held_notes, c.hold.hold, options.runs);
       for (const std::string& note : held_notes) c.notes.push_back("through the static hold: " + note);
       if (composite - c.models.begin() == static_cast<std::ptrdiff_t>(c.best))
         c.hold = fit_hold(s, composite->config, options.seed, options.runs);

@@ -98,11 +98,20 @@ double ratio_clamped(double want, double got) { return got > 0.0 ? std::clamp(wa
 // nearest the log's standard deviation, first- and second-difference standard deviations (or,
 // `whole_score`, with the lowest calibration::score: the walk's other statistics, its time scale,
 // do not follow from those three as a gauss-markov's do).
+// Simulated runs of each step of a refit: about 400 000 samples in all (8 to 32 runs of the log's
+// length), and no more than `max_runs` (calibrate's --runs) when that is 8 or more, so that a
+// quick calibration (tests, `--runs 2`) is quick throughout: a cgrw walk's burn-in (up to 100 000
+// steps a run) made the refits most of calibrate's time on a short log.
+int refit_runs(std::size_t samples, int max_runs) {
+  const std::size_t most = static_cast<std::size_t>(std::clamp(max_runs, kMinRefitRuns, kMaxRefitRuns));
+  return static_cast<int>(std::clamp<std::size_t>(400000 / std::max<std::size_t>(samples, 1), kMinRefitRuns, most));
+}
+
 template <class Adjust>
 noise::NoiseConfig refit_composite(noise::NoiseConfig c, const EnuSeries& s, const std::array<AxisStats, 3>& real,
-                                   std::size_t window, int iterations, bool whole_score, Adjust adjust,
+                                   std::size_t window, int iterations, bool whole_score, int max_runs, Adjust adjust,
                                    const StaticHoldOptions& hold = {}) {
-  const int runs = static_cast<int>(std::clamp<std::size_t>(400000 / std::max<std::size_t>(s.size(), 1), 8, 32));
+  const int runs = refit_runs(s.size(), max_runs);
   noise::NoiseConfig best = c;
   double best_error = std::numeric_limits<double>::infinity();
   for (int iteration = 0; iteration < iterations; ++iteration) {
@@ -230,10 +239,10 @@ std::vector<SlowChoice> choose_slow(const AxisStats& real, const AxisStats& fast
 // what was fitted and what hit a bound.
 template <class Refit>
 noise::NoiseConfig with_slow_part(const noise::NoiseConfig& c, const EnuSeries& s, const std::array<AxisStats, 3>& real,
-                                  std::size_t window, std::vector<std::string>* notes, Refit refit,
+                                  std::size_t window, std::vector<std::string>* notes, int max_runs, Refit refit,
                                   const StaticHoldOptions& hold = {}) {
   constexpr std::size_t kCandidates = 3;
-  const int runs = static_cast<int>(std::clamp<std::size_t>(400000 / std::max<std::size_t>(s.size(), 1), 8, 32));
+  const int runs = refit_runs(s.size(), max_runs);
   // Each candidate is scored on the median over the runs, as compare and the windows score it (the
   // mean over runs of a drift-dominated log's sd is well above its median; issue 27).
   const auto median_score = [&](const noise::NoiseConfig& k, std::array<AxisStats, 3>* mean) {
@@ -306,7 +315,7 @@ void note_smooth_bounds(const noise::NoiseConfig& c, const EnuSeries& s, const s
 }  // namespace
 
 noise::NoiseConfig fit_composite(const EnuSeries& s, const std::array<AxisStats, 3>& real, std::size_t window,
-                                 std::vector<std::string>* notes, const StaticHoldOptions& hold) {
+                                 std::vector<std::string>* notes, const StaticHoldOptions& hold, int max_runs) {
   noise::NoiseConfig c = composite_start(s, real);
   std::array<double, 3> sd_target{}, d1_target{};
   const double max_tau_s = kCompositeMaxTauInLogs * s.duration_s();
@@ -327,20 +336,20 @@ noise::NoiseConfig fit_composite(const EnuSeries& s, const std::array<AxisStats,
   };
   for (std::size_t a = 0; a < 3; ++a)
     if (real[a].sd_m > 0.0) sd_target[a] = real[a].sd_m, d1_target[a] = real[a].d1_sd_m, smooth(a, c);
-  c = refit_composite(c, s, real, window, 8, false, adjust, hold);
+  c = refit_composite(c, s, real, window, 8, false, max_runs, adjust, hold);
   const std::array<double, 3> sd_fast = sd_target, d1_fast = d1_target;
-  noise::NoiseConfig out = with_slow_part(c, s, real, window, notes, [&](noise::NoiseConfig k, const std::array<double, 3>& fast) {
+  noise::NoiseConfig out = with_slow_part(c, s, real, window, notes, max_runs, [&](noise::NoiseConfig k, const std::array<double, 3>& fast) {
     share = fast;
     for (std::size_t a = 0; a < 3; ++a)
       if (real[a].sd_m > 0.0) sd_target[a] = std::sqrt(fast[a]) * sd_fast[a], d1_target[a] = d1_fast[a], smooth(a, k);
-    return refit_composite(k, s, real, window, 8, false, adjust, hold);
+    return refit_composite(k, s, real, window, 8, false, max_runs, adjust, hold);
   }, hold);
   note_smooth_bounds(out, s, real, notes);
   return out;
 }
 
 noise::NoiseConfig fit_composite_cgrw(const EnuSeries& s, const std::array<AxisStats, 3>& real, std::size_t window,
-                                      std::vector<std::string>* notes) {
+                                      std::vector<std::string>* notes, int max_runs) {
   noise::NoiseConfig c = composite_start(s, real);
   c.composite.smooth = noise::CompositeSmooth::cgrw;
   c.cgrw.rate_hz = s.rate_hz;
@@ -372,16 +381,16 @@ noise::NoiseConfig fit_composite_cgrw(const EnuSeries& s, const std::array<AxisS
                  target[a].width_d2_m * k_sd * k_d1 * k_d2, target[a].sigma_d2_m * k_sd * k_d1 * k_d2};
     smooth(a, k);
   };
-  c = refit_composite(c, s, real, window, 8, true, adjust);
+  c = refit_composite(c, s, real, window, 8, true, max_runs, adjust);
   const auto fitted = target;
-  return with_slow_part(c, s, real, window, notes, [&](noise::NoiseConfig k, const std::array<double, 3>& fast) {
+  return with_slow_part(c, s, real, window, notes, max_runs, [&](noise::NoiseConfig k, const std::array<double, 3>& fast) {
     for (std::size_t a = 0; a < 3; ++a) {
       if (!(real[a].sd_m > 0.0)) continue;
       const double f = std::sqrt(fast[a]);  // the walk's spread shrinks to the fast share
       target[a] = {fitted[a].width_m * f, fitted[a].width_d1_m, fitted[a].width_d2_m, fitted[a].sigma_d2_m};
       smooth(a, k);
     }
-    return refit_composite(k, s, real, window, 8, true, adjust);
+    return refit_composite(k, s, real, window, 8, true, max_runs, adjust);
   });
 }
 

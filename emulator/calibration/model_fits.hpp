@@ -81,9 +81,14 @@ inline constexpr const char* kAxisNames[3] = {"east", "north", "up"};
 /// through `hold` when it is enabled (a held log's noise is fitted to what the emulator writes
 /// through its static hold, which concentrates a smooth wander's steps into fewer, larger ones).
 /// The fit matches the mean over simulated runs of the log's length.
+/// Each step of the composite's refit simulates about 400 000 samples: kMinRefitRuns to
+/// kMaxRefitRuns runs of the log's length, and at most `max_runs` (calibrate's --runs) when that
+/// is kMinRefitRuns or more.
+inline constexpr int kMinRefitRuns = 8;
+inline constexpr int kMaxRefitRuns = 32;
 [[nodiscard]] noise::NoiseConfig fit_composite(const EnuSeries& series, const std::array<AxisStats, 3>& real,
                                                std::size_t window, std::vector<std::string>* notes = nullptr,
-                                               const StaticHoldOptions& hold = {});
+                                               const StaticHoldOptions& hold = {}, int max_runs = kMaxRefitRuns);
 /// Composite time constants and standard deviations stay within these multiples of the log's
 /// length and standard deviation (bounded extrapolation).
 inline constexpr double kCompositeMaxTauInLogs = 4.0;
@@ -93,6 +98,7 @@ inline constexpr double kCompositeMaxSigmaInSd = 5.0;
 /// (the walk is scale-invariant) until the rounded simulation, jitter and jumps included, has the
 /// log's standard deviation, first- and second-difference standard deviations. Deterministic.
 [[nodiscard]] noise::NoiseConfig fit_composite_cgrw(const EnuSeries& series, const std::array<AxisStats, 3>& real,
-                                                    std::size_t window, std::vector<std::string>* notes = nullptr);
+                                                    std::size_t window, std::vector<std::string>* notes = nullptr,
+                                                    int max_runs = kMaxRefitRuns);
 
 }  // namespace gpsemu::calibration
