@@ -18,7 +18,6 @@ constexpr double mps_per_knot = 1852.0 / 3600.0;
 
 bool is_digit(char c) { return c >= '0' && c <= '9'; }
 bool is_printable(char c) { return c >= 0x20 && c <= 0x7E; }
-bool all_digits(std::string_view s) { return std::all_of(s.begin(), s.end(), is_digit); }
 
 std::optional<int> hex_digit(char c) {
   if (c >= '0' && c <= '9') return c - '0';
@@ -160,6 +159,8 @@ class FieldReader {
 };
 
 }  // namespace
+
+bool all_digits(std::string_view text) { return std::all_of(text.begin(), text.end(), is_digit); }
 
 std::string_view to_string(ParseError error) {
   switch (error) {

@@ -39,6 +39,9 @@ enum class ParseError {
 /// Snake-case name of `error` ("bad_checksum"), for messages.
 [[nodiscard]] std::string_view to_string(ParseError error);
 
+/// True when every character of `text` is an ASCII digit (also when `text` is empty).
+[[nodiscard]] bool all_digits(std::string_view text);
+
 /// Either a value or the ParseError that prevented it (std::expected is C++23).
 template <class T>
 class Result {

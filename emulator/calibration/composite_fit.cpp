@@ -91,13 +91,6 @@ constexpr double kRefitClose = 0.015;
 
 double ratio_clamped(double want, double got) { return got > 0.0 ? std::clamp(want / got, 0.5, 2.0) : 2.0; }
 
-// Refits the smooth part and the jitter together against the rounded simulation (enough runs
-// that a short log's sample spread, which varies much from run to run when tau is near the
-// log's length, is not fitted to the luck of a few seeds): `adjust(axis, simulated)` moves the
-// smooth part of one axis, the jitter follows the second differences. Returns the iteration
-// nearest the log's standard deviation, first- and second-difference standard deviations (or,
-// `whole_score`, with the lowest calibration::score: the walk's other statistics, its time scale,
-// do not follow from those three as a gauss-markov's do).
 // Simulated runs of each step of a refit: about 400 000 samples in all (8 to 32 runs of the log's
 // length), and no more than `max_runs` (calibrate's --runs) when that is 8 or more, so that a
 // quick calibration (tests, `--runs 2`) is quick throughout: a cgrw walk's burn-in (up to 100 000
@@ -107,6 +100,13 @@ int refit_runs(std::size_t samples, int max_runs) {
   return static_cast<int>(std::clamp<std::size_t>(400000 / std::max<std::size_t>(samples, 1), kMinRefitRuns, most));
 }
 
+// Refits the smooth part and the jitter together against the rounded simulation (enough runs
+// that a short log's sample spread, which varies much from run to run when tau is near the
+// log's length, is not fitted to the luck of a few seeds): `adjust(axis, simulated)` moves the
+// smooth part of one axis, the jitter follows the second differences. Returns the iteration
+// nearest the log's standard deviation, first- and second-difference standard deviations (or,
+// `whole_score`, with the lowest calibration::score: the walk's other statistics, its time scale,
+// do not follow from those three as a gauss-markov's do).
 template <class Adjust>
 noise::NoiseConfig refit_composite(noise::NoiseConfig c, const EnuSeries& s, const std::array<AxisStats, 3>& real,
                                    std::size_t window, int iterations, bool whole_score, int max_runs, Adjust adjust,

@@ -64,6 +64,11 @@ inline constexpr const char* kAxisNames[3] = {"east", "north", "up"};
 [[nodiscard]] noise::CgrwAxis written_cgrw(const noise::CgrwAxis& target, double window, std::size_t axis,
                                            noise::CgrwFit& fit);
 
+/// Each step of the composite's refit simulates about 400 000 samples: kMinRefitRuns to
+/// kMaxRefitRuns runs of the log's length, and at most `max_runs` (calibrate's --runs) when that
+/// is kMinRefitRuns or more.
+inline constexpr int kMinRefitRuns = 8;
+inline constexpr int kMaxRefitRuns = 32;
 /// The composite model (noise::CompositeParams) of the log: jumps found in the first differences
 /// (beyond 5 robust standard deviations and 2 quanta of the resolution: rate, rms size, decay of
 /// the smooth component's tau), then the smooth component's sigma and tau and the white jitter
@@ -81,11 +86,6 @@ inline constexpr const char* kAxisNames[3] = {"east", "north", "up"};
 /// through `hold` when it is enabled (a held log's noise is fitted to what the emulator writes
 /// through its static hold, which concentrates a smooth wander's steps into fewer, larger ones).
 /// The fit matches the mean over simulated runs of the log's length.
-/// Each step of the composite's refit simulates about 400 000 samples: kMinRefitRuns to
-/// kMaxRefitRuns runs of the log's length, and at most `max_runs` (calibrate's --runs) when that
-/// is kMinRefitRuns or more.
-inline constexpr int kMinRefitRuns = 8;
-inline constexpr int kMaxRefitRuns = 32;
 [[nodiscard]] noise::NoiseConfig fit_composite(const EnuSeries& series, const std::array<AxisStats, 3>& real,
                                                std::size_t window, std::vector<std::string>* notes = nullptr,
                                                const StaticHoldOptions& hold = {}, int max_runs = kMaxRefitRuns);

@@ -7,6 +7,7 @@
 
 #include "emulator/replay/epoch_range.hpp"
 #include "emulator/replay/log_stream.hpp"
+#include "nmea/parse.hpp"
 #include "nmea/sentences.hpp"
 
 namespace gpsemu::replay {
@@ -110,9 +111,7 @@ std::string retime_epoch(const LogEpoch& epoch, UtcNs time) {
     const int yyyy = static_cast<int>(date.year());
     // Likewise only a date the log held in its own width (ddmmyy, dd, mm, yyyy) is rewritten: a
     // 1-character field would grow to 6 and could push the sentence over the parser's limit.
-    const auto digits = [](const std::string& f, std::size_t n) {
-      return f.size() == n && std::all_of(f.begin(), f.end(), [](char c) { return c >= '0' && c <= '9'; });
-    };
+    const auto digits = [](const std::string& f, std::size_t n) { return f.size() == n && nmea::all_digits(f); };
     if (s.parsed.talker != "P" && s.parsed.type == "RMC" && fields.size() > 8 && digits(fields[8], 6)) {
       fields[8] = fmt::format("{:02}{:02}{:02}", dd, mm, yyyy % 100);
     }
