@@ -1,5 +1,5 @@
 // End to end: the real gpsemu binary with --source udp:/tcp: and --noise none, a sender on
-// loopback pacing poses at 50 Hz (sleep_until), the NMEA read from stdout. Checks positions
+// loopback pacing poses at 50 Hz (reading gpsemu between them), the NMEA read from stdout. Checks positions
 // against what was sent (within the 2 cm output resolution), the epoch rate, bad input leaving the
 // stream running with the last good position, and the fix turning off after the pose timeout and
 // back on when poses resume (counted in epochs). Waits with poll() via test::Process, no sleeps
@@ -137,12 +137,12 @@ class Sender {
   int fd_ = -1;
 };
 
-/// Calls `step(i, now_s)` every 20 ms (50 Hz) for `seconds`, paced with sleep_until.
-void pace_50hz(double seconds, const std::function<void(int, double)>& step) {
+/// Calls `step(i, now_s)` every 20 ms (50 Hz) for `seconds`, reading gpsemu's output in between.
+void pace_50hz(test::Process& gpsemu, double seconds, const std::function<void(int, double)>& step) {
   const auto start = steady_clock::now();
   const int n = static_cast<int>(seconds * 50.0);
   for (int i = 0; i < n; ++i) {
-    std::this_thread::sleep_until(start + milliseconds(20) * i);
+    gpsemu.pump_until(start + milliseconds(20) * i);
     step(i, realtime_s());
   }
 }
@@ -200,7 +200,7 @@ void check_positions(bool tcp, bool geodetic) {
   ASSERT_TRUE(sender.connected());
   const Circle circle{realtime_s()};
   double first_s = 0.0, last_s = 0.0;
-  pace_50hz(duration + 0.3, [&](int i, double now) {
+  pace_50hz(gpsemu, duration + 0.3, [&](int i, double now) {
     const Enu p = circle.position(now), v = circle.velocity(now);
     std::string m;
     if (geodetic) {
@@ -260,7 +260,7 @@ void check_bad_input_keeps_the_stream(bool tcp, const std::function<void(Sender&
   Sender sender(tcp, port);
   ASSERT_TRUE(sender.connected());
   double first_s = 0.0;
-  pace_50hz(duration + 0.3, [&](int i, double now) {
+  pace_50hz(gpsemu, duration + 0.3, [&](int i, double now) {
     sender.send(fmt::format(R"({{"t": {:.6f}, "x": {}, "y": {}, "z": {}}})", now, good.east_m, good.north_m, good.up_m));
     if (i == 0) first_s = now;
     inject(sender, i);
@@ -386,7 +386,7 @@ void check_timeout_and_resume(bool tcp) {
   Sender sender(tcp, port);
   ASSERT_TRUE(sender.connected());
   std::optional<double> first_s, last_before_gap_s, resume_s;
-  pace_50hz(duration + 0.3, [&](int i, double now) {
+  pace_50hz(gpsemu, duration + 0.3, [&](int i, double now) {
     const bool silent = i >= 75 && i < 175;  // 1.5 s of poses, 2 s of silence, then poses again
     if (silent) return;
     sender.send(fmt::format(R"({{"t": {:.6f}, "x": 1, "y": 2}})", now));

@@ -17,6 +17,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "tests/support/paths.hpp"
@@ -87,6 +88,20 @@ class Process {
     if (poll(p, 2, static_cast<int>(timeout.count())) <= 0) return true;
     read_available();
     return !(out_closed_ && err_closed_);
+  }
+
+  /// Reads the pipes until `deadline`: for a test that paces its own sending (poses at 50 Hz, a
+  /// recorded stream at its pace) while the child writes more than a pipe holds (64 KiB: about a
+  /// minute of 1 Hz NMEA, six seconds at 10 Hz with a full sky's GSV), which would block the child.
+  void pump_until(std::chrono::steady_clock::time_point deadline) {
+    while (true) {
+      const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+      if (left.count() <= 0) return;
+      if (!pump(left)) {  // both pipes closed: nothing more to read, only the time to let pass
+        std::this_thread::sleep_until(deadline);
+        return;
+      }
+    }
   }
 
   /// Reads until a stderr line containing `needle` arrives after the line the previous call
@@ -190,8 +205,7 @@ inline Result run(std::vector<std::string> argv, const std::vector<std::string>&
 
 /// Reads the child's pipes for `how_long` (while the test watches it run).
 inline void pump_for(Process& p, std::chrono::milliseconds how_long) {
-  const auto until = std::chrono::steady_clock::now() + how_long;
-  while (std::chrono::steady_clock::now() < until) p.pump(std::chrono::milliseconds(20));
+  p.pump_until(std::chrono::steady_clock::now() + how_long);
 }
 
 /// Waits for `p`'s stderr line holding `needle` that ends in a port (gpsemu's "waiting for poses on
