@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "emulator/config/config.hpp"
+#include "emulator/model/sky/orbits.hpp"
 #include "tests/support/config_files.hpp"
 #include "tests/support/output_texts.hpp"
 
@@ -25,6 +26,19 @@ TEST(Config, DefaultsAreTheEmbeddedScenario) {
   EXPECT_DOUBLE_EQ(c.receiver().origin.lon_deg, -89.4125);
   EXPECT_EQ(c.receiver().noise.model, noise::Model::cgrw);
   EXPECT_EQ(test::output_texts(c.receiver().outputs), std::vector<std::string>{"pty:/tmp/gpsemu"});
+}
+
+// The sky's orbits come with the configuration, before a run chooses its first epoch: the
+// embedded sky takes 50-90 ms to parse, and read by the first receiver's set-up it had made that
+// epoch late (written 20-80 ms after its deadline at 10 Hz; skipped under the sanitizers).
+TEST(Config, TheEmbeddedSkysOrbitsAreReadWithTheConfiguration) {
+  const Config c = build_config(std::nullopt, {{"receivers", {"2"}}, {"output", {"udp:127.0.0.1:{20000+i}"}}});
+  ASSERT_EQ(c.receivers.size(), 2u);
+  for (const ReceiverSettings& r : c.receivers) {
+    ASSERT_NE(r.model.orbits, nullptr);
+    EXPECT_EQ(r.model.orbits.get(), sky::Orbits::embedded_default().get());
+    EXPECT_FALSE(r.model.orbits->satellites().empty());
+  }
 }
 
 TEST(Config, CommandLineOverridesConfigFile) {
