@@ -110,10 +110,10 @@ def write_params(path, gpsemu, extra):
 
 
 class Process:
-    def __init__(self, args, cwd, log):
+    def __init__(self, args, cwd, log, env=None):
         self.log = open(log, "w")
         self.proc = subprocess.Popen(args, cwd=cwd, stdout=self.log, stderr=subprocess.STDOUT,
-                                     stdin=subprocess.DEVNULL)
+                                     stdin=subprocess.DEVNULL, env=env)
 
     def stop(self, timeout_s=10.0):
         if self.proc.poll() is None:

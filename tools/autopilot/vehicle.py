@@ -1,5 +1,6 @@
-"""A MAVLink ground station for the autopilot loop: one TCP link to an ArduPilot SITL, what it
-reports (recorded with the wall time it arrived) and the commands a scripted mission needs.
+"""A MAVLink ground station for the autopilot loop: one link to an ArduPilot SITL (TCP; PX4's
+subclass in px4_vehicle.py talks UDP), what it reports (recorded with the wall time it arrived)
+and the commands a scripted mission needs.
 
 The MAVLink messages come from pymavlink's generator run on the ArduPilot checkout's own message
 definitions (ardupilot_loop.py generates the module); this file holds no MAVLink definitions.
@@ -46,17 +47,18 @@ class _SocketFile:
 class Vehicle:
     """The link to one SITL vehicle and everything it reported, with the wall time of arrival."""
 
-    def __init__(self, mavlink_module, host, port, connect_timeout_s=60.0):
+    def __init__(self, mavlink_module, host, port, connect_timeout_s=60.0, sock=None):
+        """A TCP link to host:port (ArduPilot SITL), or `sock`, a link already made (PX4's UDP)."""
         self.m = mavlink_module
         deadline = time.monotonic() + connect_timeout_s
-        while True:
+        while sock is None:
             try:
-                self.sock = socket.create_connection((host, port), timeout=2.0)
-                break
+                sock = socket.create_connection((host, port), timeout=2.0)
             except OSError as error:
                 if time.monotonic() > deadline:
                     raise RuntimeError(f"cannot connect to SITL at {host}:{port}: {error}") from error
                 time.sleep(0.5)
+        self.sock = sock
         self.sock.setblocking(False)
         self.mav = mavlink_module.MAVLink(_SocketFile(self.sock), srcSystem=255, srcComponent=190)
         self.mav.robust_parsing = True
@@ -96,8 +98,8 @@ class Vehicle:
         while True:
             if time.monotonic() - self.last_heartbeat_sent > 1.0:
                 self.mav.heartbeat_send(self.m.MAV_TYPE_GCS, self.m.MAV_AUTOPILOT_INVALID, 0, 0, 0)
-                if not self.truth:  # SIM_STATE is in no stream: ask for it at 20 Hz (with ATTITUDE's)
-                    self.command(self.m.MAV_CMD_SET_MESSAGE_INTERVAL, self.m.MAVLINK_MSG_ID_SIM_STATE, 50000)
+                if not self.truth:
+                    self.request_truth()
                 self.last_heartbeat_sent = time.monotonic()
             try:
                 data = self.sock.recv(65536)
@@ -111,6 +113,10 @@ class Vehicle:
                 raise RuntimeError(f"MAVLink connection to SITL lost: {error}") from error
             if time.monotonic() >= end:
                 return
+
+    def request_truth(self):
+        """SIM_STATE is in no stream: ask for it at 20 Hz (it comes with ATTITUDE's)."""
+        self.command(self.m.MAV_CMD_SET_MESSAGE_INTERVAL, self.m.MAVLINK_MSG_ID_SIM_STATE, 50000)
 
     def _event(self, kind, text):
         self.events.append((self.now(), kind, text))
