@@ -21,7 +21,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import missions  # noqa: E402
 import sitl  # noqa: E402
-from flight_stats import fmt  # noqa: E402
+from flight_stats import add_common_args, error_checks, fmt, parse_common, print_flight_table, report  # noqa: E402
 from vehicle import Vehicle  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -32,9 +32,6 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 # receiver's data for 200 ms old (GPS1_DELAY_MS 0: the backend's default lag); gpsemu's NMEA is
 # written that late (--latency 0.2) so the EKF's lag matches, as a user sets GPS1_DELAY_MS to a
 # receiver's measured latency (with gpsemu's default 50 ms the error is 0.56 m median, 1.5 m at most).
-# The EKF error checks allow twice the baseline flight's error or the baseline + this, whichever is
-# larger (metres): a baseline vertical median of 5 cm is flight-to-flight scatter, not a bound.
-EKF_ERROR_FLOOR_M = 0.25
 
 FLIGHTS = {
     "sitl-gps": ("SITL's simulated u-blox (baseline)", None, "square", []),
@@ -51,21 +48,10 @@ def parse_args(argv):
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--ardupilot", required=True, metavar="DIR",
                    help="an ArduPilot checkout with its submodules; ArduCopter SITL is built there if needed")
-    p.add_argument("--flights", default=",".join(FLIGHTS), metavar="LIST",
-                   help=f"which flights, in order (default {','.join(FLIGHTS)})")
-    p.add_argument("--gpsemu", default=str(ROOT / "build/emulator/gpsemu"), metavar="PATH",
-                   help="the gpsemu binary (default: this checkout's build)")
-    p.add_argument("--gpsemu-arg", action="append", default=[], metavar="ARG",
-                   help="one more argument for every gpsemu (repeatable), e.g. --gpsemu-arg=--width=1")
-    p.add_argument("--noise", default="none", metavar="MODEL",
-                   help="gpsemu's noise model (default none: SITL's own GPS has no noise either)")
-    p.add_argument("--jobs", type=int, default=2, help="waf -j when SITL must be built (default 2)")
-    p.add_argument("--work", metavar="DIR", help="keep logs here (default: a new directory in $TMPDIR)")
-    args = p.parse_args(argv)
-    unknown = [f for f in args.flights.split(",") if f not in FLIGHTS]
-    if unknown:
-        p.error(f"--flights: unknown {', '.join(unknown)} (known: {', '.join(FLIGHTS)})")
-    return args
+    add_common_args(p, FLIGHTS, str(ROOT / "build/emulator/gpsemu"),
+                    "gpsemu's noise model (default none: SITL's own GPS has no noise either)",
+                    "waf -j when SITL must be built (default 2)")
+    return parse_common(p, argv, FLIGHTS)
 
 
 def run_flight(name, args, binary, mav):
@@ -115,18 +101,7 @@ def checks(results):
                     f"{name}: square flown ({r.get('corners_reached')} of 4 corners), landed: {r.get('landed')}"))
         out.append((not r.get("glitch_texts") and not r.get("glitch_flag_events"),
                     f"{name}: no GPS glitch in the fault-free flight ({r.get('glitch_texts')})"))
-        if base and base.get("ekf_h_max_m") is not None:
-            for axis in ("h", "v"):
-                for stat in ("median", "max"):
-                    key = f"ekf_{axis}_{stat}_m"
-                    # Twice the baseline, but never closer to it than EKF_ERROR_FLOOR_M: a baseline of
-                    # centimetres would make millimetres of flight-to-flight scatter a failure.
-                    ours, limit = r.get(key), max(2 * base[key], base[key] + EKF_ERROR_FLOOR_M)
-                    out.append((ours is not None and ours <= limit,
-                                f"{name}: EKF {'horizontal' if axis == 'h' else 'vertical'} error {stat} "
-                                f"{fmt(ours)} m <= max(2 x baseline, baseline + {EKF_ERROR_FLOOR_M} m) = {fmt(limit)} m"))
-        else:
-            out.append((False, f"{name}: no baseline flight to compare with"))
+        out += error_checks(name, r, base)
     if base:
         out.append((base.get("corners_reached") == 4 and bool(base.get("landed")),
                     f"sitl-gps: baseline square flown ({base.get('corners_reached')} of 4), landed"))
@@ -142,17 +117,7 @@ def checks(results):
 
 
 def print_tables(results):
-    print("\n| flight | GPS 1 | 3-D fix | EKF good | armable | arm attempts | EKF error horizontal median / max (m) "
-          "| vertical median / max (m) | GPS error horizontal median / max (m) | glitch |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
-    for name, r in results.items():
-        if name == "faults":
-            continue
-        print(f"| {name} | {r['gps']} | {r.get('gps_3d_s')} s | {r.get('ekf_good_s')} s | {r.get('prearm_ok_s')} s "
-              f"| {r.get('arm_attempts')} | {fmt(r.get('ekf_h_median_m'))} / {fmt(r.get('ekf_h_max_m'))} "
-              f"| {fmt(r.get('ekf_v_median_m'))} / {fmt(r.get('ekf_v_max_m'))} "
-              f"| {fmt(r.get('gps_h_median_m'))} / {fmt(r.get('gps_h_max_m'))} "
-              f"| {'yes' if r.get('glitch_texts') or r.get('glitch_flag_events') else 'no'} |")
+    print_flight_table(results, skip=("faults",))
     f = results.get("faults")
     if not f:
         return
@@ -189,14 +154,7 @@ def main(argv):
     print(f"\nArduPilot commit {commit}{', ' + version if version else ''}, {time.strftime('%Y-%m-%d')}")
     print_tables(results)
     print()
-    results_checks = checks(results)
-    for passed, text in results_checks:
-        print(f"{'PASS' if passed else 'FAIL'} {text}")
-    (pathlib.Path(args.work) / "results.json").write_text(json.dumps(results, indent=1, default=str))
-    failed = sum(1 for passed, _ in results_checks if not passed)
-    print(f"\n{len(results_checks) - failed} of {len(results_checks)} checks pass; logs in {args.work}")
-    return 1 if failed or not results_checks else 0
-
+    return report(results, checks(results), args.work)
 
 if __name__ == "__main__":
     sys.exit(main(sys.argv[1:]))

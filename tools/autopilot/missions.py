@@ -6,7 +6,7 @@ import json
 import subprocess
 
 import vehicle as V
-from flight_stats import errors, summary
+from flight_stats import errors, record_errors, summary
 
 ALT_M = 10.0
 SIDE_M = 100.0
@@ -81,14 +81,7 @@ def fly_square(v, result):
     corners = [(x0, y0 + SIDE_M), (x0 + SIDE_M, y0 + SIDE_M), (x0 + SIDE_M, y0), (x0, y0)]
     result["corners_reached"] = sum(v.fly_to(n, e, z_hover, 90.0) for n, e in corners)
     result["landed"] = land(v)
-    end_ms = v.boot_ms()
-    horizontal, vertical = errors(v.truth, v.ekf, start_ms, end_ms)
-    result["ekf_h_median_m"], result["ekf_h_max_m"] = summary(horizontal)
-    result["ekf_v_median_m"], result["ekf_v_max_m"] = summary(vertical)
-    gh, gv = errors(v.truth, v.gps_track, start_ms, end_ms)
-    result["gps_h_median_m"], result["gps_h_max_m"] = summary(gh)
-    result["gps_v_median_m"], result["gps_v_max_m"] = summary(gv)
-    result["samples"] = len(horizontal)
+    record_errors(v, result, start_ms, v.boot_ms())
     result["flight_s"] = round(v.now() - t_start, 1)
     result["glitch_texts"] = [t for t in _texts_since(v, t_start) if "Glitch" in t or "EKF" in t and "fail" in t.lower()]
     result["glitch_flag_events"] = [e for t, k, e in v.events if t >= t_start and k == "ekf" and "gps_glitching" in e]

@@ -9,16 +9,14 @@ gpsemu's pty. Both go through an airframe of our own: each flight gets a rootfs 
 to the build's etc/ with that airframe added, so the checkout and its build are left as they are.
 """
 
-import importlib
 import os
 import pathlib
 import signal
 import socket
 import subprocess
-import sys
 import time
 
-from sitl import HOME, Process, Stop
+from sitl import HOME, Process, Stop, generate_mavlink
 
 AIRFRAME_ID = 10089  # our airframe (the SIH quadrotor with GPS 1 on gpsemu); checked to be free
 NEEDED = ["src/drivers/gps/devices/src/ubx.cpp", "src/modules/mavlink/mavlink/message_definitions/v1.0/common.xml",
@@ -64,19 +62,7 @@ def build(px4, config, jobs, log):
 
 def mavlink_module(px4, work):
     """pymavlink's Python module for common.xml, generated from the checkout's mavlink submodule."""
-    mavlink_dir = pathlib.Path(px4) / "src/modules/mavlink/mavlink"
-    out = pathlib.Path(work) / "px4_mavlink.py"
-    if not out.exists():
-        env = dict(os.environ, PYTHONPATH=str(mavlink_dir))
-        result = subprocess.run([sys.executable, "-m", "pymavlink.tools.mavgen", "--lang", "Python3",
-                                 "--wire-protocol", "2.0", "--output", str(out),
-                                 str(mavlink_dir / "message_definitions/v1.0/common.xml")],
-                                env=env, capture_output=True, text=True)
-        if result.returncode != 0:
-            raise Stop(f"mavgen failed: {result.stderr.strip()[-500:]}")
-    sys.path.insert(0, str(work))
-    sys.path.insert(1, str(mavlink_dir))
-    return importlib.import_module("px4_mavlink")
+    return generate_mavlink(pathlib.Path(px4) / "src/modules/mavlink/mavlink", "common", "px4_mavlink", work)
 
 
 def _udp_free(port):

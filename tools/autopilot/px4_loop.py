@@ -23,12 +23,11 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import px4  # noqa: E402
 import px4_vehicle as P  # noqa: E402
-from flight_stats import errors, fmt, summary  # noqa: E402
+from flight_stats import add_common_args, error_checks, parse_common, print_flight_table, record_errors, report  # noqa: E402
 from missions import ALT_M, SIDE_M, wait_armable  # noqa: E402
 from sitl import HOME, Stop  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
-EKF_ERROR_FLOOR_M = 0.25  # as for ArduPilot (ardupilot_loop.py): twice the baseline or baseline + this
 
 # (title, gpsemu arguments or None for SIH's GPS, PX4 gps driver protocol, PX4 parameters)
 FLIGHTS = {
@@ -48,21 +47,10 @@ def parse_args(argv):
     p.add_argument("--config", default="px4_sitl_default", metavar="NAME",
                    help="the PX4 build configuration (default px4_sitl_default; px4_sitl_<variant> for "
                         "boards/px4/sitl/<variant>.px4board)")
-    p.add_argument("--flights", default=",".join(FLIGHTS), metavar="LIST",
-                   help=f"which flights, in order (default {','.join(FLIGHTS)})")
-    p.add_argument("--gpsemu", default=str(ROOT / "build/emulator/gpsemu"), metavar="PATH",
-                   help="the gpsemu binary (default: this checkout's build)")
-    p.add_argument("--gpsemu-arg", action="append", default=[], metavar="ARG",
-                   help="one more argument for every gpsemu (repeatable)")
-    p.add_argument("--noise", default="none", metavar="MODEL",
-                   help="gpsemu's noise model (default none: SIH's GPS has its own small noise)")
-    p.add_argument("--jobs", type=int, default=2, help="ninja -j when PX4 must be built (default 2)")
-    p.add_argument("--work", metavar="DIR", help="keep logs here (default: a new directory in $TMPDIR)")
-    args = p.parse_args(argv)
-    unknown = [f for f in args.flights.split(",") if f not in FLIGHTS]
-    if unknown:
-        p.error(f"--flights: unknown {', '.join(unknown)} (known: {', '.join(FLIGHTS)})")
-    return args
+    add_common_args(p, FLIGHTS, str(ROOT / "build/emulator/gpsemu"),
+                    "gpsemu's noise model (default none: SIH's GPS has its own small noise)",
+                    "ninja -j when PX4 must be built (default 2)")
+    return parse_common(p, argv, FLIGHTS)
 
 
 def fly_square(v, result):
@@ -95,14 +83,7 @@ def fly_square(v, result):
     result["corners_reached"] = sum(v.fly_to_global(lat0 + n / m_per_deg_lat, lon0 + e / m_per_deg_lon, amsl)
                                     for n, e in corners)
     result["landed"] = v.land()
-    end_ms = v.boot_ms()
-    horizontal, vertical = errors(v.truth, v.ekf, start_ms, end_ms)
-    result["ekf_h_median_m"], result["ekf_h_max_m"] = summary(horizontal)
-    result["ekf_v_median_m"], result["ekf_v_max_m"] = summary(vertical)
-    gh, gv = errors(v.truth, v.gps_track, start_ms, end_ms)
-    result["gps_h_median_m"], result["gps_h_max_m"] = summary(gh)
-    result["gps_v_median_m"], result["gps_v_max_m"] = summary(gv)
-    result["samples"] = len(horizontal)
+    record_errors(v, result, start_ms, v.boot_ms())
     result["truth_samples"] = len(v.truth)
     result["truth_span_ms"] = [v.truth[0][0], v.truth[-1][0]] if v.truth else None
     result["ekf_span_ms"] = [v.ekf[0][0], v.ekf[-1][0]] if v.ekf else None
@@ -164,35 +145,14 @@ def checks(results):
                     f"{name}: square flown ({r.get('corners_reached')} of 4 corners), landed: {r.get('landed')}"))
         out.append((not r.get("glitch_texts") and not r.get("glitch_flag_events"),
                     f"{name}: no GPS glitch ({r.get('glitch_texts')}, {r.get('glitch_flag_events')})"))
-        if base and base.get("ekf_h_max_m") is not None:
-            # PX4's NMEA driver marks its NED velocity valid with the vertical part never set (0, as
-            # NMEA has none): EKF2 fuses a vertical speed of 0 in the climb and the descent, on any NMEA
-            # receiver. The NMEA flight's vertical error is listed, not checked against u-blox's.
-            for axis in ("h",) if name == "nmea" else ("h", "v"):
-                for stat in ("median", "max"):
-                    key = f"ekf_{axis}_{stat}_m"
-                    ours, limit = r.get(key), max(2 * base[key], base[key] + EKF_ERROR_FLOOR_M)
-                    out.append((ours is not None and ours <= limit,
-                                f"{name}: EKF {'horizontal' if axis == 'h' else 'vertical'} error {stat} "
-                                f"{fmt(ours)} m <= max(2 x baseline, baseline + {EKF_ERROR_FLOOR_M} m) = {fmt(limit)} m"))
-        else:
-            out.append((False, f"{name}: no baseline flight to compare with"))
+        # PX4's NMEA driver marks its NED velocity valid with the vertical part never set (0, as
+        # NMEA has none): EKF2 fuses a vertical speed of 0 in the climb and the descent, on any NMEA
+        # receiver. The NMEA flight's vertical error is listed, not checked against u-blox's.
+        out += error_checks(name, r, base, axes=("h",) if name == "nmea" else ("h", "v"))
     if base:
         out.append((base.get("corners_reached") == 4 and bool(base.get("landed")),
                     f"sih-gps: baseline square flown ({base.get('corners_reached')} of 4), landed"))
     return out
-
-
-def print_table(results):
-    print("\n| flight | GPS 1 | 3-D fix | EKF good | armable | arm attempts | EKF error horizontal median / max (m) "
-          "| vertical median / max (m) | GPS error horizontal median / max (m) | glitch |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
-    for name, r in results.items():
-        print(f"| {name} | {r['gps']} | {r.get('gps_3d_s')} s | {r.get('ekf_good_s')} s | {r.get('prearm_ok_s')} s "
-              f"| {r.get('arm_attempts')} | {fmt(r.get('ekf_h_median_m'))} / {fmt(r.get('ekf_h_max_m'))} "
-              f"| {fmt(r.get('ekf_v_median_m'))} / {fmt(r.get('ekf_v_max_m'))} "
-              f"| {fmt(r.get('gps_h_median_m'))} / {fmt(r.get('gps_h_max_m'))} "
-              f"| {'yes' if r.get('glitch_texts') or r.get('glitch_flag_events') else 'no'} |")
 
 
 def main(argv):
@@ -215,16 +175,9 @@ def main(argv):
         print(f"tools/autopilot-loop: {error}", file=sys.stderr)
         return 2
     print(f"\nPX4 {commit}, {args.config}, {time.strftime('%Y-%m-%d')}")
-    print_table(results)
+    print_flight_table(results)
     print()
-    results_checks = checks(results)
-    for passed, text in results_checks:
-        print(f"{'PASS' if passed else 'FAIL'} {text}")
-    (pathlib.Path(args.work) / "results.json").write_text(json.dumps(results, indent=1, default=str))
-    failed = sum(1 for passed, _ in results_checks if not passed)
-    print(f"\n{len(results_checks) - failed} of {len(results_checks)} checks pass; logs in {args.work}")
-    return 1 if failed or not results_checks else 0
-
+    return report(results, checks(results), args.work)
 
 if __name__ == "__main__":
     sys.exit(main(sys.argv[1:]))

@@ -77,23 +77,17 @@ class Px4Vehicle(V.Vehicle):
         super().__init__(mavlink_module, None, None, sock=UdpLink(instance))
         self.estimator_flags = None
 
+    @staticmethod
+    def mode_name(mode):
+        return mode_name(mode)
+
     def request_truth(self):
         """SIH's ground truth (HIL_STATE_QUATERNION) on the ground station's link at 20 Hz."""
         self.command(self.m.MAV_CMD_SET_MESSAGE_INTERVAL, self.m.MAVLINK_MSG_ID_HIL_STATE_QUATERNION, 50000)
 
     def _record(self, msg):
         kind = msg.get_type()
-        if kind == "HEARTBEAT":
-            if msg.get_srcComponent() != 1 or msg.type == self.m.MAV_TYPE_GCS:
-                return
-            armed = bool(msg.base_mode & self.m.MAV_MODE_FLAG_SAFETY_ARMED)
-            if armed != self.armed:
-                self._event("armed" if armed else "disarmed", "")
-            self.armed = armed
-            if msg.custom_mode != self.mode:
-                self._event("mode", mode_name(msg.custom_mode))
-            self.mode = msg.custom_mode
-        elif kind == "HIL_STATE_QUATERNION":
+        if kind == "HIL_STATE_QUATERNION":
             # Its time_usec is 0 in this PX4's stream (the ground truth attitude's timestamp, unset
             # under SIH): timed, as ArduPilot's SIM_STATE, by the latest ATTITUDE (50 Hz, same link).
             boot_ms = msg.time_usec // 1000 if msg.time_usec else self.attitude_boot_ms

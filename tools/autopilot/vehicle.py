@@ -118,6 +118,10 @@ class Vehicle:
         """SIM_STATE is in no stream: ask for it at 20 Hz (it comes with ATTITUDE's)."""
         self.command(self.m.MAV_CMD_SET_MESSAGE_INTERVAL, self.m.MAVLINK_MSG_ID_SIM_STATE, 50000)
 
+    @staticmethod
+    def mode_name(mode):
+        return COPTER_MODES.get(mode, str(mode))
+
     def _event(self, kind, text):
         self.events.append((self.now(), kind, text))
 
@@ -132,7 +136,7 @@ class Vehicle:
                 self._event("armed" if armed else "disarmed", "")
             self.armed = armed
             if msg.custom_mode != self.mode:
-                self._event("mode", COPTER_MODES.get(msg.custom_mode, str(msg.custom_mode)))
+                self._event("mode", self.mode_name(msg.custom_mode))
             self.mode = msg.custom_mode
         elif kind == "STATUSTEXT":
             self.statustexts.append((t, msg.severity, msg.text))
