@@ -10,7 +10,6 @@ what ArduPilot did and the checks; exit 0 when they pass, 1 when one fails, 2 wh
 """
 
 import argparse
-import json
 import os
 import pathlib
 import sys
@@ -21,7 +20,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import missions  # noqa: E402
 import sitl  # noqa: E402
-from flight_stats import add_common_args, error_checks, fmt, parse_common, print_flight_table, report  # noqa: E402
+from flight_stats import (add_common_args, error_checks, fmt, parse_common, print_flight_table, report,  # noqa: E402
+                          save_flight)
 from vehicle import Vehicle  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -74,13 +74,8 @@ def run_flight(name, args, binary, mav):
         result["failure"] = str(error)
     finally:
         result["gpsemu_exit"] = rig.stop()
-    if rig.gpsemu:
-        log = rig.gpsemu_log.read_text(errors="replace").splitlines()
-        result["gpsemu_summary"] = [line for line in log if any(
-            k in line for k in ("pose input", "epochs emitted", "client input", "fault ", "error", "warning"))][-20:]
-    (pathlib.Path(args.work) / name / "result.json").write_text(json.dumps(result, indent=1, default=str))
-    print(f"    {result.get('failure', 'flown')}", flush=True)
-    return result
+    return save_flight(result, rig, args.work, name,
+                       ("pose input", "epochs emitted", "client input", "fault ", "error", "warning"))
 
 
 def checks(results):

@@ -127,3 +127,14 @@ def parse_common(p, argv, flights):
     if unknown:
         p.error(f"--flights: unknown {', '.join(unknown)} (known: {', '.join(flights)})")
     return args
+
+
+def save_flight(result, rig, work, name, summary_keys):
+    """The end of a flight: gpsemu's summary lines (those holding one of summary_keys) into the
+    result, written to work/name/result.json, and the one-line outcome printed."""
+    if rig.gpsemu:
+        log = rig.gpsemu_log.read_text(errors="replace").splitlines()
+        result["gpsemu_summary"] = [line for line in log if any(k in line for k in summary_keys)][-20:]
+    (pathlib.Path(work) / name / "result.json").write_text(json.dumps(result, indent=1, default=str))
+    print(f"    {result.get('failure', 'flown')}", flush=True)
+    return result

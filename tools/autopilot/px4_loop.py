@@ -11,7 +11,6 @@ one fails, 2 when the set-up fails.
 """
 
 import argparse
-import json
 import math
 import os
 import pathlib
@@ -23,7 +22,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import px4  # noqa: E402
 import px4_vehicle as P  # noqa: E402
-from flight_stats import add_common_args, error_checks, parse_common, print_flight_table, record_errors, report  # noqa: E402
+from flight_stats import (add_common_args, error_checks, parse_common, print_flight_table, record_errors,  # noqa: E402
+                          report, save_flight)
 from missions import ALT_M, SIDE_M, wait_armable  # noqa: E402
 from sitl import HOME, Stop  # noqa: E402
 
@@ -85,9 +85,6 @@ def fly_square(v, result):
     result["landed"] = v.land()
     record_errors(v, result, start_ms, v.boot_ms())
     result["truth_samples"] = len(v.truth)
-    result["truth_span_ms"] = [v.truth[0][0], v.truth[-1][0]] if v.truth else None
-    result["ekf_span_ms"] = [v.ekf[0][0], v.ekf[-1][0]] if v.ekf else None
-    result["interval_acks"] = [(round(t, 1), r) for t, c, r in v.acks if c == v.m.MAV_CMD_SET_MESSAGE_INTERVAL][:5]
     result["flight_s"] = round(v.now() - t_start, 1)
     result["glitch_flag_events"] = [e for t, k, e in v.events if t >= t_start and k == "ekf" and "+gps_glitching" in e]
     result["glitch_texts"] = [t for tt, _, t in v.statustexts if tt >= t_start and "glitch" in t.lower()]
@@ -116,13 +113,7 @@ def run_flight(name, args, build_dir, mav):
         result["gpsemu_exit"] = rig.stop()
     result["px4_gps_lines"] = rig.px4_lines("[gps]", "GPS", "gps")[:40]
     result["gps_configured"] = next((line for line in result["px4_gps_lines"] if "configured" in line), None)
-    if rig.gpsemu:
-        log = rig.gpsemu_log.read_text(errors="replace").splitlines()
-        result["gpsemu_summary"] = [line for line in log if any(
-            k in line for k in ("pose input", "epochs emitted", "client input", "error", "warning"))][-20:]
-    (pathlib.Path(args.work) / name / "result.json").write_text(json.dumps(result, indent=1, default=str))
-    print(f"    {result.get('failure', 'flown')}", flush=True)
-    return result
+    return save_flight(result, rig, args.work, name, ("pose input", "epochs emitted", "client input", "error", "warning"))
 
 
 def checks(results):

@@ -75,7 +75,6 @@ class Px4Vehicle(V.Vehicle):
 
     def __init__(self, mavlink_module, instance):
         super().__init__(mavlink_module, None, None, sock=UdpLink(instance))
-        self.estimator_flags = None
 
     @staticmethod
     def mode_name(mode):
@@ -93,25 +92,16 @@ class Px4Vehicle(V.Vehicle):
             boot_ms = msg.time_usec // 1000 if msg.time_usec else self.attitude_boot_ms
             if msg.lat != 0 and boot_ms is not None:
                 self.truth.append((boot_ms, msg.lat * 1e-7, msg.lon * 1e-7, msg.alt * 1e-3))
-        elif kind == "ESTIMATOR_STATUS":
-            if self.estimator_flags is not None and msg.flags != self.estimator_flags:
-                changed = msg.flags ^ self.estimator_flags
-                words = [("+" if msg.flags & bit else "-") + name
-                         for bit, name in ESTIMATOR_FLAG_NAMES.items() if changed & bit]
-                if words:
-                    self._event("ekf", " ".join(words))
-            self.estimator_flags = msg.flags
+        elif kind == "ESTIMATOR_STATUS":  # PX4's flags, in ekf_flags with their own names
+            self._ekf_flags_now(msg.flags, ESTIMATOR_FLAG_NAMES)
         else:
             super()._record(msg)
 
     def ekf_good(self):
         """Navigating: the position flags and no GPS glitch. Not const_pos_mode: PX4's EKF2 sets it
         whenever the vehicle is at rest (ekf_helper.cpp), so on the ground before take-off."""
-        f = self.estimator_flags
+        f = self.ekf_flags
         return f is not None and (f & V.EKF_NAV_GOOD) == V.EKF_NAV_GOOD and not f & ESTIMATOR_GPS_GLITCH
-
-    def glitching(self):
-        return self.estimator_flags is not None and bool(self.estimator_flags & ESTIMATOR_GPS_GLITCH)
 
     def set_mode(self, mode, timeout_s=10.0):
         main, sub = (mode >> 16) & 0xFF, (mode >> 24) & 0xFF

@@ -125,6 +125,15 @@ class Vehicle:
     def _event(self, kind, text):
         self.events.append((self.now(), kind, text))
 
+    def _ekf_flags_now(self, flags, names):
+        """The estimator's flags; each change an "ekf" event of the flags going on (+) and off (-)."""
+        if self.ekf_flags is not None and flags != self.ekf_flags:
+            changed = flags ^ self.ekf_flags
+            words = [("+" if flags & bit else "-") + name for bit, name in names.items() if changed & bit]
+            if words:
+                self._event("ekf", " ".join(words))
+        self.ekf_flags = flags
+
     def _record(self, msg):
         kind = msg.get_type()
         t = self.now()
@@ -158,13 +167,7 @@ class Vehicle:
             if msg.fix_type >= 3:
                 self.gps_track.append((self.boot_ms(), msg.lat * 1e-7, msg.lon * 1e-7, msg.alt * 1e-3))
         elif kind == "EKF_STATUS_REPORT":
-            if self.ekf_flags is not None and msg.flags != self.ekf_flags:
-                changed = msg.flags ^ self.ekf_flags
-                words = [("+" if msg.flags & bit else "-") + name
-                         for bit, name in EKF_FLAG_NAMES.items() if changed & bit]
-                if words:
-                    self._event("ekf", " ".join(words))
-            self.ekf_flags = msg.flags
+            self._ekf_flags_now(msg.flags, EKF_FLAG_NAMES)
         elif kind == "SYS_STATUS":
             self.sys_status = msg
         elif kind == "COMMAND_ACK":
