@@ -6,7 +6,7 @@
 // a second browser at the same time receives the same epochs byte for byte.
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
-import { startGpsemu, stopGpsemu, launchBrowser, until, parseGga } from "./lib.mjs";
+import { startGpsemu, stopGpsemu, launchBrowser, until, parseGga, ptyState } from "./lib.mjs";
 
 let g, browser;
 before(async () => {
@@ -26,7 +26,7 @@ const epochs = (page) => page.evaluate(() => window.gpsemuView.epochs);
 
 /// The GGA of the epoch `seconds` of the day (to the centisecond), once it has been read.
 const ggaAt = (seconds) => until(() => g.lines.map((l) => parseGga(l.text)).find((q) => q && Math.abs(q.seconds - seconds) < 0.005),
-                                 `the GGA of ${seconds.toFixed(2)} s on the pty`);
+                                 () => `the GGA of ${seconds.toFixed(2)} s on the pty (${ptyState(g)})`);
 
 /// The epoch time (seconds of the UTC day) `since_s` after the first epoch, from a snapshot.
 function secondsOfDay(s, sinceS) {
@@ -55,7 +55,7 @@ test("the page shows the receiver's systems, a moving error trace, and an outage
   const shown = await page.$$eval("#sky g.sat", (e) => e.length);
   assert.equal(shown, s.satellites.length);
   const hhmmss = s.time.slice(11, 19).replaceAll(":", "") + "." + s.time.slice(20, 22);
-  await until(() => g.lines.some((l) => l.text.includes("GGA," + hhmmss)), "that epoch's GGA on the pty");
+  await until(() => g.lines.some((l) => l.text.includes("GGA," + hhmmss)), () => `that epoch's GGA on the pty (${ptyState(g)})`);
   const at = g.lines.findIndex((l) => l.text.includes("GGA," + hhmmss));
   const gsvTotals = {};
   for (let k = at; k < g.lines.length && !g.lines[k].text.includes("GGA,") || k === at; k++) {
@@ -86,7 +86,7 @@ test("the page shows the receiver's systems, a moving error trace, and an outage
   const cleared = await clickControl(page, "#fault-outage-clear");
   assert.equal(cleared.class, "CLEAR");
   const t1 = secondsOfDay(await snapshot(page), cleared.after_epoch_s);
-  await until(() => g.lines.map((l) => parseGga(l.text)).some((q) => q && q.seconds > t1 && q.quality >= 1), "a fix on the pty after clear");
+  await until(() => g.lines.map((l) => parseGga(l.text)).some((q) => q && q.seconds > t1 && q.quality >= 1), () => `a fix on the pty after clear (${ptyState(g)})`);
   await until(() => page.$eval("#fix-badge", (e) => e.dataset.quality !== "0"), "the page to show a fix again");
   await until(async () => !(await page.$('#active-faults [data-fault="outage"]')), "the outage gone from the page");
 

@@ -9,13 +9,14 @@ import puppeteer from "puppeteer-core";
 export const binary = process.env.GPSEMU_BINARY || new URL("../../build/emulator/gpsemu", import.meta.url).pathname;
 export const chromium = process.env.GPSEMU_CHROMIUM || "/usr/bin/chromium";
 
-/// Waits until `predicate()` is truthy (polled every 50 ms) or throws `what` after `timeoutMs`.
+/// Waits until `predicate()` is truthy (polled every 50 ms) or throws `what` after `timeoutMs`
+/// (`what` a function: called then, for a message saying what was seen instead).
 export async function until(predicate, what, timeoutMs = 15000) {
   const end = Date.now() + timeoutMs;
   for (;;) {
     const value = await predicate();
     if (value) return value;
-    if (Date.now() > end) throw new Error(`timed out waiting for ${what}`);
+    if (Date.now() > end) throw new Error(`timed out waiting for ${typeof what === "function" ? what() : what}`);
     await new Promise((r) => setTimeout(r, 50));
   }
 }
@@ -28,7 +29,7 @@ export async function startGpsemu(extra = [], { pty = true } = {}) {
   const output = pty ? `pty:${link}` : `file:${path.join(dir, "out.nmea")}`;
   const args = ["--rate", "10", "--ui", "127.0.0.1:0", "--output", output, ...extra];
   const child = spawn(binary, args, { stdio: ["ignore", "ignore", "pipe"] });
-  const g = { child, dir, link, log: "", url: null, lines: [], reader: null };
+  const g = { child, dir, link, log: "", url: null, lines: [], reader: null, readerEnd: null };
   child.stderr.on("data", (d) => { g.log += d; });
   const match = await until(() => g.log.match(/bench view: (http:\/\/\S+)/) || (child.exitCode !== null && "exit"),
                             "the bench view's address in the log");
@@ -50,8 +51,17 @@ function readPty(g) {
       pending = pending.slice(nl + 1);
     }
   });
-  stream.on("error", () => {});
+  // Kept for the message of a test that waits for a line in vain (stopGpsemu's destroy is neither).
+  stream.on("error", (e) => { g.readerEnd = `read error: ${e.message}`; });
+  stream.on("end", () => { g.readerEnd = "end of file"; });
   g.reader = stream;
+}
+
+/// What a test waiting for the pty saw: lines read, the last GGA, the reader's end and the log's tail.
+export function ptyState(g) {
+  const gga = g.lines.filter((l) => /^\$..GGA,/.test(l.text)).at(-1);
+  return `${g.lines.length} lines read, the last GGA ${gga ? `"${gga.text}" ${Date.now() - gga.at} ms ago` : "none"}` +
+         `${g.readerEnd ? `, the reader's ${g.readerEnd}` : ""}; gpsemu's log ends:\n${g.log.split("\n").slice(-12).join("\n")}`;
 }
 
 export async function stopGpsemu(g) {
