@@ -33,6 +33,7 @@
 
 namespace gpsemu {
 namespace {
+namespace base_station_test {
 
 namespace fs = std::filesystem;
 using namespace std::chrono;
@@ -277,5 +278,6 @@ TEST(BaseStation, BadOptionsExitTwoWithOneLineNamingThem) {
   }
 }
 
+}  // namespace base_station_test
 }  // namespace
 }  // namespace gpsemu

@@ -19,6 +19,7 @@
 
 namespace gpsemu::calibration {
 namespace {
+namespace calibration_roundtrip_test {
 
 std::string emulate(std::vector<std::string> args) {
   const auto r = test::run_fast(GPSEMU_BINARY, args);
@@ -221,5 +222,6 @@ TEST(CalibrateCommand, ADrivingLogIsRefusedUnlessDetrended) {
   std::remove(log.c_str());
 }
 
+}  // namespace calibration_roundtrip_test
 }  // namespace
 }  // namespace gpsemu::calibration

@@ -17,6 +17,7 @@
 
 namespace gpsemu {
 namespace {
+namespace cli_consistency_test {
 
 using namespace std::chrono;
 
@@ -105,5 +106,6 @@ TEST(CliConsistency, EveryTalkerTheHelpNamesIsAcceptedAndUsed) {
   expect_one_line_error({"--talker", "XX"}, "talker must be one of GP, GN, GL, GA, BD, got 'XX'");
 }
 
+}  // namespace cli_consistency_test
 }  // namespace
 }  // namespace gpsemu

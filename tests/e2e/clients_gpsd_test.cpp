@@ -32,6 +32,7 @@
 
 namespace gpsemu {
 namespace {
+namespace clients_gpsd_test {
 
 namespace fs = std::filesystem;
 using namespace std::chrono;
@@ -313,5 +314,6 @@ TEST(Gpsd, ScenarioFaultsChangeTpvModeAndEphAtTheirEpochs) {
   EXPECT_NEAR(eph_degraded / eph_before, 3.0, 0.3) << eph_before << " m, then " << eph_degraded << " m";
 }
 
+}  // namespace clients_gpsd_test
 }  // namespace
 }  // namespace gpsemu

@@ -26,6 +26,7 @@
 
 namespace gpsemu {
 namespace {
+namespace clients_tools_test {
 
 namespace fs = std::filesystem;
 using namespace std::chrono;
@@ -274,5 +275,6 @@ TEST(Gpsbabel, GpxTrackpointsAreTheEmittedPositions) {
   fs::remove_all(dir);
 }
 
+}  // namespace clients_tools_test
 }  // namespace
 }  // namespace gpsemu

@@ -24,6 +24,7 @@
 
 namespace gpsemu {
 namespace {
+namespace clock_lockstep_test {
 
 using namespace std::chrono;
 
@@ -262,5 +263,6 @@ TEST(LockstepEndToEnd, NeedsASocketSourceAndRefusesFastAndPps) {
             std::string::npos) << bad.stderr_text();
 }
 
+}  // namespace clock_lockstep_test
 }  // namespace
 }  // namespace gpsemu

@@ -12,6 +12,7 @@
 
 namespace gpsemu {
 namespace {
+namespace clock_scaled_test {
 
 using namespace std::chrono;
 
@@ -130,5 +131,6 @@ TEST(ScaledClockEndToEnd, SocketSourcesAndPpsAreRefused) {
             std::string::npos) << pps.stderr_text();
 }
 
+}  // namespace clock_scaled_test
 }  // namespace
 }  // namespace gpsemu

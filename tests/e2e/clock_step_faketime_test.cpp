@@ -33,6 +33,7 @@
 
 namespace gpsemu {
 namespace {
+namespace clock_step_faketime_test {
 
 using namespace std::chrono_literals;
 using test::pump_for;
@@ -156,5 +157,6 @@ TEST(ClockStepFaketime, BackTheOutputGoesOnWithinAPeriodAheadTheLateEpochsAreSki
   std::filesystem::remove_all(dir);
 }
 
+}  // namespace clock_step_faketime_test
 }  // namespace
 }  // namespace gpsemu

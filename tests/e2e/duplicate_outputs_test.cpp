@@ -14,6 +14,7 @@
 
 namespace gpsemu {
 namespace {
+namespace duplicate_outputs_test {
 
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
@@ -92,5 +93,6 @@ TEST(DuplicateOutputs, ALiveGpsemusPtyLinkIsRefusedAStaleOneReplaced) {
   EXPECT_FALSE(fs::exists(fs::symlink_status(link)));
 }
 
+}  // namespace duplicate_outputs_test
 }  // namespace
 }  // namespace gpsemu

@@ -14,6 +14,7 @@
 
 namespace gpsemu {
 namespace {
+namespace end_to_end_test {
 
 struct Epoch {
   double time_s;  ///< seconds of the day
@@ -144,5 +145,6 @@ TEST(EndToEnd, LineWithoutNoiseIsStraightAndSpeedMatchesDistance) {
   EXPECT_NEAR(std::hypot(epochs.back().position_m.east_m, epochs.back().position_m.north_m), 60.0, 0.03);
 }
 
+}  // namespace end_to_end_test
 }  // namespace
 }  // namespace gpsemu

@@ -24,6 +24,7 @@
 
 namespace gpsemu {
 namespace {
+namespace faults_control_socket_test {
 
 using std::chrono::milliseconds;
 using std::chrono::seconds;
@@ -136,5 +137,6 @@ TEST(FaultsControlSocket, CtlHasAFlagForEveryParameterAndItsHelpNamesPathAndKind
   std::filesystem::remove_all(dir);
 }
 
+}  // namespace faults_control_socket_test
 }  // namespace
 }  // namespace gpsemu

@@ -17,6 +17,7 @@
 
 namespace gpsemu {
 namespace {
+namespace faults_control_test {
 
 using std::chrono::seconds;
 
@@ -70,5 +71,6 @@ TEST(FaultsControl, CtlStartsAnOutageAtTheNextEpochAt10HzWithoutLateEpochs) {
   std::filesystem::remove_all(dir);
 }
 
+}  // namespace faults_control_test
 }  // namespace
 }  // namespace gpsemu

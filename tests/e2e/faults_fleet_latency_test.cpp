@@ -26,6 +26,7 @@
 
 namespace gpsemu {
 namespace {
+namespace faults_fleet_latency_test {
 
 /// Seconds of the day of the GGA time "hhmmss.ss" in `datagram` (which holds one GGA).
 double gga_seconds_of_day(const std::string& datagram) {
@@ -72,5 +73,6 @@ TEST(FaultsFleetLatency, EachDelayedEpochLeavesAtItsOwnTimeNotWithTheNextEpoch) 
   }
 }
 
+}  // namespace faults_fleet_latency_test
 }  // namespace
 }  // namespace gpsemu

@@ -26,6 +26,7 @@
 
 namespace gpsemu {
 namespace {
+namespace faults_gpsd_recovery_test {
 
 namespace fs = std::filesystem;
 using namespace std::chrono;
@@ -162,5 +163,6 @@ TEST(FaultsGpsd, LatencyDelaysGpsdsReportsWithTheirTimesUnchanged) {
   EXPECT_TRUE(test::contains(run.log, "10 epochs written late (latency)")) << run.log;
 }
 
+}  // namespace faults_gpsd_recovery_test
 }  // namespace
 }  // namespace gpsemu

@@ -26,6 +26,7 @@
 
 namespace gpsemu {
 namespace {
+namespace faults_gpsd_test {
 
 namespace fs = std::filesystem;
 using namespace std::chrono;
@@ -276,5 +277,6 @@ TEST(FaultsGpsd, ResetIsSilentThenAColdStartAndGpsdRecovers) {
   EXPECT_EQ(after.back().mode, 3);
 }
 
+}  // namespace faults_gpsd_test
 }  // namespace
 }  // namespace gpsemu

@@ -28,6 +28,7 @@
 
 namespace gpsemu {
 namespace {
+namespace faults_leap_second_test {
 
 namespace fs = std::filesystem;
 using namespace std::chrono;
@@ -150,5 +151,6 @@ TEST(FaultsLeapSecond, UbxGpsdReportsLeapSeconds18Then19) {
   EXPECT_GE(times.back(), "2027-01-01T00:00:02") << "the run went on past the event";
 }
 
+}  // namespace faults_leap_second_test
 }  // namespace
 }  // namespace gpsemu

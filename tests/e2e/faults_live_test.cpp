@@ -25,6 +25,7 @@
 
 namespace gpsemu {
 namespace {
+namespace faults_live_test {
 
 using namespace std::chrono;
 using nlohmann::json;
@@ -142,5 +143,6 @@ TEST(FaultsLive, TcpRequestsAt10HzApplyAtTheNextEpochAndTheTeeReplaysTheSession)
   std::filesystem::remove_all(dir);
 }
 
+}  // namespace faults_live_test
 }  // namespace
 }  // namespace gpsemu

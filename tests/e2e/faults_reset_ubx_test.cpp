@@ -19,6 +19,7 @@
 
 namespace gpsemu {
 namespace {
+namespace faults_reset_ubx_test {
 
 namespace fs = std::filesystem;
 using namespace std::chrono;
@@ -78,5 +79,6 @@ TEST(FaultsResetUbx, TheConfigurationIsLostAndAReplayedSequenceTakesEffect) {
   fs::remove_all(dir);
 }
 
+}  // namespace faults_reset_ubx_test
 }  // namespace
 }  // namespace gpsemu

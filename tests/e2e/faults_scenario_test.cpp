@@ -17,6 +17,7 @@
 
 namespace gpsemu {
 namespace {
+namespace faults_scenario_test {
 
 // Epoch k is at second k of the day (run_fast starts at 2024-05-01T00:00:00Z, 1 Hz).
 constexpr const char* kScenario = R"(
@@ -236,5 +237,6 @@ TEST(FaultsScenario, AFaultAfterTheLastEpochOfTheRunIsRefused) {
   std::filesystem::remove_all(dir);
 }
 
+}  // namespace faults_scenario_test
 }  // namespace
 }  // namespace gpsemu

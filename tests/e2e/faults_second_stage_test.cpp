@@ -11,6 +11,7 @@
 
 namespace gpsemu {
 namespace {
+namespace faults_second_stage_test {
 
 constexpr const char* kScenario = R"(
 [[fault]]
@@ -56,5 +57,6 @@ TEST(FaultsSecondStage, SameScenarioAndSeedGiveTheSameBytes) {
   EXPECT_TRUE(test::contains(a.err, "fault spoof speed_mps=5 bearing_deg=45 time_drift_ms_per_s=10 detected at 3 s for 3 s: 3 epochs")) << a.err;
 }
 
+}  // namespace faults_second_stage_test
 }  // namespace
 }  // namespace gpsemu

@@ -17,6 +17,7 @@
 
 namespace gpsemu {
 namespace {
+namespace faults_triggers_test {
 
 const Geodetic kOrigin{43.0725, -89.4125, 260.0};  // gpsemu's default origin; sim:line starts there
 
@@ -83,5 +84,6 @@ TEST(FaultsTriggers, AreasAndUtcStartFaultsAtTheEpochsTheTruthIsInsideOrTheTimeC
       << r.err;
 }
 
+}  // namespace faults_triggers_test
 }  // namespace
 }  // namespace gpsemu

@@ -34,6 +34,7 @@
 
 namespace gpsemu {
 namespace {
+namespace fleet_test {
 
 using namespace std::chrono_literals;
 using test::seconds_of_day;
@@ -290,5 +291,6 @@ TEST(FleetEndToEnd, TheBinaryRunsManyReceiversAndSummarisesEach) {
   fs::remove_all(dir);
 }
 
+}  // namespace fleet_test
 }  // namespace
 }  // namespace gpsemu

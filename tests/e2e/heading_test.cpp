@@ -17,6 +17,7 @@
 
 namespace gpsemu {
 namespace {
+namespace heading_test {
 
 TEST(HeadingE2e, HdtAndThsFollowTheSimulatedCircle) {
   // radius 20 m at 2 m/s: 0.1 rad/s, so epoch k (1 Hz) faces 90 - 5.7296 k degrees
@@ -87,5 +88,6 @@ TEST(HeadingE2e, ARoverWithoutABaseIsRefused) {
   EXPECT_TRUE(test::contains(r.err, "needs a receiver with role = \"moving-base\"")) << r.err;
 }
 
+}  // namespace heading_test
 }  // namespace
 }  // namespace gpsemu

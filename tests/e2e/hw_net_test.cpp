@@ -20,6 +20,7 @@
 
 namespace gpsemu {
 namespace {
+namespace hw_net_test {
 
 using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
@@ -96,5 +97,6 @@ TEST(NetEndToEndTest, UdpCarriesOneWholeEpochPerDatagram) {
   }
 }
 
+}  // namespace hw_net_test
 }  // namespace
 }  // namespace gpsemu

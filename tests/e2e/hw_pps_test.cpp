@@ -8,6 +8,7 @@
 
 namespace gpsemu {
 namespace {
+namespace hw_pps_test {
 
 TEST(PpsCliTest, MissingGpioChipExits2NamingIt) {
   const auto r = test::run({GPSEMU_BINARY, "--pps", "gpio:/dev/gpiochip9:3", "--output", "stdout", "--duration", "1"});
@@ -49,5 +50,6 @@ TEST(PpsCliTest, HelpListsThePpsOptionsWithUnitsAndDefaults) {
   EXPECT_NE(r.out.find("serial:usb:VID:PID"), std::string::npos) << r.out;
 }
 
+}  // namespace hw_pps_test
 }  // namespace
 }  // namespace gpsemu

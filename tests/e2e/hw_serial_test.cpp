@@ -22,6 +22,7 @@
 
 namespace gpsemu {
 namespace {
+namespace hw_serial_test {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
@@ -154,5 +155,6 @@ TEST_F(SerialEndToEndTest, AReplayCountsEpochsWiderThanTheLineBeyondItsLookAhead
       << gpsemu.stderr_text();
 }
 
+}  // namespace hw_serial_test
 }  // namespace
 }  // namespace gpsemu

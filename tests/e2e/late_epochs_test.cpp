@@ -17,6 +17,7 @@
 
 namespace gpsemu {
 namespace {
+namespace late_epochs_test {
 
 using namespace std::chrono_literals;
 using test::pump_for;
@@ -63,5 +64,6 @@ TEST(LateEpochs, AfterSigstopTheWaitingEpochIsSkippedNotSentWithItsOldTime) {
               m[2].str().c_str());
 }
 
+}  // namespace late_epochs_test
 }  // namespace
 }  // namespace gpsemu

@@ -42,6 +42,7 @@
 
 namespace gpsemu {
 namespace {
+namespace mavlink_source_test {
 
 using namespace std::chrono;
 using sources::mavlink::VehicleState;
@@ -421,5 +422,6 @@ TEST(MavlinkEndToEnd, ARealArduPilotSitlStreamReplayedOverUdpIsFollowed) {
   std::printf("[ info ] ArduPilot SITL replay: %d epochs compared, worst %.2f m from the truth's path\n", compared, worst_m);
 }
 
+}  // namespace mavlink_source_test
 }  // namespace
 }  // namespace gpsemu

@@ -33,6 +33,7 @@
 
 namespace gpsemu {
 namespace {
+namespace memory_bounds_test {
 
 using namespace std::chrono;
 
@@ -202,5 +203,6 @@ TEST(MemoryBounds, AFifoLogIsStreamedWholeAndLoopOnItIsRefused) {
       << loop.err;
 }
 
+}  // namespace memory_bounds_test
 }  // namespace
 }  // namespace gpsemu

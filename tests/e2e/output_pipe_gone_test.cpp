@@ -17,6 +17,7 @@
 
 namespace gpsemu {
 namespace {
+namespace output_pipe_gone_test {
 
 using namespace std::chrono;
 
@@ -87,5 +88,6 @@ TEST(OutputPipeGone, AnotherOutputKeepsTheRunGoing) {
   EXPECT_LE(late, 2) << r.err;
 }
 
+}  // namespace output_pipe_gone_test
 }  // namespace
 }  // namespace gpsemu

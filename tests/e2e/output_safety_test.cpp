@@ -13,6 +13,7 @@
 
 namespace gpsemu {
 namespace {
+namespace output_safety_test {
 
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
@@ -98,5 +99,6 @@ TEST(OutputSafety, FileOutputFollowsASymlinkToItsTarget) {
   EXPECT_EQ(read_file(target), r.out);
 }
 
+}  // namespace output_safety_test
 }  // namespace
 }  // namespace gpsemu

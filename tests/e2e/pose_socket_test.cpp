@@ -29,6 +29,7 @@
 
 namespace gpsemu {
 namespace {
+namespace pose_socket_test {
 
 using namespace std::chrono;
 
@@ -463,5 +464,6 @@ TEST(PoseSocketEndToEnd, BadHostOrPortOrFastModeExitWith2) {
   EXPECT_NE(r.err.find("pose-horizon"), std::string::npos) << r.err;
 }
 
+}  // namespace pose_socket_test
 }  // namespace
 }  // namespace gpsemu

@@ -26,6 +26,7 @@
 
 namespace gpsemu {
 namespace {
+namespace pose_tcp_lockout_test {
 
 using namespace std::chrono;
 
@@ -281,5 +282,6 @@ TEST(PoseTcpLockout, RandomConnectionsBesideARealSenderNeverCostTheFixLongerThan
   EXPECT_GE(opened, 100u);
 }
 
+}  // namespace pose_tcp_lockout_test
 }  // namespace
 }  // namespace gpsemu

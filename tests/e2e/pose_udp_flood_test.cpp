@@ -37,6 +37,7 @@
 
 namespace gpsemu {
 namespace {
+namespace pose_udp_flood_test {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
@@ -257,5 +258,6 @@ TEST(PoseUdpFloodTest, HundredThousandMalformedDatagramsLeaveEveryEpochWithTheSe
               static_cast<unsigned long long>(used), epochs.size() - first, reason_text.c_str());
 }
 
+}  // namespace pose_udp_flood_test
 }  // namespace
 }  // namespace gpsemu

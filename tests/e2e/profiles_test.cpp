@@ -18,6 +18,7 @@
 
 namespace gpsemu {
 namespace {
+namespace profiles_test {
 
 namespace fs = std::filesystem;
 const fs::path kProfiles = fs::path(GPSEMU_SOURCE_DIR) / "data" / "profiles";
@@ -117,5 +118,6 @@ TEST(Profiles, TheF9pProfileRunsAndMatchesTheF9pLog) {
   }
 }
 
+}  // namespace profiles_test
 }  // namespace
 }  // namespace gpsemu

@@ -21,6 +21,7 @@
 
 namespace gpsemu {
 namespace {
+namespace pty_loopback_test {
 
 namespace fs = std::filesystem;
 using namespace std::chrono;
@@ -172,5 +173,6 @@ TEST(FastMode, ReportsMissingOutputDirectoryAtStartUpWithStatus2) {
   EXPECT_NE(r.err.find("/nonexistent/dir/x.nmea"), std::string::npos) << r.err;
 }
 
+}  // namespace pty_loopback_test
 }  // namespace
 }  // namespace gpsemu

@@ -29,6 +29,7 @@
 
 namespace gpsemu {
 namespace {
+namespace pty_reopen_test {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
@@ -177,5 +178,6 @@ TEST(PtyReopenTest, HundredReopensEachGetOneFreshWholeEpochAndLeakNothing) {
   fs::remove_all(dir);
 }
 
+}  // namespace pty_reopen_test
 }  // namespace
 }  // namespace gpsemu

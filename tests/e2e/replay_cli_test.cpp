@@ -15,6 +15,7 @@
 
 namespace gpsemu {
 namespace {
+namespace replay_cli_test {
 
 namespace fs = std::filesystem;
 
@@ -82,5 +83,6 @@ TEST(ReplayCli, AGoodLogRunsToTheEndAndExits0) {
                    "$GPGGA,120001.00,4304.35011,N,08924.75026,W,1,11,0.92,260.1,M,0.0,M,,*76\r\n");
 }
 
+}  // namespace replay_cli_test
 }  // namespace
 }  // namespace gpsemu

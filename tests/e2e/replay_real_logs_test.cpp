@@ -24,6 +24,7 @@
 
 namespace gpsemu::replay {
 namespace {
+namespace replay_real_logs_test {
 
 namespace fs = std::filesystem;
 using namespace std::chrono;
@@ -167,5 +168,6 @@ TEST(ReplayRealLogs, UbloxZedF9pAtSpeed40EveryEpochUnchangedAndOnTime) {
   replay_real_log("ublox-zed-f9p_hpg1.11.log", 655, 40.0);
 }
 
+}  // namespace replay_real_logs_test
 }  // namespace
 }  // namespace gpsemu::replay

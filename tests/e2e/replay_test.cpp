@@ -26,6 +26,7 @@
 
 namespace gpsemu::replay {
 namespace {
+namespace replay_test {
 
 namespace fs = std::filesystem;
 using namespace std::chrono;
@@ -256,5 +257,6 @@ TEST(ReplayEndToEnd, APtyOutputCarriesTheEpochsUnchanged) {
   EXPECT_EQ(all.substr(first, whole.size()), whole);
 }
 
+}  // namespace replay_test
 }  // namespace
 }  // namespace gpsemu::replay

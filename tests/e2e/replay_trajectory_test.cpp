@@ -19,6 +19,7 @@
 
 namespace gpsemu::sources {
 namespace {
+namespace replay_trajectory_test {
 
 namespace fs = std::filesystem;
 using namespace std::chrono;
@@ -209,5 +210,6 @@ TEST(TrajectoryReplay, ABadCsvLineExitsWithStatus2NamingFileAndLine) {
   EXPECT_NE(past.err.find("before the first epoch"), std::string::npos) << past.err;
 }
 
+}  // namespace replay_trajectory_test
 }  // namespace
 }  // namespace gpsemu::sources

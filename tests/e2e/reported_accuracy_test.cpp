@@ -15,6 +15,7 @@
 
 namespace gpsemu {
 namespace {
+namespace reported_accuracy_test {
 
 /// The comma-separated fields of every `type` sentence in `text` (checksum cut off).
 std::vector<std::vector<std::string>> sentences_of(const std::string& text, const std::string& type) {
@@ -79,5 +80,6 @@ TEST(ReportedAccuracy, AnRtkFixedProfileReportsQualityFourAndADgpsOneTwo) {
   }
 }
 
+}  // namespace reported_accuracy_test
 }  // namespace
 }  // namespace gpsemu

@@ -37,6 +37,7 @@
 
 namespace gpsemu {
 namespace {
+namespace rtk_corrections_test {
 
 namespace fs = std::filesystem;
 using namespace std::chrono;
@@ -216,5 +217,6 @@ TEST(RtkCorrections, InjectedThroughTheUbloxPortAnM9nReportsRxmRtcmAndGoesDgpsNo
   EXPECT_EQ(run.log.find("RTK float"), std::string::npos) << run.log;
 }
 
+}  // namespace rtk_corrections_test
 }  // namespace
 }  // namespace gpsemu

@@ -26,6 +26,7 @@
 
 namespace gpsemu {
 namespace {
+namespace rtk_fleet_test {
 
 namespace fs = std::filesystem;
 using namespace std::chrono;
@@ -79,5 +80,6 @@ TEST(RtkFleet, EachReceiverHasItsOwnCorrectionsPort) {
   fs::remove_all(dir);
 }
 
+}  // namespace rtk_fleet_test
 }  // namespace
 }  // namespace gpsemu

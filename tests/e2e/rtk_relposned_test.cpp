@@ -30,6 +30,7 @@
 
 namespace gpsemu {
 namespace {
+namespace rtk_relposned_test {
 
 /// What the client read from the port while it wrote `prefix` then 20 epochs of corrections.
 struct RoverRun {
@@ -113,5 +114,6 @@ TEST(RtkRelPosNed, RtcmInputOffOnThePortIgnoresTheCorrections) {
   EXPECT_EQ(run.log.find("RTK: "), std::string::npos) << run.log;
 }
 
+}  // namespace rtk_relposned_test
 }  // namespace
 }  // namespace gpsemu

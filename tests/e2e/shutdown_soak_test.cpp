@@ -22,6 +22,7 @@
 
 namespace gpsemu {
 namespace {
+namespace shutdown_soak_test {
 
 namespace fs = std::filesystem;
 using namespace std::chrono;
@@ -127,5 +128,6 @@ INSTANTIATE_TEST_SUITE_P(
                       Boundary{"century_leap_2100_is_not", "2100-02-28T23:59:00Z", "010300"}),
     [](const auto& info) { return std::string(info.param.name); });
 
+}  // namespace shutdown_soak_test
 }  // namespace
 }  // namespace gpsemu

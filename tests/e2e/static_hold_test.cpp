@@ -13,6 +13,7 @@
 
 namespace gpsemu::calibration {
 namespace {
+namespace static_hold_test {
 
 // The share of repeated positions of the run's GGA, and its altitude decimals.
 std::pair<double, int> run(std::vector<std::string> args) {
@@ -42,5 +43,6 @@ TEST(StaticHoldE2e, MovingReceiverIsNotHeld) {
   EXPECT_EQ(decimals, 0);
 }
 
+}  // namespace static_hold_test
 }  // namespace
 }  // namespace gpsemu::calibration

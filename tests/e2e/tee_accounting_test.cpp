@@ -16,6 +16,7 @@
 
 namespace gpsemu {
 namespace {
+namespace tee_accounting_test {
 
 using namespace std::chrono;
 
@@ -95,5 +96,6 @@ TEST(TeeAccounting, AWorkingTeeCountsExactlyTheBytesItsFileHolds) {
   EXPECT_EQ(tee->bytes, std::filesystem::file_size(tee_path)) << "the # sent lines included";
 }
 
+}  // namespace tee_accounting_test
 }  // namespace
 }  // namespace gpsemu

@@ -27,6 +27,7 @@
 
 namespace gpsemu {
 namespace {
+namespace timing_tool_test {
 
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
@@ -168,5 +169,6 @@ TEST_F(TimingToolTest, RefusesACountWithoutATemplate) {
   EXPECT_NE(r.err.find("needs {i} or {B+i}"), std::string::npos) << r.err;
 }
 
+}  // namespace timing_tool_test
 }  // namespace
 }  // namespace gpsemu

@@ -10,6 +10,7 @@
 
 namespace gpsemu {
 namespace {
+namespace tools_gpsemu_test {
 
 TEST(ToolsGpsemu, RunsTheBuildsBinaryWithItsArguments) {
   const std::filesystem::path build = std::filesystem::path(GPSEMU_BINARY).parent_path().parent_path();
@@ -29,5 +30,6 @@ TEST(ToolsGpsemu, RunsTheBuildsBinaryWithItsArguments) {
   ::unsetenv("GPSEMU_BUILD_DIR");
 }
 
+}  // namespace tools_gpsemu_test
 }  // namespace
 }  // namespace gpsemu

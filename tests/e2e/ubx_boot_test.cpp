@@ -37,6 +37,7 @@
 
 namespace gpsemu {
 namespace {
+namespace ubx_boot_test {
 
 using namespace std::chrono;
 using ubx::MessageId;
@@ -302,5 +303,6 @@ TEST(UbxBoot, Px4ConfiguresAnM10OnTheValsetPath) {
   }
 }
 
+}  // namespace ubx_boot_test
 }  // namespace
 }  // namespace gpsemu

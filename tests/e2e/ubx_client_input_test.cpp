@@ -36,6 +36,7 @@
 
 namespace gpsemu {
 namespace {
+namespace ubx_client_input_test {
 
 using namespace std::chrono;
 using Clock = steady_clock;
@@ -367,5 +368,6 @@ TEST(UbxClientInput, TheSummaryCountsClientInputAndRepliesApartFromEpochs) {
   EXPECT_EQ(number_in(log, R"(/dev/pts/\d+ \(link [^)]*\): \d+ epochs written \((\d+) bytes\))"), *pvt * 100) << log;
 }
 
+}  // namespace ubx_client_input_test
 }  // namespace
 }  // namespace gpsemu

@@ -36,6 +36,7 @@
 
 namespace gpsemu {
 namespace {
+namespace ubx_gpsd_test {
 
 namespace fs = std::filesystem;
 using namespace std::chrono;
@@ -557,5 +558,6 @@ TEST(UbxGpsd, NmeaPlusUbxReadOnlyEveryTpvIsThreeDAtAnEpochTime) {
   for (const auto& [t, n] : per_epoch) EXPECT_LE(n, 3) << "TPVs for epoch " << t;
 }
 
+}  // namespace ubx_gpsd_test
 }  // namespace
 }  // namespace gpsemu

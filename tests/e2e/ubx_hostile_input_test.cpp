@@ -36,6 +36,7 @@
 
 namespace gpsemu {
 namespace {
+namespace ubx_hostile_input_test {
 
 namespace fs = std::filesystem;
 using namespace std::chrono;
@@ -242,5 +243,6 @@ TEST(UbxHostileInput, ASignalAtAnyMomentOfStartUpEndsTheRunAtOnceAndLeavesNoLink
   fs::remove_all(dir);
 }
 
+}  // namespace ubx_hostile_input_test
 }  // namespace
 }  // namespace gpsemu

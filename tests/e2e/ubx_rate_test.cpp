@@ -32,6 +32,7 @@
 
 namespace gpsemu {
 namespace {
+namespace ubx_rate_test {
 
 using namespace std::chrono;
 
@@ -299,5 +300,6 @@ output = "file:{}"
       << log;
 }
 
+}  // namespace ubx_rate_test
 }  // namespace
 }  // namespace gpsemu

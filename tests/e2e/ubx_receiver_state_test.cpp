@@ -14,6 +14,7 @@
 
 namespace gpsemu {
 namespace {
+namespace ubx_receiver_state_test {
 
 struct Pvt {
   int valid = 0, flags2 = 0, fix_type = 0;
@@ -66,5 +67,6 @@ TEST(UbxReceiverState, ColdStartAndOutageTimeFlagsAndAccuraciesInNavPvt) {
   }
 }
 
+}  // namespace ubx_receiver_state_test
 }  // namespace
 }  // namespace gpsemu

@@ -33,6 +33,7 @@
 
 namespace gpsemu {
 namespace {
+namespace ubx_replies_test {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
@@ -274,5 +275,6 @@ TEST_F(UbxRepliesOnPty, APtyClientClosingInTheMiddleOfAFrameLeavesNothingForTheN
   }
 }
 
+}  // namespace ubx_replies_test
 }  // namespace
 }  // namespace gpsemu

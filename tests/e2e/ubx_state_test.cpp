@@ -32,6 +32,7 @@
 
 namespace gpsemu {
 namespace {
+namespace ubx_state_test {
 
 using namespace std::chrono;
 using ubx::msg::cfg_valget;
@@ -192,5 +193,6 @@ TEST(UbxState, ReceiversOfAFleetCannotShareOneStateFile) {
   EXPECT_EQ(own.status, 0) << own.err;
 }
 
+}  // namespace ubx_state_test
 }  // namespace
 }  // namespace gpsemu

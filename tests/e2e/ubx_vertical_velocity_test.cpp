@@ -21,6 +21,7 @@
 
 namespace gpsemu {
 namespace {
+namespace ubx_vertical_velocity_test {
 
 using namespace std::chrono;
 
@@ -65,5 +66,6 @@ TEST(UbxVerticalVelocity, AClimbingVehicleReportsVelDInNavPvtVelnedAndVelecef) {
   std::filesystem::remove_all(dir);
 }
 
+}  // namespace ubx_vertical_velocity_test
 }  // namespace
 }  // namespace gpsemu

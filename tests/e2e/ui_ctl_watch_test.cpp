@@ -23,6 +23,7 @@
 
 namespace gpsemu {
 namespace {
+namespace ui_ctl_watch_test {
 
 using nlohmann::json;
 using std::chrono::seconds;
@@ -140,5 +141,6 @@ TEST(UiCtlWatch, AReceiverThatDoesNotExistIsAnErrorAnswer) {
   std::filesystem::remove_all(dir);
 }
 
+}  // namespace ui_ctl_watch_test
 }  // namespace
 }  // namespace gpsemu

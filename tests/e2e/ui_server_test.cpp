@@ -25,6 +25,7 @@
 
 namespace gpsemu {
 namespace {
+namespace ui_server_test {
 
 using nlohmann::json;
 using std::chrono::milliseconds;
@@ -292,5 +293,6 @@ TEST(UiServer, ANonLoopbackBindNeedsTheTokenForFaults) {
   EXPECT_NE(log.find("2 without the token"), std::string::npos) << log;
 }
 
+}  // namespace ui_server_test
 }  // namespace
 }  // namespace gpsemu

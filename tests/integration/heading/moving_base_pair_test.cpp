@@ -20,6 +20,7 @@
 
 namespace gpsemu {
 namespace {
+namespace moving_base_pair_test {
 
 using namespace std::chrono_literals;
 using ubx::test::frames_in;
@@ -191,5 +192,6 @@ TEST(MovingBasePair, PitchAndRollTiltTheBaselineNotTheHeading) {
   EXPECT_NEAR(sum_heading_deg / n, 0.0, 0.6);      // 1 cm over 0.98 m: 0.6 degrees 1 sigma each, 0.1 the mean
 }
 
+}  // namespace moving_base_pair_test
 }  // namespace
 }  // namespace gpsemu

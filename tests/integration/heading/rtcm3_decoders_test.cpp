@@ -17,6 +17,7 @@
 
 namespace gpsemu {
 namespace {
+namespace rtcm3_decoders_test {
 
 using namespace std::chrono_literals;
 
@@ -114,5 +115,6 @@ TEST(Rtcm3Decoders, ConvbinDecodesTheObservations) {
   EXPECT_EQ(per_epoch, run.msm_sats);
 }
 
+}  // namespace rtcm3_decoders_test
 }  // namespace
 }  // namespace gpsemu

@@ -23,6 +23,7 @@
 
 namespace gpsemu {
 namespace {
+namespace clock_step_test {
 
 using namespace std::chrono_literals;
 using std::chrono::nanoseconds;
@@ -203,5 +204,6 @@ TEST(ClockStep, ReplaysScaledClockFollowsAStepBack) {
   }
 }
 
+}  // namespace clock_step_test
 }  // namespace
 }  // namespace gpsemu

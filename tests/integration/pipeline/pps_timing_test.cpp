@@ -21,6 +21,7 @@
 
 namespace gpsemu {
 namespace {
+namespace pps_timing_test {
 
 using namespace std::chrono_literals;
 using transport::PpsTime;
@@ -169,5 +170,6 @@ TEST(PpsTimingTest, StartTimeShiftIsAWholeNumberOfSecondsWithPps) {
   report("--start-time, 10 Hz", offsets, run);
 }
 
+}  // namespace pps_timing_test
 }  // namespace
 }  // namespace gpsemu

@@ -38,6 +38,7 @@
 
 namespace gpsemu {
 namespace {
+namespace px4_configure_pty_test {
 
 using namespace std::chrono_literals;
 using ubx::test::frames_in;
@@ -232,5 +233,6 @@ TEST_F(Px4ConfiguresAnM10Pty, EveryVALSETIsAckedButTheRtkKeyAMaxM10sLacks) {
       << client_input_summary(channel);
 }
 
+}  // namespace px4_configure_pty_test
 }  // namespace
 }  // namespace gpsemu

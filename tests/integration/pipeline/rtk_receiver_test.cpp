@@ -20,6 +20,7 @@
 
 namespace gpsemu {
 namespace {
+namespace rtk_receiver_test {
 
 using namespace std::chrono;
 
@@ -134,5 +135,6 @@ TEST(RtkReceiverUdp, AConfiguredQualityAsGoodIsKeptWithTheDifferentialFields) {
   EXPECT_EQ(fix.diff_station_id, 7);
 }
 
+}  // namespace rtk_receiver_test
 }  // namespace
 }  // namespace gpsemu

@@ -24,6 +24,7 @@
 
 namespace gpsemu {
 namespace {
+namespace ubx_effects_test {
 
 using namespace std::chrono_literals;
 
@@ -115,5 +116,6 @@ TEST(UbxEffects, CfgRstColdStartRestartsTheReceiverAtTheEpoch) {
   EXPECT_TRUE(channel.step(t0 + 6s, sources::Truth{}).has_fix());
 }
 
+}  // namespace ubx_effects_test
 }  // namespace
 }  // namespace gpsemu

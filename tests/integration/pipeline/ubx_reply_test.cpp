@@ -22,6 +22,7 @@
 
 namespace gpsemu {
 namespace {
+namespace ubx_reply_test {
 
 using ubx::test::frames_in;
 
@@ -89,5 +90,6 @@ TEST(UbxReply, PollAndAckComeBackThroughThePtyBeforeAnyEpoch) {
   ::close(client);
 }
 
+}  // namespace ubx_reply_test
 }  // namespace
 }  // namespace gpsemu

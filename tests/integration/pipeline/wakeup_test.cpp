@@ -23,6 +23,7 @@
 
 namespace gpsemu {
 namespace {
+namespace wakeup_test {
 
 using namespace std::chrono_literals;
 
@@ -111,5 +112,6 @@ TEST(Wakeup, PastDeadlineReturnsAtOnce) {
   EXPECT_EQ(io.wakeups(), 0u);
 }
 
+}  // namespace wakeup_test
 }  // namespace
 }  // namespace gpsemu

@@ -12,6 +12,7 @@
 
 namespace gpsemu::replay {
 namespace {
+namespace pacing_test {
 
 using namespace std::chrono;
 
@@ -160,5 +161,6 @@ TEST(ReplayPacing, OtherClocksAndEmptyRangesAreRefusedNamingTheOption) {
   }
 }
 
+}  // namespace pacing_test
 }  // namespace
 }  // namespace gpsemu::replay

@@ -19,6 +19,7 @@
 
 namespace gpsemu::rtk {
 namespace {
+namespace rtklib_reads_encoder_test {
 
 namespace fs = std::filesystem;
 constexpr const char* kConvbin = "/usr/bin/convbin";
@@ -60,5 +61,6 @@ TEST(RtklibReadsEncoder, ConvbinDecodesEveryEpochAndSatellite) {
   fs::remove_all(dir);
 }
 
+}  // namespace rtklib_reads_encoder_test
 }  // namespace
 }  // namespace gpsemu::rtk

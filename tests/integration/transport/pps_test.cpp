@@ -24,6 +24,7 @@
 
 namespace gpsemu::transport {
 namespace {
+namespace pps_test {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
@@ -243,5 +244,6 @@ TEST(ModemPpsTest, PseudoTerminalIsRefusedAtStartUp) {
   fs::remove_all(dir);
 }
 
+}  // namespace pps_test
 }  // namespace
 }  // namespace gpsemu::transport

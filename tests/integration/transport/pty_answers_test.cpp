@@ -21,6 +21,7 @@
 
 namespace gpsemu::transport {
 namespace {
+namespace pty_answers_test {
 
 using namespace std::chrono_literals;
 
@@ -147,5 +148,6 @@ TEST_F(PtyAnswers, EveryClientClosingTheDeviceEndsTheConnection) {
   ::close(next);
 }
 
+}  // namespace pty_answers_test
 }  // namespace
 }  // namespace gpsemu::transport

@@ -14,6 +14,7 @@
 
 namespace gpsemu::transport {
 namespace {
+namespace pty_prepare_test {
 
 /// Everything the client can read within `timeout` of the first byte (poll() with a timeout).
 std::string read_available(int fd, std::chrono::milliseconds timeout) {
@@ -59,5 +60,6 @@ TEST(PtyPrepare, PreparedWriteDeliversOnlyTheNewestEpochAndCountsTheDiscard) {
   ::close(client);
 }
 
+}  // namespace pty_prepare_test
 }  // namespace
 }  // namespace gpsemu::transport

@@ -24,6 +24,7 @@
 
 namespace gpsemu::transport {
 namespace {
+namespace pty_test {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
@@ -286,5 +287,6 @@ TEST_F(PtyOutputTest, LinkOfALivePtyServingItIsRefusedAndFreedWhenItEnds) {
   EXPECT_EQ(fs::read_symlink(link_), third.device_path());
 }
 
+}  // namespace pty_test
 }  // namespace
 }  // namespace gpsemu::transport

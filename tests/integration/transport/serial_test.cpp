@@ -27,6 +27,7 @@
 
 namespace gpsemu::transport {
 namespace {
+namespace serial_test {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
@@ -379,5 +380,6 @@ TEST_F(SerialOutputTest, PseudoTerminalHasNoModemLinesForPps) {
   EXPECT_NE(error_text.find("DTR"), std::string::npos) << error_text;
 }
 
+}  // namespace serial_test
 }  // namespace
 }  // namespace gpsemu::transport

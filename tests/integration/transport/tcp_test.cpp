@@ -25,6 +25,7 @@
 
 namespace gpsemu::transport {
 namespace {
+namespace tcp_test {
 
 using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
@@ -201,5 +202,6 @@ TEST(TcpOutputTest, SpecsParseAndOpen) {
   EXPECT_GE(out->poll_fd(), 0);
 }
 
+}  // namespace tcp_test
 }  // namespace
 }  // namespace gpsemu::transport

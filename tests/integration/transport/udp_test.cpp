@@ -16,6 +16,7 @@
 
 namespace gpsemu::transport {
 namespace {
+namespace udp_test {
 
 using namespace std::chrono_literals;
 
@@ -82,5 +83,6 @@ TEST(UdpOutputTest, SpecsParseAndErrorsNameTheHost) {
   }
 }
 
+}  // namespace udp_test
 }  // namespace
 }  // namespace gpsemu::transport

@@ -21,6 +21,7 @@
 
 namespace gpsemu::base {
 namespace {
+namespace base_station_test {
 
 using namespace std::chrono_literals;
 
@@ -215,5 +216,6 @@ TEST(BaseStation, BadSettingsAreRefusedNamingThem) {
   EXPECT_EQ(parse_systems("beidou,GPS"), (std::vector<rtk::Gnss>{rtk::Gnss::gps, rtk::Gnss::beidou}));
 }
 
+}  // namespace base_station_test
 }  // namespace
 }  // namespace gpsemu::base

@@ -21,6 +21,7 @@
 
 namespace gpsemu::calibration {
 namespace {
+namespace calibration_loads_test {
 
 const std::vector<std::string> kModels{"cgrw", "chrono", "gaussian", "gauss-markov", "composite", "none"};
 
@@ -133,5 +134,6 @@ TEST(CalibrationLoads, ConstantAltitudeGivesNoNoiseOnUp) {
   expect_every_model_runs(log, "constant altitude");
 }
 
+}  // namespace calibration_loads_test
 }  // namespace
 }  // namespace gpsemu::calibration

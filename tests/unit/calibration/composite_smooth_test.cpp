@@ -20,6 +20,7 @@
 
 namespace gpsemu::calibration {
 namespace {
+namespace composite_smooth_test {
 
 const ModelResult& composite_of(const Calibration& c) {
   for (const ModelResult& m : c.models)
@@ -123,5 +124,6 @@ TEST(CompositeSmooth, CompositeCgrwKeysAreAllThreeOrNone) {
   EXPECT_EQ((*all.receiver().noise.composite.smooth_cgrw)[1].width_m, 2.0);
 }
 
+}  // namespace composite_smooth_test
 }  // namespace
 }  // namespace gpsemu::calibration

@@ -19,6 +19,7 @@
 
 namespace gpsemu::calibration {
 namespace {
+namespace hold_fit_test {
 
 noise::NoiseConfig smooth_noise() {
   noise::NoiseConfig c;
@@ -115,5 +116,6 @@ TEST(HoldFit, RepeatShareCountsPairsOfFixesOnly) {
   EXPECT_DOUBLE_EQ(repeat_share(x), 2.0 / 3.0);
 }
 
+}  // namespace hold_fit_test
 }  // namespace
 }  // namespace gpsemu::calibration

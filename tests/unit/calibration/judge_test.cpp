@@ -16,6 +16,7 @@
 
 namespace gpsemu::calibration {
 namespace {
+namespace judge_test {
 
 // A constant-velocity target (white acceleration, spectral density q) measured with sigma.
 std::vector<double> cv_track(std::uint64_t stream, std::size_t n, double dt, double q, double sigma) {
@@ -85,5 +86,6 @@ TEST(Judge, JudgesEveryCalibratedModelAndWritesTheJson) {
   EXPECT_NE(j.best, "gaussian");
 }
 
+}  // namespace judge_test
 }  // namespace
 }  // namespace gpsemu::calibration

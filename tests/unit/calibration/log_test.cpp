@@ -17,6 +17,7 @@
 
 namespace gpsemu::calibration {
 namespace {
+namespace log_test {
 
 TEST(CalibrationLog, SkipsAndCountsJunk) {
   const test::MessyLog made = test::make_log(1.0, 300, 5, true);
@@ -183,5 +184,6 @@ TEST(CalibrationStats, AllanDeviationOfWhiteNoiseFallsAsOneOverRootTau) {
   EXPECT_FALSE(shorter.allan_m[2]);  // 100 s needs 300 samples
 }
 
+}  // namespace log_test
 }  // namespace
 }  // namespace gpsemu::calibration

@@ -19,6 +19,7 @@
 
 namespace gpsemu::calibration {
 namespace {
+namespace motion_test {
 
 // sim:circle's defaults: radius 20 m at 2 m/s.
 Enu circle(double t_s) { return {20.0 * std::sin(t_s / 10.0), 20.0 * (1.0 - std::cos(t_s / 10.0)), 0.0}; }
@@ -290,5 +291,6 @@ TEST(Motion, TheSameReceiverCreepingAt5CmPerSecondForAnHourIsRefused) {
   }
 }
 
+}  // namespace motion_test
 }  // namespace
 }  // namespace gpsemu::calibration

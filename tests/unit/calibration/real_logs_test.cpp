@@ -14,6 +14,7 @@
 
 namespace gpsemu::calibration {
 namespace {
+namespace real_logs_test {
 
 const std::string kDir = std::string(GPSEMU_SOURCE_DIR) + "/tests/data/real";
 
@@ -74,5 +75,6 @@ INSTANTIATE_TEST_SUITE_P(
       return name.substr(0, name.find_first_of("-_"));
     });
 
+}  // namespace real_logs_test
 }  // namespace
 }  // namespace gpsemu::calibration

@@ -25,6 +25,7 @@
 
 namespace gpsemu::calibration {
 namespace {
+namespace receiver_state_test {
 
 TEST(ReceiverStateLearning, SatellitesDopsCn0AndTheLowestElevationUsed) {
   const std::string log =
@@ -174,5 +175,6 @@ INSTANTIATE_TEST_SUITE_P(RealLogs, CalibratedGates,
                            return n;
                          });
 
+}  // namespace receiver_state_test
 }  // namespace
 }  // namespace gpsemu::calibration

@@ -11,6 +11,7 @@
 
 namespace gpsemu {
 namespace {
+namespace config_test {
 
 std::string write_temp(const std::string& name, const std::string& text) {
   return test::write_temp("gpsemu_cfg_", name, text);
@@ -133,11 +134,13 @@ TEST(Config, EveryOptionHasHelpWithAUnitOrDefault) {
   }
 }
 
+}  // namespace config_test
 }  // namespace
 }  // namespace gpsemu
 
 namespace gpsemu {
 namespace {
+namespace config_test {
 
 // build_config_from_text (what config_fuzz drives) gives the file's messages word for word.
 TEST(Config, TextAndFileGiveTheSameConfigAndMessages) {
@@ -167,5 +170,6 @@ TEST(Config, TextAndFileGiveTheSameConfigAndMessages) {
   }
 }
 
+}  // namespace config_test
 }  // namespace
 }  // namespace gpsemu

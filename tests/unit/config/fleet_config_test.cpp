@@ -13,6 +13,7 @@
 
 namespace gpsemu {
 namespace {
+namespace fleet_config_test {
 
 std::string write_temp(const std::string& name, const std::string& text) {
   return test::write_temp("gpsemu_fleet_", name, text);
@@ -241,5 +242,6 @@ TEST(Fleet, ASharedRtcmPortIsRefusedWithTheTemplateToUse) {
   EXPECT_TRUE(contains(e, "rtcm")) << e;
 }
 
+}  // namespace fleet_config_test
 }  // namespace
 }  // namespace gpsemu

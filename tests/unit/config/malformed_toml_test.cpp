@@ -13,6 +13,7 @@
 
 namespace gpsemu {
 namespace {
+namespace malformed_toml_test {
 
 struct Malformed {
   const char* what;
@@ -96,5 +97,6 @@ TEST(MalformedToml, EveryMalformedFileIsRefusedInOneLineNamingWhatWasWrong) {
   }
 }
 
+}  // namespace malformed_toml_test
 }  // namespace
 }  // namespace gpsemu

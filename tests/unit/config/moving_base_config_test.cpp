@@ -10,6 +10,7 @@
 
 namespace gpsemu {
 namespace {
+namespace moving_base_config_test {
 
 std::string write_temp(const std::string& name, const std::string& text) {
   return test::write_temp("gpsemu_moving_base_", name, text);
@@ -60,5 +61,6 @@ TEST(MovingBaseConfig, RefusalsNameTheProblem) {
   }
 }
 
+}  // namespace moving_base_config_test
 }  // namespace
 }  // namespace gpsemu

@@ -12,6 +12,7 @@
 
 namespace gpsemu {
 namespace {
+namespace profiles_test {
 
 std::string write_temp(const std::string& name, const std::string& text) {
   return test::write_temp("gpsemu_profile_", name, text);
@@ -100,5 +101,6 @@ TEST(Profiles, AnUnknownProfileIsNamedWithTheProfilesThereAre) {
   EXPECT_NE(e.find("key 'profile' cannot be set in a [[receiver]] table"), std::string::npos) << e;
 }
 
+}  // namespace profiles_test
 }  // namespace
 }  // namespace gpsemu

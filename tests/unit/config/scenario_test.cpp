@@ -10,6 +10,7 @@
 
 namespace gpsemu {
 namespace {
+namespace scenario_test {
 
 std::string write_temp(const std::string& name, const std::string& text) { return test::write_temp("gpsemu_scn_", name, text); }
 
@@ -101,5 +102,6 @@ TEST(Scenario, AFaultOutsideTheRunsOwnEpochsIsRefused) {
   EXPECT_EQ(error_of_run({parse_iso8601_utc("2026-05-01T11:00:30Z"), false, 10.0, 9.5}), "");
 }
 
+}  // namespace scenario_test
 }  // namespace
 }  // namespace gpsemu

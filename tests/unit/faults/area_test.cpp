@@ -7,6 +7,7 @@
 
 namespace gpsemu::faults {
 namespace {
+namespace area_test {
 
 TEST(Area, CircleContainsWhatIsWithinItsRadius) {
   const Area a = parse_area("circle:47.0,8.0,500");
@@ -46,5 +47,6 @@ TEST(Area, BadTextsAreOneClearMessage) {
   EXPECT_EQ(message("polygon:1,1;2;3,3"), "where: a polygon corner is LAT,LON, got '2'");
 }
 
+}  // namespace area_test
 }  // namespace
 }  // namespace gpsemu::faults

@@ -16,6 +16,7 @@
 
 namespace gpsemu::faults {
 namespace {
+namespace control_args_test {
 
 using nlohmann::json;
 
@@ -90,5 +91,6 @@ TEST(ControlArgs, TheHelpNamesEveryKindAndItsFlags) {
   EXPECT_NE(help.find("  --speed-mps|--speed: drag speed, m/s, 0..1000\n"), std::string::npos) << help;
 }
 
+}  // namespace control_args_test
 }  // namespace
 }  // namespace gpsemu::faults

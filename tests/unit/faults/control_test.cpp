@@ -10,6 +10,7 @@
 
 namespace gpsemu::faults {
 namespace {
+namespace control_test {
 
 using nlohmann::json;
 using std::chrono::milliseconds;
@@ -212,5 +213,6 @@ TEST(FaultControl, AFaultAskedForAfterAClearOfItsKindStartsAtTheNextEpoch) {
   EXPECT_EQ(status["receivers"][0]["faults"][0]["describe"], "spoof speed_mps=4 bearing_deg=0 undetected at 0.2 s to the end");
 }
 
+}  // namespace control_test
 }  // namespace
 }  // namespace gpsemu::faults

@@ -9,6 +9,7 @@
 
 namespace gpsemu::faults {
 namespace {
+namespace fault_test {
 
 std::string error_of(const FaultKeys& keys) {
   try {
@@ -109,5 +110,6 @@ TEST(MakeFault, BadKeysAndValuesNameTheKey) {
   EXPECT_NE(error_of({{"kind", 3.0}}).find("expected a string"), std::string::npos);
 }
 
+}  // namespace fault_test
 }  // namespace
 }  // namespace gpsemu::faults

@@ -11,6 +11,7 @@
 
 namespace gpsemu::faults {
 namespace {
+namespace fault_timeline_test {
 
 using std::chrono::seconds;
 
@@ -223,5 +224,6 @@ TEST(FaultTimeline, ASpoofWithRampOutReturnsGraduallyInsteadOfSnappingBack) {
   EXPECT_EQ(run.timeline.entries()[0].epochs, 10u);  // 5 on, 5 fading (the last at strength 0 included)
 }
 
+}  // namespace fault_timeline_test
 }  // namespace
 }  // namespace gpsemu::faults

@@ -13,6 +13,7 @@
 
 namespace gpsemu::faults {
 namespace {
+namespace fault_triggers_test {
 
 using std::chrono::seconds;
 
@@ -172,5 +173,6 @@ TEST(FaultTriggers, LiveEventsAreRecordedAtTheEpochTheyApply) {
   EXPECT_EQ(run.timeline.applied_events()[0].since_s, 3.0);
 }
 
+}  // namespace fault_triggers_test
 }  // namespace
 }  // namespace gpsemu::faults

@@ -11,6 +11,7 @@
 
 namespace gpsemu::faults {
 namespace {
+namespace garble_test {
 
 const std::string kEpoch =
     "$GPRMC,120000.00,A,4304.3500,N,08924.7500,W,0.000,0.00,010524,,,A*7D\r\n"
@@ -92,5 +93,6 @@ TEST(Garble, BytesOutsideSentencesAndFramesAreLeftAlone) {
   EXPECT_EQ(bytes, "noise\r\n");
 }
 
+}  // namespace garble_test
 }  // namespace
 }  // namespace gpsemu::faults

@@ -18,6 +18,7 @@
 
 namespace gpsemu::faults {
 namespace {
+namespace leap_second_test {
 
 using namespace std::chrono;
 
@@ -163,5 +164,6 @@ TEST(LeapSecondFault, ItsKeysAreRefusedWithTheReason) {
   EXPECT_EQ(leap_fault().parameters(), "time mode=leap-second leap_utc=2026-12-31T23:59:60Z");
 }
 
+}  // namespace leap_second_test
 }  // namespace
 }  // namespace gpsemu::faults

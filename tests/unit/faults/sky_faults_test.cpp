@@ -18,6 +18,7 @@
 
 namespace gpsemu::faults {
 namespace {
+namespace sky_faults_test {
 
 using std::chrono::seconds;
 
@@ -223,5 +224,6 @@ TEST(SecondStageFaults, LiveControlTakesTheNewKindsWithJsonBooleans) {
   EXPECT_EQ(f.satellites_in_view, 9) << "azimuths 180, 210, 240 at 45..55 degrees hidden";
 }
 
+}  // namespace sky_faults_test
 }  // namespace
 }  // namespace gpsemu::faults

@@ -8,6 +8,7 @@
 
 namespace gpsemu::faults {
 namespace {
+namespace tee_events_test {
 
 const UtcNs kStart = parse_iso8601_utc("2024-05-01T00:00:00Z");
 
@@ -76,5 +77,6 @@ TEST(TeeEvents, ABadLineIsNamed) {
   EXPECT_THROW((void)faults_from_tee("# fault +x {}\n"), std::invalid_argument);
 }
 
+}  // namespace tee_events_test
 }  // namespace
 }  // namespace gpsemu::faults

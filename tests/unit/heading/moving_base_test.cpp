@@ -11,6 +11,7 @@
 
 namespace gpsemu::heading {
 namespace {
+namespace moving_base_test {
 
 using namespace std::chrono_literals;
 
@@ -148,5 +149,6 @@ TEST(MovingBase, PitchAndRollTiltTheBaseline) {
   EXPECT_LT(std::abs(angle_diff_deg(rel.heading_deg, 45.0)), 4.0 * rel.acc_heading_deg);
 }
 
+}  // namespace moving_base_test
 }  // namespace
 }  // namespace gpsemu::heading

@@ -12,6 +12,7 @@
 
 namespace gpsemu::heading {
 namespace {
+namespace rtcm3_test {
 
 /// Reads big-endian bit fields, as RTCM 3 lays them out.
 class BitReader {
@@ -116,5 +117,6 @@ TEST(Rtcm3Base, OneEpochIs4072ThenMsm4PerSystemThen1230) {
   EXPECT_TRUE(base_rtcm3_epoch(nmea::Fix{}, 0).empty());  // no fix, no corrections
 }
 
+}  // namespace rtcm3_test
 }  // namespace
 }  // namespace gpsemu::heading

@@ -12,6 +12,7 @@
 
 namespace gpsemu {
 namespace {
+namespace geo_near_test {
 
 // Far below what any output prints (1e-9 degree is 0.1 mm; u-blox's finest field).
 constexpr double kAngleTolDeg = 1e-12;  // 0.1 micrometre
@@ -76,5 +77,6 @@ TEST(NearGeodetic, NearAPoleConvertsExactly) {
   }
 }
 
+}  // namespace geo_near_test
 }  // namespace
 }  // namespace gpsemu

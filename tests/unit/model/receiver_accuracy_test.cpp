@@ -11,6 +11,7 @@
 
 namespace gpsemu {
 namespace {
+namespace receiver_accuracy_test {
 
 using namespace std::chrono;
 
@@ -127,5 +128,6 @@ TEST(ReceiverAccuracy, NoiseMeasuredAtRtkFixedIsTheReceiversOwnThereAndGrowsWhen
   EXPECT_DOUBLE_EQ(noise_scale(nmea::FixQuality::dgps, nmea::FixQuality::gps), 0.4);
 }
 
+}  // namespace receiver_accuracy_test
 }  // namespace
 }  // namespace gpsemu

@@ -11,6 +11,7 @@
 
 namespace gpsemu {
 namespace {
+namespace receiver_sim_test {
 
 using namespace std::chrono;
 using sources::SimOptions;
@@ -173,5 +174,6 @@ TEST(Waypoints, BadValuesAreRefusedNamingLineAndColumn) {
   EXPECT_EQ(points[0].speed_mps, 2.0);
 }
 
+}  // namespace receiver_sim_test
 }  // namespace
 }  // namespace gpsemu

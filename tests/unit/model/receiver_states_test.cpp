@@ -18,6 +18,7 @@
 
 namespace gpsemu {
 namespace {
+namespace receiver_states_test {
 
 using namespace std::chrono;
 
@@ -339,5 +340,6 @@ TEST(ReceiverOptionsConfig, LineBudgetOfTheConfiguredRun) {
   EXPECT_EQ(nmea::smallest_standard_baud(gga_rmc), 19200);
 }
 
+}  // namespace receiver_states_test
 }  // namespace
 }  // namespace gpsemu

@@ -26,6 +26,7 @@
 
 namespace gpsemu {
 namespace {
+namespace sky_records_test {
 
 using namespace sky_test_support;
 
@@ -251,5 +252,6 @@ TEST(SkyOrbits, ExtrapolatedRecordsStayWithinKilometresOfTheValidOnes) {
   EXPECT_GE(compared[nmea::GnssSystem::beidou], 20);
   EXPECT_GE(compared[nmea::GnssSystem::glonass], 8);
 }
+}  // namespace sky_records_test
 }  // namespace
 }  // namespace gpsemu

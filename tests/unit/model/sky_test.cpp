@@ -29,6 +29,7 @@
 
 namespace gpsemu {
 namespace {
+namespace sky_test {
 
 using namespace sky_test_support;
 
@@ -422,5 +423,6 @@ TEST(SkyModels, GeoidIsEgm96) {
   EXPECT_NEAR(sky::geoid_separation_m(35.36, 138.73), 41.0, 3.0);       // Mount Fuji: about 41 m
 }
 
+}  // namespace sky_test
 }  // namespace
 }  // namespace gpsemu

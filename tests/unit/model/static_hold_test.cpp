@@ -6,6 +6,7 @@
 
 namespace gpsemu {
 namespace {
+namespace static_hold_test {
 
 TEST(StaticHold, OffByDefaultReportsEveryPosition) {
   StaticHold hold;
@@ -43,5 +44,6 @@ TEST(StaticHold, ResetForgetsTheHeldPosition) {
   EXPECT_DOUBLE_EQ(hold.apply({0.3, 0.0, 0.0}, 0.0).east_m, 0.3);
 }
 
+}  // namespace static_hold_test
 }  // namespace
 }  // namespace gpsemu

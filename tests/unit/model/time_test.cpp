@@ -7,6 +7,7 @@
 
 namespace gpsemu {
 namespace {
+namespace time_test {
 
 using namespace std::chrono;
 
@@ -83,5 +84,6 @@ TEST(Iso8601, YearsOutsideTheRangeAreRefused) {
   }
 }
 
+}  // namespace time_test
 }  // namespace
 }  // namespace gpsemu

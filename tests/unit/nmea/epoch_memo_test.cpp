@@ -12,6 +12,7 @@
 
 namespace gpsemu::nmea {
 namespace {
+namespace epoch_memo_test {
 
 Fix base_fix() {
   Fix fix;
@@ -108,5 +109,6 @@ TEST(SatelliteTextMemo, SatellitesThatDifferOnlyBetweenTheirFieldsKeepTheText) {
   expect_same_text({a, b, b, c, a}, options);
 }
 
+}  // namespace epoch_memo_test
 }  // namespace
 }  // namespace gpsemu::nmea

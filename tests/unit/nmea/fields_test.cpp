@@ -14,6 +14,7 @@
 
 namespace gpsemu::nmea {
 namespace {
+namespace fields_test {
 
 using namespace std::chrono;
 using test::utc;
@@ -184,5 +185,6 @@ TEST(NmeaText, DigitsArePadded) {
   EXPECT_EQ(std::string(out, text::put_scaled(out, 42, 0)), "42");
 }
 
+}  // namespace fields_test
 }  // namespace
 }  // namespace gpsemu::nmea

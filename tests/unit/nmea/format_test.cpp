@@ -16,6 +16,7 @@
 
 namespace gpsemu::nmea {
 namespace {
+namespace format_test {
 
 using namespace std::chrono;
 using test::utc;
@@ -259,5 +260,6 @@ TEST(NmeaFormat, GgaAltitudeWithTheConfiguredDecimals) {
   EXPECT_NEAR(*parse_gga(*gga)->alt_msl_m, -999999.1235, 1e-6);
 }
 
+}  // namespace format_test
 }  // namespace
 }  // namespace gpsemu::nmea

@@ -11,6 +11,7 @@
 
 namespace gpsemu::nmea {
 namespace {
+namespace gga_differential_test {
 
 using namespace std::chrono;
 
@@ -83,5 +84,6 @@ TEST(NmeaGgaDifferential, WidestValuesAreClampedAndFit) {
   EXPECT_LE(typical.size(), 82u + 2u) << typical;
 }
 
+}  // namespace gga_differential_test
 }  // namespace
 }  // namespace gpsemu::nmea

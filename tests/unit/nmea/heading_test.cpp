@@ -14,6 +14,7 @@
 
 namespace gpsemu::nmea {
 namespace {
+namespace heading_test {
 
 Fix fix_with_heading(std::optional<double> heading_deg) {
   Fix fix;
@@ -165,5 +166,6 @@ TEST(Heading, ArduPilotReadsTheHeadingAndTheLossOfIt) {
   EXPECT_NEAR(ap.gps_yaw_deg, 7.5, 1e-9);
 }
 
+}  // namespace heading_test
 }  // namespace
 }  // namespace gpsemu::nmea

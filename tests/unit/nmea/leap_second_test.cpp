@@ -13,6 +13,7 @@
 
 namespace gpsemu::nmea {
 namespace {
+namespace leap_second_test {
 
 using namespace std::chrono;
 
@@ -75,5 +76,6 @@ TEST(LeapSecondSentences, Second60ParsesBack) {
   EXPECT_EQ(*rmc.value().date, year{2026} / December / 31);
 }
 
+}  // namespace leap_second_test
 }  // namespace
 }  // namespace gpsemu::nmea

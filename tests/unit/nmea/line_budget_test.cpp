@@ -12,6 +12,7 @@
 
 namespace gpsemu::nmea {
 namespace {
+namespace line_budget_test {
 
 FormatOptions options(std::string talker, NmeaVersion version, int minute_decimals = 5, int time_decimals = 2) {
   return FormatOptions{std::move(talker), minute_decimals, time_decimals, version};
@@ -118,5 +119,6 @@ TEST(NmeaSentences, LineBudgetCountsTheDifferentialFieldsRtkAddsToGga) {
   EXPECT_EQ(line_budget(o, 12, 10, 1.0).bytes_per_epoch, without.size() + 9);
 }
 
+}  // namespace line_budget_test
 }  // namespace
 }  // namespace gpsemu::nmea

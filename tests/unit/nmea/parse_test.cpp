@@ -12,6 +12,7 @@
 
 namespace gpsemu::nmea {
 namespace {
+namespace parse_test {
 
 using namespace std::chrono;
 
@@ -259,5 +260,6 @@ TEST(NmeaParseRmc, RejectsMalformedFields) {
   EXPECT_EQ(parse_rmc(must_parse(published_gga)).error(), ParseError::wrong_type);
 }
 
+}  // namespace parse_test
 }  // namespace
 }  // namespace gpsemu::nmea

@@ -13,6 +13,7 @@
 
 namespace gpsemu::nmea {
 namespace {
+namespace roundtrip_test {
 
 using namespace std::chrono;
 using test::mps_per_knot;
@@ -93,5 +94,6 @@ TEST(NmeaRoundTrip, PositionTimeDateSpeedSurviveFormatThenParse) {
   }
 }
 
+}  // namespace roundtrip_test
 }  // namespace
 }  // namespace gpsemu::nmea

@@ -14,6 +14,7 @@
 
 namespace gpsemu::nmea {
 namespace {
+namespace sentences_test {
 
 using namespace std::chrono;
 using test::utc;
@@ -325,5 +326,6 @@ TEST(NmeaSentences, GsaPerSystemWithTheNmea41SystemId) {
   EXPECT_EQ(lines(format_gsa(gps, options("GP", NmeaVersion::v4_1))).size(), 1u);
 }
 
+}  // namespace sentences_test
 }  // namespace
 }  // namespace gpsemu::nmea

@@ -11,6 +11,7 @@
 
 namespace gpsemu::nmea {
 namespace {
+namespace stream_test {
 
 const std::string gga = "$GPGGA,123519,4807.038,N,01131.000,E,1,08,0.9,545.4,M,46.9,M,,*47";
 const std::string rmc = "$GPRMC,123519,A,4807.038,N,01131.000,E,022.4,084.4,230394,003.1,W*6A";
@@ -128,5 +129,6 @@ TEST(NmeaStreamReader, FinishCountsAPendingComment) {
   EXPECT_EQ(reader.stats().garbage_bytes, 0u);
 }
 
+}  // namespace stream_test
 }  // namespace
 }  // namespace gpsemu::nmea

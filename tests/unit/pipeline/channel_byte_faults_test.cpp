@@ -11,6 +11,7 @@
 
 namespace gpsemu {
 namespace {
+namespace channel_byte_faults_test {
 
 using std::chrono::milliseconds;
 using std::chrono::seconds;
@@ -82,5 +83,6 @@ TEST(ChannelByteFaults, LatencyHoldsEachEpochBackUntilItsTimeInOrder) {
   EXPECT_EQ(late.stats().epochs_delayed, 2u);
 }
 
+}  // namespace channel_byte_faults_test
 }  // namespace
 }  // namespace gpsemu

@@ -14,6 +14,7 @@
 
 namespace gpsemu {
 namespace {
+namespace channel_reset_test {
 
 using ubx::test::frames_in;
 using std::chrono::seconds;
@@ -103,5 +104,6 @@ TEST(ChannelReset, AnNmeaReceiverRebootsToo) {
   EXPECT_TRUE(fixes[5]);
 }
 
+}  // namespace channel_reset_test
 }  // namespace
 }  // namespace gpsemu

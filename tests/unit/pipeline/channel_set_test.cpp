@@ -19,6 +19,7 @@
 
 namespace gpsemu {
 namespace {
+namespace channel_set_test {
 
 using test::TalkingOutput;
 
@@ -169,5 +170,6 @@ TEST(ReceiverSchedule, FollowsASolutionGridFromTheEpochAfterAndReturnsToTheRunGr
   EXPECT_EQ(schedule.next(), kT0 + 3s);
 }
 
+}  // namespace channel_set_test
 }  // namespace
 }  // namespace gpsemu

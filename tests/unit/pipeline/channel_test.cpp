@@ -14,6 +14,7 @@
 
 namespace gpsemu {
 namespace {
+namespace channel_test {
 
 using test::TalkingOutput;
 
@@ -69,5 +70,6 @@ TEST(Channel, WhatAClientWritesReachesEveryProtocolThroughTheSink) {
   EXPECT_EQ(heard->heard, "\xb5\x62\x06\x01");
 }
 
+}  // namespace channel_test
 }  // namespace
 }  // namespace gpsemu

@@ -13,6 +13,7 @@
 
 namespace gpsemu {
 namespace {
+namespace channel_ubx_faults_test {
 
 using std::chrono::seconds;
 using ubx::test::frames_in;
@@ -73,5 +74,6 @@ TEST(ChannelUbxFaults, SkyMaskSpoofAndRolloverShowInTheNavMessages) {
   EXPECT_EQ(week(e[4]), week(e[0]));
 }
 
+}  // namespace channel_ubx_faults_test
 }  // namespace
 }  // namespace gpsemu

@@ -10,6 +10,7 @@
 
 namespace gpsemu {
 namespace {
+namespace helper_writer_test {
 
 struct Call {
   std::size_t first, from, to;
@@ -47,5 +48,6 @@ TEST(HelperWriter, AWriteTimeInThePastWritesAtOnceAndDestructionFinishesThePoste
   EXPECT_EQ(writes.load(), 2);
 }
 
+}  // namespace helper_writer_test
 }  // namespace
 }  // namespace gpsemu

@@ -15,6 +15,7 @@
 
 namespace gpsemu {
 namespace {
+namespace serial_line_check_test {
 
 using std::chrono::minutes;
 
@@ -74,5 +75,6 @@ TEST(WorstCaseEpochBytes, AnF9psSecondSignalsAreInIt) {
   EXPECT_GT(written, 800u) << "four systems on two signals";
 }
 
+}  // namespace serial_line_check_test
 }  // namespace
 }  // namespace gpsemu

@@ -13,6 +13,7 @@
 
 namespace gpsemu::protocol {
 namespace {
+namespace registry_test {
 
 Config config_of(const RawOptions& cli) { return build_config(std::nullopt, cli); }
 
@@ -92,5 +93,6 @@ TEST(NmeaProtocol, WritesTheSentencesAndAsksForNothing) {
   EXPECT_TRUE(nmea.client_input_summary("").empty());
 }
 
+}  // namespace registry_test
 }  // namespace
 }  // namespace gpsemu::protocol

@@ -13,6 +13,7 @@
 
 namespace gpsemu::replay {
 namespace {
+namespace log_stream_test {
 
 using namespace std::chrono;
 
@@ -140,5 +141,6 @@ TEST(LogStream, ARangeIsFoundWhileStreaming) {
   EXPECT_FALSE(stream.ended()) << "read no further than the window past the range";
 }
 
+}  // namespace log_stream_test
 }  // namespace
 }  // namespace gpsemu::replay

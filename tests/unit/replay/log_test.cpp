@@ -10,6 +10,7 @@
 
 namespace gpsemu::replay {
 namespace {
+namespace log_test {
 
 using namespace std::chrono;
 
@@ -253,5 +254,6 @@ TEST(ReplayLog, RetimeSendsAMalformedTimeFieldAsRecorded) {
   EXPECT_NE(out.find("$GPGGA,235951.004.,03433942,N,"), std::string::npos) << out;
 }
 
+}  // namespace log_test
 }  // namespace
 }  // namespace gpsemu::replay

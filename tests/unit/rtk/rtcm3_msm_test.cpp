@@ -11,6 +11,7 @@
 
 namespace gpsemu::rtk {
 namespace {
+namespace rtcm3_msm_test {
 
 MsmMessage three_satellites(int msm) {
   MsmMessage m;
@@ -98,5 +99,6 @@ TEST(Rtcm3Msm, BadInputIsRefused) {
   EXPECT_THROW((void)encode_msm_observations(m), std::invalid_argument);
 }
 
+}  // namespace rtcm3_msm_test
 }  // namespace
 }  // namespace gpsemu::rtk

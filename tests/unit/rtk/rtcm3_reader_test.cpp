@@ -11,6 +11,7 @@
 
 namespace gpsemu::rtk {
 namespace {
+namespace rtcm3_reader_test {
 
 std::string hex_bytes(std::initializer_list<int> values) {
   std::string out;
@@ -161,5 +162,6 @@ TEST(Rtcm3Decode, OtherTypesKeepTheirNumber) {
   EXPECT_EQ(describe(decode_rtcm3(encode_1230(1))), "1230 GLONASS biases");
 }
 
+}  // namespace rtcm3_reader_test
 }  // namespace
 }  // namespace gpsemu::rtk

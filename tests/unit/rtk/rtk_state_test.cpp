@@ -8,6 +8,7 @@
 
 namespace gpsemu::rtk {
 namespace {
+namespace rtk_state_test {
 
 using Q = nmea::FixQuality;
 
@@ -149,5 +150,6 @@ TEST(RtkTimelineValidation, NamesTheFieldAndRange) {
   EXPECT_NO_THROW(validate(RtkTimeline{}));
 }
 
+}  // namespace rtk_state_test
 }  // namespace
 }  // namespace gpsemu::rtk

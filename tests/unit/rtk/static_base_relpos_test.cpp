@@ -14,6 +14,7 @@
 
 namespace gpsemu::rtk {
 namespace {
+namespace static_base_relpos_test {
 
 using Q = nmea::FixQuality;
 
@@ -142,5 +143,6 @@ TEST(StaticBaseRelPos, NedFromTheBaseIsItsLocalFrame) {
   EXPECT_NEAR(d.down_m, -50.0, 1e-6);
 }
 
+}  // namespace static_base_relpos_test
 }  // namespace
 }  // namespace gpsemu::rtk

@@ -20,6 +20,7 @@
 
 namespace gpsemu::sources::mavlink {
 namespace {
+namespace mavlink_capture_test {
 
 using Bytes = std::vector<std::uint8_t>;
 
@@ -146,5 +147,6 @@ TEST(MavlinkCapture, TheTruthLiesNearTheAutopilotsOwnEstimate) {
               std::hypot(last->east_m - first->east_m, last->north_m - first->north_m));
 }
 
+}  // namespace mavlink_capture_test
 }  // namespace
 }  // namespace gpsemu::sources::mavlink

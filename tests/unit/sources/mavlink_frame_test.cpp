@@ -15,6 +15,7 @@
 
 namespace gpsemu::sources::mavlink {
 namespace {
+namespace mavlink_frame_test {
 
 using Bytes = std::vector<std::uint8_t>;
 
@@ -384,5 +385,6 @@ TEST(MavlinkFrame, AKnownIdWithAnImpossibleLengthIsNotTakenForAFrame) {
   EXPECT_EQ(reader.counts().bad_length, 1u);
 }
 
+}  // namespace mavlink_frame_test
 }  // namespace
 }  // namespace gpsemu::sources::mavlink

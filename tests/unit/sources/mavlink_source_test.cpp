@@ -16,6 +16,7 @@
 
 namespace gpsemu::sources {
 namespace {
+namespace mavlink_source_test {
 
 using namespace std::chrono_literals;
 using Kind = transport::ReceivedMessage::Kind;
@@ -210,5 +211,6 @@ TEST_F(MavlinkSourceTest, AStreamWithoutStatesSaysWhichMessagesToSend) {
   EXPECT_NE(sink_->text.find("none of SIM_STATE, HIL_STATE_QUATERNION or SIMSTATE"), std::string::npos) << sink_->text;
 }
 
+}  // namespace mavlink_source_test
 }  // namespace
 }  // namespace gpsemu::sources

@@ -12,6 +12,7 @@
 
 namespace gpsemu::sources::mavlink {
 namespace {
+namespace mavlink_state_test {
 
 /// The one frame `bytes` holds.
 Frame frame_of(const std::vector<std::uint8_t>& bytes) {
@@ -103,5 +104,6 @@ TEST(MavlinkState, HilStateQuaternionCarriesItsTimeStampAndCentimetreVelocities)
   EXPECT_DOUBLE_EQ(*d.alt_msl_m, 34.0);
 }
 
+}  // namespace mavlink_state_test
 }  // namespace
 }  // namespace gpsemu::sources::mavlink

@@ -9,6 +9,7 @@
 
 namespace gpsemu::sources {
 namespace {
+namespace pose_history_test {
 
 using namespace std::chrono_literals;
 
@@ -220,5 +221,6 @@ TEST(PoseHistory, AJumpAfterTheTimeoutStartsAfreshWithoutInterpolation) {
   expect_near(h.sample(at_s(1.5))->position_m, {5.0e6, 0, 0});
 }
 
+}  // namespace pose_history_test
 }  // namespace
 }  // namespace gpsemu::sources

@@ -16,6 +16,7 @@
 
 namespace gpsemu::sources {
 namespace {
+namespace socket_source_test {
 
 using namespace std::chrono_literals;
 using Kind = transport::ReceivedMessage::Kind;
@@ -174,5 +175,6 @@ TEST_F(SocketSourceTest, CountsAreLoggedAtTheEnd) {
       << sink_->text;
 }
 
+}  // namespace socket_source_test
 }  // namespace
 }  // namespace gpsemu::sources

@@ -15,6 +15,7 @@
 
 namespace gpsemu::sources {
 namespace {
+namespace yaw_test {
 
 using namespace std::chrono_literals;
 
@@ -110,5 +111,6 @@ TEST(Tilt, HistoryAndTrajectoryInterpolateIt) {
   EXPECT_THROW((void)read_trajectory_csv(bad, "drive.csv", kFrame, kT0), std::runtime_error);
 }
 
+}  // namespace yaw_test
 }  // namespace
 }  // namespace gpsemu::sources

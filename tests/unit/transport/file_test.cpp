@@ -17,6 +17,7 @@
 
 namespace gpsemu::transport {
 namespace {
+namespace file_test {
 
 namespace fs = std::filesystem;
 
@@ -185,5 +186,6 @@ TEST_F(FileOutputTest, StdoutWritesToFileDescriptorOne) {
   EXPECT_EQ(got, epoch(0) + epoch(1) + epoch(2) + "END");
 }
 
+}  // namespace file_test
 }  // namespace
 }  // namespace gpsemu::transport

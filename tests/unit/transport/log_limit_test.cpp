@@ -6,6 +6,7 @@
 
 namespace gpsemu::transport {
 namespace {
+namespace log_limit_test {
 
 using namespace std::chrono;
 using Clock = LogLimit::Clock;
@@ -53,5 +54,6 @@ TEST(LogLimit, EveryLimiterAddsToTheProcessCount) {
   EXPECT_EQ(log_lines_suppressed() - before, 18u);
 }
 
+}  // namespace log_limit_test
 }  // namespace
 }  // namespace gpsemu::transport

@@ -22,6 +22,7 @@
 
 namespace gpsemu::transport {
 namespace {
+namespace repeated_lines_test {
 
 /// Every write fails.
 class FailingOutput final : public Output {
@@ -140,5 +141,6 @@ TEST(RepeatedLines, AWindowLongerThanASecondLetsOneLineThroughEachWindow) {
   EXPECT_EQ(limit.take_suppressed(), 2u);
 }
 
+}  // namespace repeated_lines_test
 }  // namespace
 }  // namespace gpsemu::transport

@@ -15,6 +15,7 @@
 
 namespace gpsemu::transport {
 namespace {
+namespace spec_test {
 
 namespace fs = std::filesystem;
 using namespace std::string_literals;
@@ -156,5 +157,6 @@ TEST_F(MakeOutputTest, UnopenableFileThrowsNamingPath) {
   }
 }
 
+}  // namespace spec_test
 }  // namespace
 }  // namespace gpsemu::transport

@@ -19,6 +19,7 @@
 
 namespace gpsemu::ubx {
 namespace {
+namespace ardupilot_sequence_test {
 
 using namespace std::chrono_literals;
 using test::ack_of;
@@ -260,5 +261,6 @@ TEST_P(UbxArduPilotAutoConfig, SbasOffAndGpsGlonassAreWrittenSavedAndSurviveAPow
 
 INSTANTIATE_TEST_SUITE_P(GpsAutoConfig, UbxArduPilotAutoConfig, testing::Values(1, 2));
 
+}  // namespace ardupilot_sequence_test
 }  // namespace
 }  // namespace gpsemu::ubx

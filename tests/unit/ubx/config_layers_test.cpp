@@ -16,6 +16,7 @@
 
 namespace gpsemu::ubx {
 namespace {
+namespace config_layers_test {
 
 using namespace std::chrono_literals;
 using test::ack_of;
@@ -254,5 +255,6 @@ TEST(UbxConfigLayers, AnM8SavesAndLoadsTheClassicBlocksAndRatesWithoutKeys) {
       << "an M8 has no CFG-VALSET";
 }
 
+}  // namespace config_layers_test
 }  // namespace
 }  // namespace gpsemu::ubx

@@ -23,6 +23,7 @@
 
 namespace gpsemu::ubx {
 namespace {
+namespace driver_sequences_test {
 
 using namespace std::chrono_literals;
 using test::ack_of;
@@ -180,5 +181,6 @@ TEST(UbxDriverSequences, UCenterFirstPollsAreEachAnswered) {
   }
 }
 
+}  // namespace driver_sequences_test
 }  // namespace
 }  // namespace gpsemu::ubx

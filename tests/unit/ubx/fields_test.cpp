@@ -8,6 +8,7 @@
 
 namespace gpsemu::ubx {
 namespace {
+namespace fields_test {
 
 using test::hex;
 using test::unhex;
@@ -45,5 +46,6 @@ TEST(UbxFields, OffsetsAreTheInterfaceDescriptions) {
   EXPECT_EQ(field_index(layout::nav_pvt, "noSuchField"), layout::nav_pvt.size());
 }
 
+}  // namespace fields_test
 }  // namespace
 }  // namespace gpsemu::ubx

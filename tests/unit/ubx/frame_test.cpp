@@ -14,6 +14,7 @@
 
 namespace gpsemu::ubx {
 namespace {
+namespace frame_test {
 
 using test::unhex;
 
@@ -102,5 +103,6 @@ TEST(UbxPubx, MalformedCommandsAreRejected) {
   EXPECT_FALSE(parse_pubx40(sentence_of_body("GPGGA,1,2,3,4,5,6,7,8")));
 }
 
+}  // namespace frame_test
 }  // namespace
 }  // namespace gpsemu::ubx

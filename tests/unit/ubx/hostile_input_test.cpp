@@ -22,6 +22,7 @@
 
 namespace gpsemu::ubx {
 namespace {
+namespace hostile_input_test {
 
 using namespace std::chrono_literals;
 using test::frames_in;
@@ -243,5 +244,6 @@ TEST(UbxHostileInput, TheCfgEdgeMatrixIsAckedOrNakedAsDocumented) {
   std::printf("figure: CFG edge matrix of %zu cases\n", cases.size());
 }
 
+}  // namespace hostile_input_test
 }  // namespace
 }  // namespace gpsemu::ubx

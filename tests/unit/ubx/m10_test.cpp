@@ -15,6 +15,7 @@
 
 namespace gpsemu::ubx {
 namespace {
+namespace m10_test {
 
 using namespace std::chrono_literals;
 using test::ack_of;
@@ -113,5 +114,6 @@ TEST(UbxM10, IgnoresRtcm3ThoughItsInputKeyIsAcknowledged) {
   EXPECT_EQ(session.stats().rtcm_ignored, 1u);
 }
 
+}  // namespace m10_test
 }  // namespace
 }  // namespace gpsemu::ubx

@@ -13,6 +13,7 @@
 
 namespace gpsemu::ubx {
 namespace {
+namespace machine_test {
 
 using namespace std::chrono_literals;
 using test::ack_of;
@@ -265,5 +266,6 @@ TEST(UbxMachine, EachModelHasItsMessagesAndNaksTheOthers) {
   }
 }
 
+}  // namespace machine_test
 }  // namespace
 }  // namespace gpsemu::ubx

@@ -12,6 +12,7 @@
 
 namespace gpsemu::ubx {
 namespace {
+namespace messages_test {
 
 TEST(UbxMessages, MsgoutKeysFoundByNameAreTheInterfaceDescriptionsIds) {
   // The I2C key of each message (u-blox F9 HPG 1.32 / M9 SPG 4.04 interface descriptions); UART1,
@@ -125,5 +126,6 @@ TEST(UbxKeyCatalogue, KeysHaveTheirNamesTypesAndUnits) {
   }
 }
 
+}  // namespace messages_test
 }  // namespace
 }  // namespace gpsemu::ubx

@@ -8,6 +8,7 @@
 
 namespace gpsemu::ubx {
 namespace {
+namespace mon_test {
 
 using test::hex;
 using test::unhex;
@@ -57,5 +58,6 @@ TEST(UbxMon, AJammedShortedFrontEndShowsInBoth) {
   EXPECT_EQ(get_u1(rf_p, 4 + 16), 200);
 }
 
+}  // namespace mon_test
 }  // namespace
 }  // namespace gpsemu::ubx

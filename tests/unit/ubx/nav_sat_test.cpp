@@ -13,6 +13,7 @@
 
 namespace gpsemu::ubx {
 namespace {
+namespace nav_sat_test {
 
 using namespace std::chrono;
 using nmea::GnssSystem;
@@ -101,5 +102,6 @@ TEST(UbxNavSat, NoFixMarksNoSatelliteUsed) {
   EXPECT_EQ(get_u2(nav_sig(f, ReceiverModel::ublox_f9p), 8 + 10) & 0x08, 0);
 }
 
+}  // namespace nav_sat_test
 }  // namespace
 }  // namespace gpsemu::ubx

@@ -18,6 +18,7 @@
 
 namespace gpsemu::ubx {
 namespace {
+namespace nav_test {
 
 using namespace std::chrono;
 using test::hex;
@@ -281,5 +282,6 @@ TEST(UbxNav, VerticalVelocityIsVelDAndInTheEcefVelocity) {
   }
 }
 
+}  // namespace nav_test
 }  // namespace
 }  // namespace gpsemu::ubx

@@ -10,6 +10,7 @@
 
 namespace gpsemu::ubx {
 namespace {
+namespace output_test {
 
 using test::send;
 using test::unhex;
@@ -91,5 +92,6 @@ TEST(UbxOutput, WidestSolutionCountsNavRelposnedAndRxmRtcm) {
   EXPECT_EQ(widest_solution_ubx_bytes(m.settings(), Port::uart1, ReceiverModel::ublox_f9p), relpos);
 }
 
+}  // namespace output_test
 }  // namespace
 }  // namespace gpsemu::ubx

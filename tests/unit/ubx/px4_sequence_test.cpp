@@ -23,6 +23,7 @@
 
 namespace gpsemu::ubx {
 namespace {
+namespace px4_sequence_test {
 
 using namespace std::chrono_literals;
 using test::ack_of;
@@ -378,5 +379,6 @@ TEST(UbxPx4Sequence, M9nAcceptsPx4sU9ValsetWithRxmRtcmAndOutputsWhatItEnabled) {
   EXPECT_EQ(session.take_rtcm().size(), 1u);
 }
 
+}  // namespace px4_sequence_test
 }  // namespace
 }  // namespace gpsemu::ubx

@@ -14,6 +14,7 @@
 
 namespace gpsemu::ubx {
 namespace {
+namespace receiver_state_test {
 
 using namespace std::chrono;
 
@@ -117,5 +118,6 @@ TEST(UbxReceiverState, BiasFollowsTheDriftAndIsSteppedByWholeMilliseconds) {
   EXPECT_EQ(ReceiverClock(1).step(1000ms, false).time_accuracy_ns, 1'000'000'000u);
 }
 
+}  // namespace receiver_state_test
 }  // namespace
 }  // namespace gpsemu::ubx

@@ -8,6 +8,7 @@
 
 namespace gpsemu::ubx {
 namespace {
+namespace relposned_test {
 
 nmea::Fix fixed_fix() {
   nmea::Fix fix;
@@ -60,5 +61,6 @@ TEST(RelPosNed, WithoutTheBaseOnlyFixOkAndMoving) {
   EXPECT_EQ(read_relposned(nav_relposned(none, rel)).flags, 0x20u);
 }
 
+}  // namespace relposned_test
 }  // namespace
 }  // namespace gpsemu::ubx

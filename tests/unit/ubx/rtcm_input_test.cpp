@@ -15,6 +15,7 @@
 
 namespace gpsemu::ubx {
 namespace {
+namespace rtcm_input_test {
 
 using namespace std::chrono;
 
@@ -184,5 +185,6 @@ TEST(UbxRtcmInput, AnM8CfgPrtWithoutBit5IgnoresRtcm3) {
   EXPECT_EQ(session.stats().rtcm_ignored, 4u);
 }
 
+}  // namespace rtcm_input_test
 }  // namespace
 }  // namespace gpsemu::ubx

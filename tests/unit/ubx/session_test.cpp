@@ -15,6 +15,7 @@
 
 namespace gpsemu::ubx {
 namespace {
+namespace session_test {
 
 using namespace std::chrono;
 using test::frames_in;
@@ -172,11 +173,13 @@ TEST(UbxSession, AnswersPastTheLimitAreDroppedWholeAndCounted) {
   EXPECT_EQ(session.stats().answer_bytes_dropped, (3000 - kept) * 24);
 }
 
+}  // namespace session_test
 }  // namespace
 }  // namespace gpsemu::ubx
 
 namespace gpsemu::ubx {
 namespace {
+namespace session_test {
 
 std::string cfg_rate_frame(std::uint16_t meas_ms, std::uint16_t nav_rate) {
   std::string p;
@@ -350,5 +353,6 @@ TEST(UbxSession, AHardwareResetNoClientAskedForReloadsRamWithoutAColdStartEffect
   EXPECT_TRUE(std::holds_alternative<BaudChanged>(effects[1]));
 }
 
+}  // namespace session_test
 }  // namespace
 }  // namespace gpsemu::ubx

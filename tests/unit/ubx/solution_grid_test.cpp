@@ -9,6 +9,7 @@
 
 namespace gpsemu::ubx {
 namespace {
+namespace solution_grid_test {
 
 using namespace std::chrono;
 
@@ -81,5 +82,6 @@ TEST(UbxSolutionGrid, TheGridRestartsAtTheTopOfTheWeek) {
   EXPECT_TRUE(grid.contains(week_start));
 }
 
+}  // namespace solution_grid_test
 }  // namespace
 }  // namespace gpsemu::ubx

@@ -13,6 +13,7 @@
 
 namespace gpsemu::ubx {
 namespace {
+namespace tx_budget_test {
 
 using namespace std::chrono_literals;
 
@@ -60,5 +61,6 @@ TEST(UbxTxBudget, ALineTooSlowForAnyMessageSendsNothing) {
   EXPECT_TRUE(epoch.empty());
 }
 
+}  // namespace tx_budget_test
 }  // namespace
 }  // namespace gpsemu::ubx

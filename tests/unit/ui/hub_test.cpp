@@ -19,6 +19,7 @@
 
 namespace gpsemu {
 namespace {
+namespace hub_test {
 
 using namespace std::chrono_literals;
 using nlohmann::json;
@@ -152,5 +153,6 @@ TEST(UiSpec, HostDefaultsToLoopbackAndBadSpecsAreNamed) {
   EXPECT_FALSE(ui::is_loopback("192.168.1.2"));
 }
 
+}  // namespace hub_test
 }  // namespace
 }  // namespace gpsemu

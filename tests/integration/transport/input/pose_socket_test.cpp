@@ -17,6 +17,7 @@
 
 namespace gpsemu::transport {
 namespace {
+namespace pose_socket_test {
 
 using namespace std::chrono;
 using Kind = ReceivedMessage::Kind;
@@ -242,5 +243,6 @@ TEST(TcpPoseServer, PortInUseNamesHostAndPort) {
   }
 }
 
+}  // namespace pose_socket_test
 }  // namespace
 }  // namespace gpsemu::transport

@@ -20,6 +20,7 @@
 
 namespace gpsemu::transport {
 namespace {
+namespace tcp_pose_client_test {
 
 using namespace std::chrono;
 using Kind = ReceivedMessage::Kind;
@@ -114,5 +115,6 @@ TEST(TcpPoseClient, AnUnknownHostIsAnErrorNamingIt) {
   }
 }
 
+}  // namespace tcp_pose_client_test
 }  // namespace
 }  // namespace gpsemu::transport

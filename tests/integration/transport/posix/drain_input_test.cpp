@@ -16,6 +16,7 @@
 
 namespace gpsemu::posix {
 namespace {
+namespace drain_input_test {
 
 struct Pair {
   UniqueFd reader, writer;
@@ -79,5 +80,6 @@ TEST(DrainInput, ATimeBudgetSpentStopsAfterOnePiece) {
   EXPECT_EQ(got, sent.substr(0, 1024));
 }
 
+}  // namespace drain_input_test
 }  // namespace
 }  // namespace gpsemu::posix

@@ -15,6 +15,7 @@
 
 namespace gpsemu::posix {
 namespace {
+namespace sockets_test {
 
 TEST(Sockets, AUdpDatagramArrivesWithKernelStampLengthAndSender) {
   const UniqueFd rx = bind_socket({.host = "127.0.0.1", .port = 0, .type = SOCK_DGRAM, .context = "rx"},
@@ -53,5 +54,6 @@ TEST(Sockets, ARefusedConnectNamesHostAndPort) {
   }
 }
 
+}  // namespace sockets_test
 }  // namespace
 }  // namespace gpsemu::posix

@@ -19,6 +19,7 @@
 
 namespace gpsemu::posix {
 namespace {
+namespace tcp_server_test {
 
 using namespace std::chrono_literals;
 using Kind = TcpServerEvent::Kind;
@@ -144,5 +145,6 @@ TEST(TcpServer, APortInUseIsRefusedNamingHostAndPort) {
   }
 }
 
+}  // namespace tcp_server_test
 }  // namespace
 }  // namespace gpsemu::posix

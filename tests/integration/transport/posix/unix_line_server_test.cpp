@@ -25,6 +25,7 @@
 
 namespace gpsemu::posix {
 namespace {
+namespace unix_line_server_test {
 
 using namespace std::chrono_literals;
 
@@ -225,5 +226,6 @@ TEST(UnixLineServer, ALastLineWithoutItsEndIsAnsweredWhenTheClientShutsItsEnd) {
   std::filesystem::remove_all(dir);
 }
 
+}  // namespace unix_line_server_test
 }  // namespace
 }  // namespace gpsemu::posix

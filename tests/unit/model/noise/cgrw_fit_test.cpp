@@ -15,6 +15,7 @@
 
 namespace gpsemu::noise {
 namespace {
+namespace cgrw_fit_test {
 
 TEST(NoiseCgrwStatistics, MeasuresTheFourWidths) {
   const std::vector<double> parabola{0, 1, 3, 6, 10};  // d1 1 2 3 4, d2 1 1 1
@@ -143,5 +144,6 @@ TEST(NoiseCgrwFit, InvalidParametersThrowNamingThem) {
   EXPECT_THROW((void)cgrw_preset(nan), std::invalid_argument);
 }
 
+}  // namespace cgrw_fit_test
 }  // namespace
 }  // namespace gpsemu::noise

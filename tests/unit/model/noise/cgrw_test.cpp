@@ -13,6 +13,7 @@
 
 namespace gpsemu::noise {
 namespace {
+namespace cgrw_test {
 
 using std::chrono::milliseconds;
 using std::chrono::seconds;
@@ -149,5 +150,6 @@ TEST(NoiseCgrw, GoldenValues) {
   EXPECT_NEAR(model->offset_at(milliseconds(4300)).up_m, 0.21474153137531396, 1e-9);
 }
 
+}  // namespace cgrw_test
 }  // namespace
 }  // namespace gpsemu::noise

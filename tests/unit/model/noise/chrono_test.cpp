@@ -18,6 +18,7 @@
 
 namespace gpsemu::noise {
 namespace {
+namespace chrono_test {
 
 using std::chrono::milliseconds;
 
@@ -133,5 +134,6 @@ TEST(NoiseChrono, InvalidParametersThrowNamingThem) {
   expect_throw_naming(chrono(nan, 1, 1, 0.03, 0.005), "chrono.mean");
 }
 
+}  // namespace chrono_test
 }  // namespace
 }  // namespace gpsemu::noise

@@ -12,6 +12,7 @@
 
 namespace gpsemu::noise {
 namespace {
+namespace composite_test {
 
 NoiseConfig composite(double smooth_sigma, double jitter, double rate, double jump, double decay) {
   NoiseConfig c;
@@ -126,5 +127,6 @@ TEST(Composite, SlowPartNeedsATimeConstant) {
   }
 }
 
+}  // namespace composite_test
 }  // namespace
 }  // namespace gpsemu::noise

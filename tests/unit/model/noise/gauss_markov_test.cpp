@@ -16,6 +16,7 @@
 
 namespace gpsemu::noise {
 namespace {
+namespace gauss_markov_test {
 
 using std::chrono::milliseconds;
 
@@ -141,5 +142,6 @@ TEST(NoiseGaussMarkov, InvalidParametersThrowNamingThem) {
   expect_throw_naming(c, "gauss-markov.order");
 }
 
+}  // namespace gauss_markov_test
 }  // namespace
 }  // namespace gpsemu::noise

@@ -14,6 +14,7 @@
 
 namespace gpsemu::noise {
 namespace {
+namespace gaussian_test {
 
 using std::chrono::milliseconds;
 
@@ -110,5 +111,6 @@ TEST(NoiseFactory, DefaultConfigBuildsACgrwModel) {
   EXPECT_TRUE(std::isfinite(x.east_m) && std::isfinite(x.north_m) && std::isfinite(x.up_m));
 }
 
+}  // namespace gaussian_test
 }  // namespace
 }  // namespace gpsemu::noise

@@ -11,6 +11,7 @@
 
 namespace gpsemu::noise {
 namespace {
+namespace rng_test {
 
 TEST(NoiseRng, EngineIsTheStandardMt19937_64) {
   // The standard fixes this value ([rand.predef]): the engine is the same everywhere.
@@ -101,5 +102,6 @@ TEST(NoiseRng, NormalHasMeanZeroStdOneAndGaussianShape) {
   EXPECT_NEAR(static_cast<double>(within_1sigma) / n, 0.6827, 0.003);
 }
 
+}  // namespace rng_test
 }  // namespace
 }  // namespace gpsemu::noise

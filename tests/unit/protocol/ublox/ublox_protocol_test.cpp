@@ -23,6 +23,7 @@
 
 namespace gpsemu {
 namespace {
+namespace ublox_protocol_test {
 
 using test::TalkingOutput;
 using ubx::test::frames_in;
@@ -153,5 +154,6 @@ TEST(UbloxProtocol, AResetAskedForReloadsRamAndAsksForNoSecondColdStart) {
   EXPECT_NE(port.configuration_summary().find("1 resets reloaded RAM"), std::string::npos);
 }
 
+}  // namespace ublox_protocol_test
 }  // namespace
 }  // namespace gpsemu

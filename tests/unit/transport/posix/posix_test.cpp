@@ -20,6 +20,7 @@
 
 namespace gpsemu::posix {
 namespace {
+namespace posix_test {
 
 bool is_open(int fd) { return ::fcntl(fd, F_GETFD) != -1; }
 
@@ -194,5 +195,6 @@ TEST(DropCounter, CountsSinceLastSeenAcrossTheWrap) {
   EXPECT_EQ(drops.update(1), 3u);  // the kernel's 32-bit counter wrapped
 }
 
+}  // namespace posix_test
 }  // namespace
 }  // namespace gpsemu::posix
