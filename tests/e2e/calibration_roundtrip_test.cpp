@@ -45,6 +45,8 @@ struct Case {
   double rate_hz;
   int seed;
 };
+// Printed by gtest (and in CTest's test name) as itself, not as its bytes (tools/lib/test_costs.sh).
+void PrintTo(const Case& c, std::ostream* os) { *os << c.rate_hz << " Hz, seed " << c.seed; }
 
 class RoundTrip : public ::testing::TestWithParam<Case> {};
 

@@ -94,6 +94,9 @@ struct Boundary {
   const char* start;       ///< first epoch, shortly before the boundary
   const char* after_date;  ///< RMC date (ddmmyy) once across
 };
+// How gtest (and so CTest's test name) prints a case: its name, not its bytes (which change from
+// build to build and kept CTest from knowing the test's time: tools/lib/test_costs.sh).
+void PrintTo(const Boundary& b, std::ostream* os) { *os << b.name; }
 
 class Soak : public ::testing::TestWithParam<Boundary> {};
 

@@ -25,6 +25,8 @@ struct RealLog {
   // Independently computed (data/real/README.md): east and north max-min and std (metres).
   double w_east, w_north, sd_east, sd_north;
 };
+// Printed by gtest (and in CTest's test name) as its file, not as its bytes (tools/lib/test_costs.sh).
+void PrintTo(const RealLog& r, std::ostream* os) { *os << r.file; }
 
 class RealLogs : public ::testing::TestWithParam<RealLog> {};
 
