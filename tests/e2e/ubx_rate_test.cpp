@@ -79,11 +79,20 @@ struct Heard {
       return false;
     });
   }
-  /// iTOW of each NAV-PVT from frame `from` on.
-  [[nodiscard]] std::vector<std::uint32_t> pvt_itow(std::size_t from = 0) const {
+  /// iTOW of each NAV-PVT from frame `from` on, counted on from the week of `week_of` (an iTOW
+  /// heard in this run; by default the first NAV-PVT of these frames): a run crossing the GPS week's
+  /// end (Saturday 23:59:42 UTC) goes on past 604 800 000 ms instead of back to 0, so its spacing
+  /// and span stay what they are (a run at that minute once failed on the wrap).
+  [[nodiscard]] std::vector<std::uint32_t> pvt_itow(std::size_t from = 0,
+                                                    std::optional<std::uint32_t> week_of = {}) const {
+    constexpr std::uint32_t kWeekMs = 604'800'000u;
     std::vector<std::uint32_t> out;
-    for (std::size_t k = from; k < frames.size(); ++k) {
-      if (frames[k].id == ubx::msg::nav_pvt) out.push_back(ubx::get_u4(frames[k].payload, 0));
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+      if (frames[k].id != ubx::msg::nav_pvt) continue;
+      std::uint32_t itow = ubx::get_u4(frames[k].payload, 0);
+      if (!week_of) week_of = itow;
+      if (itow + kWeekMs / 2 < *week_of) itow += kWeekMs;  // the next week's
+      if (k >= from) out.push_back(itow);
     }
     return out;
   }
@@ -263,7 +272,7 @@ output = "file:{}"
   }
   EXPECT_GE(fast, 5u * (duration_s - 4)) << "5 a second from the change to the end";
   EXPECT_EQ(itow.back() - itow.front(), duration_s * 1000u - 200u) << "the u-blox runs as long as the fleet";
-  const std::vector<std::uint32_t> on_pty = heard.pvt_itow(*heard.after_ack(ubx::msg::cfg_rate, 0));
+  const std::vector<std::uint32_t> on_pty = heard.pvt_itow(*heard.after_ack(ubx::msg::cfg_rate, 0), itow.front());
   for (const std::uint32_t t : on_pty) EXPECT_TRUE(std::binary_search(itow.begin(), itow.end(), t)) << t;
   EXPECT_EQ(number_in(log, R"(receiver 0: (\d+) epochs \(0 without fix\))"), itow.size()) << log;
   EXPECT_EQ(number_in(log, "receiver 0: file " + ubx_copy.string() + R"(: (\d+) epochs written)"), itow.size()) << log;
