@@ -85,7 +85,7 @@ struct Heard {
   /// and span stay what they are (a run at that minute once failed on the wrap).
   [[nodiscard]] std::vector<std::uint32_t> pvt_itow(std::size_t from = 0,
                                                     std::optional<std::uint32_t> week_of = {}) const {
-    constexpr std::uint32_t kWeekMs = 604'800'000u;
+    constexpr auto kWeekMs = static_cast<std::uint32_t>(std::chrono::milliseconds(std::chrono::weeks{1}).count());
     std::vector<std::uint32_t> out;
     for (std::size_t k = 0; k < frames.size(); ++k) {
       if (frames[k].id != ubx::msg::nav_pvt) continue;

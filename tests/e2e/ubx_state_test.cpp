@@ -160,7 +160,7 @@ TEST(UbxState, ThePtyIsUart1AndStoredLayersSurviveARestartThroughReceiverState) 
   }
   ASSERT_GE(itow.size(), 4u) << gpsemu.stderr_text();
   // Modulo the GPS week: a run at its end (Saturday 23:59:42 UTC) goes from 604 799 800 ms to 0.
-  constexpr std::uint32_t kWeekMs = 604'800'000u;
+  constexpr auto kWeekMs = static_cast<std::uint32_t>(std::chrono::milliseconds(std::chrono::weeks{1}).count());
   for (std::size_t k = 1; k < itow.size(); ++k) EXPECT_EQ((itow[k] + kWeekMs - itow[k - 1]) % kWeekMs, 200u);
   EXPECT_FALSE(h.sentences.empty());
   send(fd, cfg_valget, ubx::test::valget({ubx::key::rate_meas}, ubx::layer_bbr));

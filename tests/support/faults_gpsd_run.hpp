@@ -10,7 +10,6 @@
 #include <filesystem>
 #include <map>
 #include <string>
-#include <string_view>
 #include <vector>
 
 #include <fmt/format.h>
@@ -21,7 +20,6 @@
 #include "tests/support/gpsd.hpp"
 #include "tests/support/paths.hpp"
 #include "tests/support/process.hpp"
-#include "tests/support/read_deadline.hpp"
 #include "tests/support/scratch.hpp"
 
 namespace gpsemu::test {
@@ -62,16 +60,11 @@ inline FaultGpsdRun run_faults_with_gpsd(const std::string& name, const std::str
     ADD_FAILURE() << gpsd.error();
     return run;
   }
-  ReportLines lines;
   const auto window = std::chrono::milliseconds(std::llround(duration_s * 1000.0 / clock_scale) + 1500);
-  read_with_deadline(gpsd.socket(), {window}, [&](std::string_view chunk) {
-    const std::int64_t arrived = now_ms_of_day();  // of the read, the same for every report in it
-    lines.feed(chunk, [&](const nlohmann::json& j) {
-      if (j["class"] != "TPV") return;
-      const Tpv t = tpv_of(j);
-      if (t.time_of_day_ms) run.tpv.push_back({t, arrived});
-    });
-    return false;
+  gpsd.read_reports(window, [&](const nlohmann::json& j) {
+    if (j["class"] != "TPV") return;
+    const Tpv t = tpv_of(j);
+    if (t.time_of_day_ms) run.tpv.push_back({t, now_ms_of_day()});  // as its read is parsed
   });
   gpsd.close_client();
   EXPECT_EQ(gpsemu.wait(std::chrono::seconds(20)), 0) << gpsemu.stderr_text();
