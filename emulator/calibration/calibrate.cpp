@@ -1,9 +1,13 @@
 #include "emulator/calibration/calibrate.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <exception>
 #include <limits>
+#include <mutex>
 #include <stdexcept>
+#include <thread>
 
 #include <fmt/format.h>
 
@@ -50,13 +54,44 @@ std::array<AxisStats, 3> simulated_stats(const noise::NoiseConfig& config, const
                                          std::array<std::vector<double>, 3>* first_run,
                                          std::array<std::vector<AxisStats>, 3>* per_run,
                                          const StaticHoldOptions& hold) {
-  std::array<std::vector<AxisStats>, 3> per_axis;
-  for (int r = 0; r < runs; ++r) {
+  // The runs are independent (a model of their own each, seeded by the run): they share the cores,
+  // each result in its run's place, so the statistics are the same whatever the number of threads.
+  const std::size_t n = static_cast<std::size_t>(std::max(runs, 0));
+  std::vector<std::array<AxisStats, 3>> stats(n);
+  std::array<std::vector<double>, 3> first;
+  const auto run = [&](std::size_t r) {
     auto x = simulate(config, series, seed + static_cast<std::uint64_t>(r), hold);
-    const auto s = measure_all(x, series.rate_hz, window);
-    for (std::size_t a = 0; a < 3; ++a) per_axis[a].push_back(s[a]);
-    if (r == 0 && first_run) *first_run = std::move(x);
+    stats[r] = measure_all(x, series.rate_hz, window);
+    if (r == 0 && first_run) first = std::move(x);
+  };
+  const std::size_t threads = std::min<std::size_t>(n, std::max(1U, std::thread::hardware_concurrency()));
+  if (threads <= 1) {
+    for (std::size_t r = 0; r < n; ++r) run(r);
+  } else {
+    std::atomic<std::size_t> next{0};
+    std::exception_ptr failed;
+    std::mutex failed_mutex;
+    const auto worker = [&] {
+      for (std::size_t r = next++; r < n; r = next++) {
+        try {
+          run(r);
+        } catch (...) {
+          const std::lock_guard lock(failed_mutex);
+          if (!failed) failed = std::current_exception();
+        }
+      }
+    };
+    {
+      std::vector<std::jthread> pool;
+      for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(worker);
+      worker();
+    }
+    if (failed) std::rethrow_exception(failed);
   }
+  std::array<std::vector<AxisStats>, 3> per_axis;
+  for (const auto& s : stats)
+    for (std::size_t a = 0; a < 3; ++a) per_axis[a].push_back(s[a]);
+  if (first_run) *first_run = std::move(first);
   std::array<AxisStats, 3> mean{mean_stats(per_axis[0]), mean_stats(per_axis[1]), mean_stats(per_axis[2])};
   if (per_run) *per_run = std::move(per_axis);
   return mean;

@@ -46,28 +46,40 @@ class FitSimulation {
   FitSimulation(std::size_t burn_in, std::size_t window)
       : burn_in_(burn_in), window_(window),
         windows_(std::clamp(kFitStepBudget / window, kMinFitWindows, kMaxFitWindows)),
-        normals_(burn_in + window * windows_), path_(window_) {
+        normals_(burn_in + window * windows_) {
     Rng rng(kFitSeed, 0);
     for (double& x : normals_) x = rng.normal();
   }
 
   // Mean statistics over the windows for the internal parameters exp(log_q).
-  Vec4 statistics(const Vec4& log_q) {
-    const CgrwInternal k = to_internal(log_q);
-    double p = 0.0;
-    double v = 0.0;
+  Vec4 statistics(const Vec4& log_q) { return statistics<1>({log_q})[0]; }
+
+  // The same for N parameter sets at once, each on the same numbers and with the same arithmetic
+  // as alone (so bit for bit the same results): the N walks step side by side, and their chains of
+  // dependent operations (a division, clamps and additions a step) overlap in the CPU.
+  template <std::size_t N>
+  std::array<Vec4, N> statistics(const std::array<Vec4, N>& log_q) {
+    std::array<CgrwInternal, N> k{};
+    std::array<double, N> p{}, v{};
+    for (std::size_t m = 0; m < N; ++m) k[m] = to_internal(log_q[m]);
     std::size_t i = 0;
-    for (; i < burn_in_; ++i) cgrw_step(k, normals_[i], p, v);
-    Vec4 sum{};
+    for (; i < burn_in_; ++i)
+      for (std::size_t m = 0; m < N; ++m) cgrw_step(k[m], normals_[i], p[m], v[m]);
+    std::array<Vec4, N> sum{};
+    if (paths_.size() < N * window_) paths_.resize(N * window_);
     for (std::size_t w = 0; w < windows_; ++w) {
-      for (double& x : path_) {
-        cgrw_step(k, normals_[i++], p, v);
-        x = p;
+      for (std::size_t x = 0; x < window_; ++x, ++i)
+        for (std::size_t m = 0; m < N; ++m) {
+          cgrw_step(k[m], normals_[i], p[m], v[m]);
+          paths_[m * window_ + x] = p[m];
+        }
+      for (std::size_t m = 0; m < N; ++m) {
+        const Vec4 s = to_vec(measure_cgrw_axis(std::span<const double>(paths_).subspan(m * window_, window_)));
+        for (int j = 0; j < 4; ++j) sum[m][j] += s[j];
       }
-      const Vec4 s = to_vec(measure_cgrw_axis(path_));
-      for (int j = 0; j < 4; ++j) sum[j] += s[j];
     }
-    for (double& x : sum) x /= static_cast<double>(windows_);
+    for (Vec4& x : sum)
+      for (double& y : x) y /= static_cast<double>(windows_);
     return sum;
   }
 
@@ -76,7 +88,7 @@ class FitSimulation {
   std::size_t window_;
   std::size_t windows_;
   std::vector<double> normals_;
-  std::vector<double> path_;
+  std::vector<double> paths_;  // the windows of the walks stepped together, one after the other
 };
 
 // Solves A x = b (4x4) by Gaussian elimination with partial pivoting; false if singular.
@@ -140,10 +152,11 @@ CgrwFit fit_unit(const Vec4& target, std::size_t window) {
     // Finite-difference Jacobian of the log statistics in the log parameters.
     constexpr double h = 0.05;
     std::array<Vec4, 4> jac{};  // jac[i][j] = d log stat i / d log param j
+    std::array<Vec4, 4> qs{q, q, q, q};
+    for (int j = 0; j < 4; ++j) qs[j][j] += h;
+    const std::array<Vec4, 4> fs = sim.statistics<4>(qs);
     for (int j = 0; j < 4; ++j) {
-      Vec4 qj = q;
-      qj[j] += h;
-      const Vec4 rj = log_residual(sim.statistics(qj), log_target);
+      const Vec4 rj = log_residual(fs[j], log_target);
       for (int i = 0; i < 4; ++i) jac[i][j] = (rj[i] - r[i]) / h;
     }
     std::array<Vec4, 4> jtj{};
