@@ -92,13 +92,16 @@ constexpr double kRefitClose = 0.015;
 double ratio_clamped(double want, double got) { return got > 0.0 ? std::clamp(want / got, 0.5, 2.0) : 2.0; }
 
 // Simulated runs of each step of a refit: about 400 000 samples in all (8 to 32 runs of the log's
-// length), and no more than `max_runs` (calibrate's --runs) when that is 8 or more, so that a
-// quick calibration (tests, `--runs 2`) is quick throughout: a cgrw walk's burn-in (up to 100 000
-// steps a run) made the refits most of calibrate's time on a short log.
+// length), and no more than `max_runs` (calibrate's --runs) when that is 8 or more; a quick
+// calibration (fewer than 8) takes max(--runs, 2): a cgrw walk's burn-in (up to 100 000 steps a
+// run) and its fit at every step made the refits most of calibrate's time on a short log.
 int refit_runs(std::size_t samples, int max_runs) {
+  if (quick_calibration(max_runs)) return std::max(max_runs, 2);
   const std::size_t most = static_cast<std::size_t>(std::clamp(max_runs, kMinRefitRuns, kMaxRefitRuns));
   return static_cast<int>(std::clamp<std::size_t>(400000 / std::max<std::size_t>(samples, 1), kMinRefitRuns, most));
 }
+
+int refit_iterations(int max_runs) { return quick_calibration(max_runs) ? kQuickRefitIterations : kRefitIterations; }
 
 // Refits the smooth part and the jitter together against the rounded simulation (enough runs
 // that a short log's sample spread, which varies much from run to run when tau is near the
@@ -234,14 +237,14 @@ std::vector<SlowChoice> choose_slow(const AxisStats& real, const AxisStats& fast
 
 // Adds a slow part to a fitted composite `c` and refits the rest with `refit(c, fast_share)`
 // (fast_share: the share of each axis's sample variance left to the smooth part), for the three
-// best candidates by the predicted autocorrelation and the best no slower than the log's length;
-// keeps whichever scores best on the median over the simulated runs, `c` itself included. Notes
-// what was fitted and what hit a bound.
+// best candidates by the predicted autocorrelation (the best one in a quick calibration) and the
+// best no slower than the log's length; keeps whichever scores best on the median over the
+// simulated runs, `c` itself included. Notes what was fitted and what hit a bound.
 template <class Refit>
 noise::NoiseConfig with_slow_part(const noise::NoiseConfig& c, const EnuSeries& s, const std::array<AxisStats, 3>& real,
                                   std::size_t window, std::vector<std::string>* notes, int max_runs, Refit refit,
                                   const StaticHoldOptions& hold = {}) {
-  constexpr std::size_t kCandidates = 3;
+  const std::size_t kCandidates = quick_calibration(max_runs) ? 1 : 3;
   const int runs = refit_runs(s.size(), max_runs);
   // Each candidate is scored on the median over the runs, as compare and the windows score it (the
   // mean over runs of a drift-dominated log's sd is well above its median; issue 27).
@@ -336,13 +339,13 @@ noise::NoiseConfig fit_composite(const EnuSeries& s, const std::array<AxisStats,
   };
   for (std::size_t a = 0; a < 3; ++a)
     if (real[a].sd_m > 0.0) sd_target[a] = real[a].sd_m, d1_target[a] = real[a].d1_sd_m, smooth(a, c);
-  c = refit_composite(c, s, real, window, 8, false, max_runs, adjust, hold);
+  c = refit_composite(c, s, real, window, refit_iterations(max_runs), false, max_runs, adjust, hold);
   const std::array<double, 3> sd_fast = sd_target, d1_fast = d1_target;
   noise::NoiseConfig out = with_slow_part(c, s, real, window, notes, max_runs, [&](noise::NoiseConfig k, const std::array<double, 3>& fast) {
     share = fast;
     for (std::size_t a = 0; a < 3; ++a)
       if (real[a].sd_m > 0.0) sd_target[a] = std::sqrt(fast[a]) * sd_fast[a], d1_target[a] = d1_fast[a], smooth(a, k);
-    return refit_composite(k, s, real, window, 8, false, max_runs, adjust, hold);
+    return refit_composite(k, s, real, window, refit_iterations(max_runs), false, max_runs, adjust, hold);
   }, hold);
   note_smooth_bounds(out, s, real, notes);
   return out;
@@ -381,7 +384,7 @@ noise::NoiseConfig fit_composite_cgrw(const EnuSeries& s, const std::array<AxisS
                  target[a].width_d2_m * k_sd * k_d1 * k_d2, target[a].sigma_d2_m * k_sd * k_d1 * k_d2};
     smooth(a, k);
   };
-  c = refit_composite(c, s, real, window, 8, true, max_runs, adjust);
+  c = refit_composite(c, s, real, window, refit_iterations(max_runs), true, max_runs, adjust);
   const auto fitted = target;
   return with_slow_part(c, s, real, window, notes, max_runs, [&](noise::NoiseConfig k, const std::array<double, 3>& fast) {
     for (std::size_t a = 0; a < 3; ++a) {
@@ -390,7 +393,7 @@ noise::NoiseConfig fit_composite_cgrw(const EnuSeries& s, const std::array<AxisS
       target[a] = {fitted[a].width_m * f, fitted[a].width_d1_m, fitted[a].width_d2_m, fitted[a].sigma_d2_m};
       smooth(a, k);
     }
-    return refit_composite(k, s, real, window, 8, true, max_runs, adjust);
+    return refit_composite(k, s, real, window, refit_iterations(max_runs), true, max_runs, adjust);
   });
 }
 

@@ -69,6 +69,14 @@ inline constexpr const char* kAxisNames[3] = {"east", "north", "up"};
 /// is kMinRefitRuns or more.
 inline constexpr int kMinRefitRuns = 8;
 inline constexpr int kMaxRefitRuns = 32;
+/// A quick calibration (calibrate's --runs below kMinRefitRuns: a first look, the tests' 1 or 2)
+/// searches less: each refit kQuickRefitIterations steps of max(--runs, 2) runs instead of
+/// kRefitIterations steps of kMinRefitRuns or more, and the slow part from its best candidate (and
+/// the best no slower than the log's length) instead of its three best. Its composite is rougher;
+/// every other model is fitted as in a full calibration. With --runs 8 or more nothing changes.
+inline constexpr int kRefitIterations = 8;
+inline constexpr int kQuickRefitIterations = 3;
+[[nodiscard]] constexpr bool quick_calibration(int max_runs) { return max_runs < kMinRefitRuns; }
 /// The composite model (noise::CompositeParams) of the log: jumps found in the first differences
 /// (beyond 5 robust standard deviations and 2 quanta of the resolution: rate, rms size, decay of
 /// the smooth component's tau), then the smooth component's sigma and tau and the white jitter

@@ -80,7 +80,7 @@ TEST(HoldFit, HeldLogGivesBackItsRepeatedShareAndRadius) {
 // hardly ever do at 6 decimals), and the composite is refitted through it.
 TEST(HoldFit, CalibrationSimulatesEveryModelThroughTheFittedHold) {
   CalibrateOptions options;
-  options.runs = 8;
+  options.runs = 2;  // a quick calibration (model_fits.hpp): the hold is fitted and applied as in a full one
   const Calibration c = calibrate(read_receiver_log(held_log(smooth_noise(), 0.15, 2, 150)), options);
   ASSERT_TRUE(c.hold.hold.enabled());
   EXPECT_LT(c.hold.model_share, 0.05);
