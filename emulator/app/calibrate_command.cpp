@@ -29,7 +29,7 @@ CLI::App* add_calibration_subcommand(CLI::App& app, const std::string& name, con
       ->required()
       ->check(CLI::ExistingFile)
       ->option_text("LOG");
-  sub->add_option("--runs", args->runs, "simulated runs per model, seeds --seed, --seed+1, ... (default 32: the mean of 8 runs of a few minutes of log varies by 20% between seed sets); the composite's refits take as many, 8 at least")
+  sub->add_option("--runs", args->runs, "simulated runs per model, seeds --seed, --seed+1, ... (default 32: the mean of 8 runs of a few minutes of log varies by 20% between seed sets); the composite's refits take as many, 8 at least; below 8 a quick calibration: the composite's refits search less (docs/noise-and-calibration.md)")
       ->check(CLI::Range(1, 1000))
       ->option_text("N");
   sub->add_flag("--detrend", args->detrend,
