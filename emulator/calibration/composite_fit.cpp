@@ -244,7 +244,7 @@ template <class Refit>
 noise::NoiseConfig with_slow_part(const noise::NoiseConfig& c, const EnuSeries& s, const std::array<AxisStats, 3>& real,
                                   std::size_t window, std::vector<std::string>* notes, int max_runs, Refit refit,
                                   const StaticHoldOptions& hold = {}) {
-  const std::size_t kCandidates = quick_calibration(max_runs) ? 1 : 3;
+  const std::size_t best_candidates = quick_calibration(max_runs) ? 1 : 3;
   const int runs = refit_runs(s.size(), max_runs);
   // Each candidate is scored on the median over the runs, as compare and the windows score it (the
   // mean over runs of a drift-dominated log's sd is well above its median; issue 27).
@@ -260,7 +260,7 @@ noise::NoiseConfig with_slow_part(const noise::NoiseConfig& c, const EnuSeries& 
   const double without = median_score(c, &fast);
   std::array<std::vector<SlowChoice>, 2> choices;
   for (std::size_t a = 0; a < 2; ++a)  // horizontal axes: the vertical keeps its fit
-    choices[a] = choose_slow(real[a], fast[a], s.size(), s.rate_hz, kCandidates,
+    choices[a] = choose_slow(real[a], fast[a], s.size(), s.rate_hz, best_candidates,
                              c.composite.smooth == noise::CompositeSmooth::gauss_markov_2 ? c.composite.smooth_gm[a].tau_s
                                                                                          : 0.0);
   noise::NoiseConfig best = c;
