@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <exception>
+#include <functional>
 #include <limits>
 #include <mutex>
 #include <stdexcept>
@@ -49,45 +50,45 @@ std::string Calibration::CompositeChoice::describe() const {
   return fmt::format("smooth part {} (score with gauss-markov-2 {:.3f}, with cgrw {})", smooth, gm2_score, cgrw);
 }
 
+void for_each_run(std::size_t runs, const std::function<void(std::size_t)>& run) {
+  const std::size_t threads = std::min<std::size_t>(runs, std::max(1U, std::thread::hardware_concurrency()));
+  if (threads <= 1) {
+    for (std::size_t r = 0; r < runs; ++r) run(r);
+    return;
+  }
+  std::atomic<std::size_t> next{0};
+  std::exception_ptr failed;
+  std::mutex failed_mutex;
+  const auto worker = [&] {
+    for (std::size_t r = next++; r < runs; r = next++) {
+      try {
+        run(r);
+      } catch (...) {
+        const std::lock_guard lock(failed_mutex);
+        if (!failed) failed = std::current_exception();
+      }
+    }
+  };
+  {
+    std::vector<std::jthread> pool;
+    for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(worker);
+    worker();
+  }
+  if (failed) std::rethrow_exception(failed);
+}
+
 std::array<AxisStats, 3> simulated_stats(const noise::NoiseConfig& config, const EnuSeries& series,
                                          std::size_t window, std::uint64_t seed, int runs,
                                          std::array<std::vector<double>, 3>* first_run,
                                          std::array<std::vector<AxisStats>, 3>* per_run,
                                          const StaticHoldOptions& hold) {
-  // The runs are independent (a model of their own each, seeded by the run): they share the cores,
-  // each result in its run's place, so the statistics are the same whatever the number of threads.
-  const std::size_t n = static_cast<std::size_t>(std::max(runs, 0));
-  std::vector<std::array<AxisStats, 3>> stats(n);
+  std::vector<std::array<AxisStats, 3>> stats(static_cast<std::size_t>(std::max(runs, 0)));
   std::array<std::vector<double>, 3> first;
-  const auto run = [&](std::size_t r) {
+  for_each_run(stats.size(), [&](std::size_t r) {
     auto x = simulate(config, series, seed + static_cast<std::uint64_t>(r), hold);
     stats[r] = measure_all(x, series.rate_hz, window);
     if (r == 0 && first_run) first = std::move(x);
-  };
-  const std::size_t threads = std::min<std::size_t>(n, std::max(1U, std::thread::hardware_concurrency()));
-  if (threads <= 1) {
-    for (std::size_t r = 0; r < n; ++r) run(r);
-  } else {
-    std::atomic<std::size_t> next{0};
-    std::exception_ptr failed;
-    std::mutex failed_mutex;
-    const auto worker = [&] {
-      for (std::size_t r = next++; r < n; r = next++) {
-        try {
-          run(r);
-        } catch (...) {
-          const std::lock_guard lock(failed_mutex);
-          if (!failed) failed = std::current_exception();
-        }
-      }
-    };
-    {
-      std::vector<std::jthread> pool;
-      for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(worker);
-      worker();
-    }
-    if (failed) std::rethrow_exception(failed);
-  }
+  });
   std::array<std::vector<AxisStats>, 3> per_axis;
   for (const auto& s : stats)
     for (std::size_t a = 0; a < 3; ++a) per_axis[a].push_back(s[a]);

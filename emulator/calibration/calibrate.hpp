@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -93,6 +94,11 @@ struct Calibration {
                                                           const EnuSeries& series,
                                                           std::uint64_t seed,
                                                           const StaticHoldOptions& hold = {});
+
+/// Calls `run(r)` for r = 0 .. runs - 1, the runs spread over the machine's cores, in any order:
+/// each call writes its result in its run's place, so what follows is the same whatever the number
+/// of threads. Rethrows the first exception a run threw, once every run is done.
+void for_each_run(std::size_t runs, const std::function<void(std::size_t)>& run);
 
 /// The calibrated config file (TOML): noise (the best model), rate, resolution, origin, and the
 /// keys of every model, with a header of comments saying where it comes from.

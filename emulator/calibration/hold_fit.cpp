@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -13,8 +14,12 @@ namespace {
 // The mean repeated share of `runs` simulations of `config` with `hold`.
 double simulated_share(const noise::NoiseConfig& config, const EnuSeries& s, std::uint64_t seed, int runs,
                        const StaticHoldOptions& hold) {
+  std::vector<double> share(static_cast<std::size_t>(std::max(runs, 0)));
+  for_each_run(share.size(), [&](std::size_t r) {
+    share[r] = repeat_share(simulate(config, s, seed + static_cast<std::uint64_t>(r), hold));
+  });
   double sum = 0.0;
-  for (int r = 0; r < runs; ++r) sum += repeat_share(simulate(config, s, seed + static_cast<std::uint64_t>(r), hold));
+  for (const double x : share) sum += x;  // in the runs' order, whatever the threads
   return sum / runs;
 }
 

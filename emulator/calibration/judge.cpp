@@ -159,13 +159,14 @@ Judgement judge(const Calibration& c, double sigma_m, int runs, std::uint64_t se
   double best = std::numeric_limits<double>::infinity();
   for (const ModelResult& m : c.models) {
     const std::string name = model_label(m.config);
-    std::vector<FilterScore> all;
-    for (int r = 0; r < runs; ++r) {
+    std::vector<FilterScore> all(static_cast<std::size_t>(std::max(runs, 0)));
+    for_each_run(all.size(), [&](std::size_t r) {
       const auto x = simulate(m.config, s, seed + static_cast<std::uint64_t>(r), c.hold.hold);
-      FilterScore f = run_cv_filter(x[0], x[1], s.rate_hz, sigma_m);
+      all[r] = run_cv_filter(x[0], x[1], s.rate_hz, sigma_m);
+    });
+    for (FilterScore& f : all) {
       j.model_nis[name].push_back(std::move(f.nis));
       f.nis.clear();
-      all.push_back(f);
     }
     const FilterScore mean = quantile_score(all, 0.5);
     j.spread[name] = {quantile_score(all, 0.1), quantile_score(all, 0.9)};

@@ -46,7 +46,7 @@ class FitSimulation {
   FitSimulation(std::size_t burn_in, std::size_t window)
       : burn_in_(burn_in), window_(window),
         windows_(std::clamp(kFitStepBudget / window, kMinFitWindows, kMaxFitWindows)),
-        normals_(burn_in + window * windows_) {
+        normals_(burn_in + window * windows_), paths_(kMaxWalks * window) {
     Rng rng(kFitSeed, 0);
     for (double& x : normals_) x = rng.normal();
   }
@@ -57,8 +57,10 @@ class FitSimulation {
   // The same for N parameter sets at once, each on the same numbers and with the same arithmetic
   // as alone (so bit for bit the same results): the N walks step side by side, and their chains of
   // dependent operations (a division, clamps and additions a step) overlap in the CPU.
+  static constexpr std::size_t kMaxWalks = 4;  // the Jacobian's four
   template <std::size_t N>
   std::array<Vec4, N> statistics(const std::array<Vec4, N>& log_q) {
+    static_assert(N <= kMaxWalks);
     std::array<CgrwInternal, N> k{};
     std::array<double, N> p{}, v{};
     for (std::size_t m = 0; m < N; ++m) k[m] = to_internal(log_q[m]);
@@ -66,7 +68,6 @@ class FitSimulation {
     for (; i < burn_in_; ++i)
       for (std::size_t m = 0; m < N; ++m) cgrw_step(k[m], normals_[i], p[m], v[m]);
     std::array<Vec4, N> sum{};
-    if (paths_.size() < N * window_) paths_.resize(N * window_);
     for (std::size_t w = 0; w < windows_; ++w) {
       for (std::size_t x = 0; x < window_; ++x, ++i)
         for (std::size_t m = 0; m < N; ++m) {
