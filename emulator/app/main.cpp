@@ -116,11 +116,17 @@ int main(int argc, char** argv) {
       spdlog::info("profile {}: {}, calibrated from {} (the config file's keys and the flags override it)", s.name,
                    s.receiver, s.log);
     }
-    runner = std::make_unique<gpsemu::Runner>(config);
+    // The bench view's port first: one in use stops the start before an output is opened (a file truncated).
+    std::unique_ptr<gpsemu::ui::HttpServer> bound_view;
     if (config.process.ui) {
       gpsemu::ui::HttpSettings ui = gpsemu::ui::parse_ui_spec(*config.process.ui);
       ui.token = config.process.ui_token;
-      bench_view = std::make_unique<gpsemu::ui::HttpServer>(*runner->hub(), ui);
+      bound_view = std::make_unique<gpsemu::ui::HttpServer>(ui);
+    }
+    runner = std::make_unique<gpsemu::Runner>(config);
+    if (bound_view) {
+      bench_view = std::move(bound_view);
+      bench_view->serve(*runner->hub());
       spdlog::info("bench view: {}{}", bench_view->url(),
                    bench_view->token_required() ? " (fault requests need this token: header X-Gpsemu-Token)" : "");
     }

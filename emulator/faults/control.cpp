@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
+#include "emulator/faults/json_shape.hpp"
+
 namespace gpsemu::faults {
 namespace {
 
@@ -191,6 +193,10 @@ std::string control_error(std::string_view message) {
 }
 
 std::string FaultControl::handle(std::string_view line) {
+  if (const std::optional<std::string> problem = json_shape_problem(line)) {
+    ++refused_shape_;
+    return control_error(fmt::format("refused before parsing: {}", *problem));
+  }
   const json message = json::parse(line, nullptr, false);
   if (message.is_discarded() || !message.is_object()) return control_error("expected one JSON object a line, e.g. {\"status\":true}");
   try {

@@ -10,6 +10,7 @@
 //   {"watch":true,"receiver":0}                      (the control socket's: one EPOCH line an epoch follows)
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <string_view>
@@ -29,10 +30,13 @@ class FaultControl {
   /// What the status answer adds to receiver i's entry: the members of a JSON object ("{...}"),
   /// e.g. the error against the truth and the clients (emulator/ui/hub.hpp).
   void set_status_extra(std::function<std::string(std::size_t)> extra) { status_extra_ = std::move(extra); }
+  /// Requests refused before parsing (json_shape.hpp: nested too deep, a key twice).
+  [[nodiscard]] std::uint64_t refused_shape() const { return refused_shape_; }
 
  private:
   std::vector<FaultTimeline*> receivers_;
   std::function<std::string(std::size_t)> status_extra_;
+  std::uint64_t refused_shape_ = 0;
 };
 
 /// {"class":"ERROR","message":MESSAGE}

@@ -12,6 +12,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "emulator/faults/json_shape.hpp"
 #include "transport/posix/errors.hpp"
 #include "transport/posix/sockets.hpp"
 
@@ -30,7 +31,9 @@ posix::UnixLineServer::Settings settings(std::chrono::milliseconds idle_timeout)
                                              posix::UnixLineServer::kMaxClients, idle_s)),
            faults::control_error(
                fmt::format("line longer than {} bytes: ignored to its end", posix::UnixLineServer::kMaxLineBytes)),
-           faults::control_error(fmt::format("closed: no request for {:g} s (--control-idle-timeout)", idle_s))},
+           faults::control_error(fmt::format("closed: no request for {:g} s (--control-idle-timeout)", idle_s)),
+           faults::control_error(fmt::format("closed: every slot is taken and this client sent no request for {} s",
+                                             posix::UnixLineServer::kEvictAfter.count() / 1000))},
           idle_timeout};
 }
 
@@ -87,7 +90,8 @@ void ControlSocket::service() {
 }
 
 std::string ControlSocket::answer(std::string_view line, std::optional<std::int64_t>& watch) {
-  if (line.find("\"watch\"") == std::string_view::npos) return control_.handle(line);
+  // The shape check first (control_ refuses and counts it): nothing unchecked reaches a parser.
+  if (line.find("\"watch\"") == std::string_view::npos || faults::json_shape_problem(line)) return control_.handle(line);
   const nlohmann::json message = nlohmann::json::parse(line, nullptr, false);
   if (!message.is_object() || !message.contains("watch")) return control_.handle(line);
   std::int64_t which = -1;
@@ -111,7 +115,9 @@ void ControlSocket::log_drops() {
   const std::uint64_t idle = more(s.clients_idle_closed, logged_.clients_idle_closed);
   const std::uint64_t not_reading = more(s.clients_not_reading, logged_.clients_not_reading);
   const std::uint64_t too_long = more(s.lines_too_long, logged_.lines_too_long);
-  if (refused + idle + not_reading + too_long == 0) return;
+  const std::uint64_t evicted = more(s.clients_evicted, logged_.clients_evicted);
+  const std::uint64_t shape = control_.refused_shape() - logged_shape_;
+  if (refused + idle + not_reading + too_long + evicted + shape == 0) return;
   // Only what happened: "1 client(s) refused (already 8 connected); 2 closed idle (no request for 30 s)".
   std::string what;
   const auto add = [&what](std::uint64_t n, std::string text) {
@@ -121,15 +127,23 @@ void ControlSocket::log_drops() {
   add(idle, fmt::format("closed idle (no request for {:g} s)", std::chrono::duration<double>(server_.idle_timeout()).count()));
   add(not_reading, "dropped (not reading their answers)");
   add(too_long, "line(s) too long");
-  if (transport::log_limited(drop_log_, spdlog::level::warn, "control socket {}: {}", server_.path(), what)) logged_ = s;
+  add(evicted, fmt::format("closed for a newcomer (every slot taken, no request for {} s)",
+                           posix::UnixLineServer::kEvictAfter.count() / 1000));
+  add(shape, "request(s) refused before parsing (JSON nested too deep or a key twice)");
+  if (transport::log_limited(drop_log_, spdlog::level::warn, "control socket {}: {}", server_.path(), what)) {
+    logged_ = s;
+    logged_shape_ = control_.refused_shape();
+  }
 }
 
 std::string ControlSocket::summary() const {
   const posix::UnixLineServer::Stats& s = server_.stats();
-  return fmt::format("control socket {}: {} requests answered ({} errors); {} clients connected, {} refused (too many), "
-                     "{} closed idle, {} dropped not reading; {} lines too long",
-                     server_.path(), s.lines_answered, error_answers_, s.clients_accepted, s.clients_refused,
-                     s.clients_idle_closed, s.clients_not_reading, s.lines_too_long);
+  return fmt::format("control socket {}: {} requests answered ({} errors, {} refused before parsing); {} clients "
+                     "connected, {} refused (too many), {} closed for a newcomer, {} closed idle, {} dropped not "
+                     "reading; {} lines too long, {} empty lines skipped",
+                     server_.path(), s.lines_answered, error_answers_, control_.refused_shape(), s.clients_accepted,
+                     s.clients_refused, s.clients_evicted, s.clients_idle_closed, s.clients_not_reading,
+                     s.lines_too_long, s.empty_lines);
 }
 
 std::string parse_control_spec(const std::string& spec) {
@@ -137,6 +151,13 @@ std::string parse_control_spec(const std::string& spec) {
   if (spec.rfind("tcp:", 0) == 0) {
     try {
       const posix::Endpoint e = posix::parse_endpoint(spec.substr(4));
+      if (!posix::is_loopback_host(e.host)) {
+        // Faults from any host that reaches it, with no token: refused (the bench view asks a token off loopback).
+        throw std::invalid_argument(fmt::format(
+            "control: '{}' would take faults from any host that reaches {} with no token; bind a loopback address "
+            "(tcp:127.0.0.1:{}) and reach it from elsewhere through ssh -L, or use --ui, which asks a token off loopback",
+            spec, e.host, e.port));
+      }
       return "tcp:" + posix::host_port(e.host, e.port);
     } catch (const std::invalid_argument& err) {
       throw std::invalid_argument(fmt::format("control: {}", err.what()));

@@ -54,6 +54,7 @@ class ControlSocket final : public LoopInput {
   posix::UniqueFd idle_timer_;
   std::uint64_t error_answers_ = 0;
   posix::UnixLineServer::Stats logged_{};  ///< the counts the log has told
+  std::uint64_t logged_shape_ = 0;
   transport::LogLimit drop_log_{2};
   transport::LogLimit error_log_{2};
 };

@@ -2,6 +2,7 @@
 
 #include <httplib.h>
 
+#include <cctype>
 #include <charconv>
 #include <condition_variable>
 #include <deque>
@@ -14,6 +15,8 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
+#include "emulator/faults/control.hpp"
+#include "emulator/faults/json_shape.hpp"
 #include "emulator/ui/assets.hpp"
 #include "transport/posix/sockets.hpp"
 
@@ -43,12 +46,27 @@ bool loopback_host_header(const std::string& host, std::uint16_t port) {
   return false;
 }
 
+/// "application/json", in any case, with or without parameters ("; charset=utf-8"); not
+/// "application/jsonfoo".
+bool json_content_type(std::string_view value) {
+  std::string_view type = value.substr(0, value.find(';'));
+  while (!type.empty() && (type.back() == ' ' || type.back() == '\t')) type.remove_suffix(1);
+  while (!type.empty() && (type.front() == ' ' || type.front() == '\t')) type.remove_prefix(1);
+  constexpr std::string_view kJson = "application/json";
+  if (type.size() != kJson.size()) return false;
+  for (std::size_t k = 0; k < kJson.size(); ++k) {
+    if (std::tolower(static_cast<unsigned char>(type[k])) != kJson[k]) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 /// What the threads count.
 struct HttpServer::Counters {
   std::atomic<std::uint64_t> connections{0}, connections_without_request{0}, requests{0}, malformed{0}, too_large{0},
-      refused_token{0}, refused_cross_site{0}, streams_refused{0}, streams_dropped{0}, control_requests{0};
+      refused_token{0}, refused_cross_site{0}, streams_refused{0}, streams_dropped{0}, control_requests{0},
+      closed_slow{0}, refused_shape{0};
   std::atomic<int> streams{0};
 };
 
@@ -114,8 +132,8 @@ class HttpServer::CountingPool final : public httplib::TaskQueue {
   bool stopping_ = false;
 };
 
-HttpServer::HttpServer(Hub& hub, HttpSettings settings)
-    : hub_(hub), settings_(std::move(settings)), counters_(std::make_unique<Counters>()),
+HttpServer::HttpServer(HttpSettings settings)
+    : settings_(std::move(settings)), counters_(std::make_unique<Counters>()),
       server_(std::make_unique<httplib::Server>()) {
   if (!is_loopback(settings_.host)) token_ = settings_.token ? *settings_.token : random_token();
   if (settings_.token && settings_.token->size() < 8) throw std::invalid_argument("ui-token: expected at least 8 characters");
@@ -133,7 +151,12 @@ HttpServer::HttpServer(Hub& hub, HttpSettings settings)
   server_->set_keep_alive_timeout(1);  // an idle connection holds a worker this long (seconds)
   server_->set_keep_alive_max_count(100);
   server_->set_payload_max_length(kMaxBodyBytes);
-  server_->set_logger([this](const httplib::Request&, const httplib::Response& res) {
+  server_->set_logger([this](const httplib::Request& req, const httplib::Response& res) {
+    // A request cut short by the deadline is counted there (closed_slow), not as a request.
+    if (deadline_ && (req.remote_addr.empty() ? res.status == 400 && deadline_->claim_ended()
+                                              : deadline_->done(posix::host_port(req.remote_addr, static_cast<std::uint16_t>(req.remote_port))))) {
+      return;
+    }
     ++requests_on_connection;
     counters_->requests.fetch_add(1, std::memory_order_relaxed);
     if (res.status == 400 || res.status == 414 || res.status == 431) counters_->malformed.fetch_add(1, std::memory_order_relaxed);
@@ -147,13 +170,19 @@ HttpServer::HttpServer(Hub& hub, HttpSettings settings)
                                          settings_.host, settings_.port));
   }
   port_ = static_cast<std::uint16_t>(bound);
+  deadline_ = std::make_unique<RequestDeadline>(port_, std::chrono::seconds(kRequestTimeoutS));
   // httplib listens with 5 slots: room for a page's burst of connections and for floods.
   if (listening_fd_ >= 0) posix::set_listen_backlog(listening_fd_, kListenBacklog);
+}
+
+void HttpServer::serve(Hub& hub) {
+  hub_ = &hub;
   thread_ = std::thread([this] { server_->listen_after_bind(); });
 }
 
 HttpServer::~HttpServer() {
-  hub_.close();  // event streams waiting for an epoch end now
+  if (hub_ == nullptr) return;  // bound, never served
+  hub_->close();  // event streams waiting for an epoch end now
   server_->stop();
   if (thread_.joinable()) thread_.join();
 }
@@ -167,25 +196,29 @@ std::string HttpServer::url() const {
 HttpServer::Stats HttpServer::stats() const {
   const Counters& c = *counters_;
   const auto get = [](const std::atomic<std::uint64_t>& a) { return a.load(std::memory_order_relaxed); };
-  return {get(c.connections),  get(c.connections_without_request), get(c.requests),        get(c.malformed),
+  Stats s{get(c.connections),  get(c.connections_without_request), get(c.requests),        get(c.malformed),
           get(c.too_large),    get(c.refused_token),               get(c.refused_cross_site), get(c.streams_refused),
-          get(c.streams_dropped), get(c.control_requests)};
+          get(c.streams_dropped), get(c.control_requests), get(c.closed_slow), get(c.refused_shape)};
+  if (deadline_) s.closed_slow += deadline_->closed();
+  return s;
 }
 
 std::string HttpServer::summary() const {
   const Stats s = stats();
   return fmt::format("bench view: {} connections, {} requests ({} fault requests); refused: {} malformed, {} too large, "
-                     "{} without the token, {} cross-site, {} event streams over {}; closed: {} connections without "
-                     "a request, {} event streams not reading",
+                     "{} without the token, {} cross-site, {} JSON too deep or with a key twice, {} event streams over {}; "
+                     "closed: {} connections without a request, {} slow requests (not whole within {} s), {} event "
+                     "streams not reading",
                      s.connections, s.requests, s.control_requests, s.malformed, s.too_large, s.refused_token,
-                     s.refused_cross_site, s.streams_refused, kMaxStreams, s.connections_without_request,
-                     s.streams_dropped);
+                     s.refused_cross_site, s.refused_shape, s.streams_refused, kMaxStreams, s.connections_without_request,
+                     s.closed_slow, kRequestTimeoutS, s.streams_dropped);
 }
 
 void HttpServer::routes() {
   httplib::Server& srv = *server_;
   // Every request: on a loopback bind, only a Host naming it (a rebinding site's name is refused).
   srv.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+    deadline_->begun(posix::host_port(req.remote_addr, static_cast<std::uint16_t>(req.remote_port)));
     if (!token_ && !loopback_host_header(req.get_header_value("Host"), port_)) {
       counters_->refused_cross_site.fetch_add(1, std::memory_order_relaxed);
       res.status = 403;
@@ -202,7 +235,7 @@ void HttpServer::routes() {
     });
   }
   srv.Get("/api/info", [this](const httplib::Request&, httplib::Response& res) {
-    nlohmann::json info = nlohmann::json::parse(hub_.info_json());
+    nlohmann::json info = nlohmann::json::parse(hub_->info_json());
     info["token_required"] = token_.has_value();
     res.set_content(info.dump(), "application/json");
   });
@@ -219,7 +252,9 @@ void HttpServer::routes() {
                                    {"streams_dropped", s.streams_dropped},
                                    {"streams_open", counters_->streams.load()},
                                    {"control_requests", s.control_requests},
-                                   {"late_epochs", hub_.late_epochs().load()}}
+                                   {"closed_slow", s.closed_slow},
+                                   {"refused_shape", s.refused_shape},
+                                   {"late_epochs", hub_->late_epochs().load()}}
                         .dump(),
                     "application/json");
   });
@@ -228,9 +263,9 @@ void HttpServer::routes() {
     if (req.has_param("receiver")) {
       const std::string text = req.get_param_value("receiver");
       const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), i);
-      if (ec != std::errc() || end != text.data() + text.size() || i >= hub_.receivers()) {
+      if (ec != std::errc() || end != text.data() + text.size() || i >= hub_->receivers()) {
         res.status = 400;
-        res.set_content(fmt::format("receiver: expected 0..{}\n", hub_.receivers() - 1), "text/plain");
+        res.set_content(fmt::format("receiver: expected 0..{}\n", hub_->receivers() - 1), "text/plain");
         return;
       }
     }
@@ -241,17 +276,17 @@ void HttpServer::routes() {
       res.set_content(fmt::format("at most {} pages at once\n", kMaxStreams), "text/plain");
       return;
     }
-    hub_.watch(i, +1);
+    hub_->watch(i, +1);
     res.set_header("Cache-Control", "no-cache");
     auto last = std::make_shared<std::uint64_t>(0);
     res.set_chunked_content_provider(
         "text/event-stream",
         [this, i, last](std::size_t, httplib::DataSink& sink) {
-          if (hub_.closed()) {
+          if (hub_->closed()) {
             sink.done();
             return true;
           }
-          const Hub::Published p = hub_.wait_after(i, *last, std::chrono::seconds(1));
+          const Hub::Published p = hub_->wait_after(i, *last, std::chrono::seconds(1));
           std::string chunk = ": waiting for an epoch\n\n";
           if (p.json) {
             *last = p.epoch;
@@ -266,23 +301,25 @@ void HttpServer::routes() {
           return false;
         },
         [this, i](bool) {
-          hub_.watch(i, -1);
+          hub_->watch(i, -1);
           counters_->streams.fetch_sub(1);
         });
   });
-  srv.Post("/api/control", [this](const httplib::Request& req, httplib::Response& res) {
-    if (req.get_header_value("Content-Type").rfind("application/json", 0) != 0) {
+  srv.Post("/api/control", [this](const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& reader) {
+    // Everything the headers tell is checked before a byte of the body is read.
+    const auto refuse = [this, &req, &res](int status, std::string_view message) {
+      deadline_->close_after_answer(posix::host_port(req.remote_addr, static_cast<std::uint16_t>(req.remote_port)));
+      res.status = status;
+      res.set_header("Connection", "close");
+      res.set_content(faults::control_error(message), "application/json");
+    };
+    if (!json_content_type(req.get_header_value("Content-Type"))) {
       counters_->refused_cross_site.fetch_add(1, std::memory_order_relaxed);
-      res.status = 415;
-      res.set_content(R"j({"class":"ERROR","message":"expected Content-Type: application/json"})j", "application/json");
-      return;
+      return refuse(415, "expected Content-Type: application/json");
     }
     if (token_ && req.get_header_value("X-Gpsemu-Token") != *token_) {
       counters_->refused_token.fetch_add(1, std::memory_order_relaxed);
-      res.status = 403;
-      res.set_content(R"j({"class":"ERROR","message":"this bind needs the token printed at start (header X-Gpsemu-Token)"})j",
-                      "application/json");
-      return;
+      return refuse(403, "this bind needs the token printed at start (header X-Gpsemu-Token)");
     }
     // A browser names the page's origin: this server's (as the Host it asked), or on loopback any
     // of its loopback names with this port.
@@ -291,15 +328,41 @@ void HttpServer::routes() {
                              (!token_ && origin.rfind("http://", 0) == 0 && loopback_host_header(origin.substr(7), port_));
     if (!same_origin) {
       counters_->refused_cross_site.fetch_add(1, std::memory_order_relaxed);
-      res.status = 403;
-      res.set_content(R"j({"class":"ERROR","message":"a request from another origin"})j", "application/json");
+      return refuse(403, "a request from another origin");
+    }
+    // The body, whatever its framing (Content-Length, chunked), at most kMaxBodyBytes and whole
+    // within kBodyTimeoutS.
+    std::string body;
+    bool too_large = false, too_slow = false;
+    const auto begin = Clock::now();
+    const bool read = reader([&](const char* data, std::size_t length) {
+      if (body.size() + length > kMaxBodyBytes) return !(too_large = true);
+      if (Clock::now() - begin > std::chrono::seconds(kBodyTimeoutS)) return !(too_slow = true);
+      body.append(data, length);
+      return true;
+    });
+    // (413 and 400 are counted by the logger, as every answer with them.)
+    if (too_large || (!read && res.status == 413)) {
+      return refuse(413, fmt::format("a body over {} bytes", kMaxBodyBytes));
+    }
+    if (too_slow) {
+      counters_->closed_slow.fetch_add(1, std::memory_order_relaxed);
+      return refuse(408, fmt::format("the body did not arrive whole within {} s", kBodyTimeoutS));
+    }
+    if (!read) {
+      return refuse(400, "the body could not be read");
+    }
+    if (const std::optional<std::string> problem = faults::json_shape_problem(body)) {
+      counters_->refused_shape.fetch_add(1, std::memory_order_relaxed);
+      res.status = 422;
+      res.set_content(faults::control_error(fmt::format("refused before parsing: {}", *problem)), "application/json");
       return;
     }
     counters_->control_requests.fetch_add(1, std::memory_order_relaxed);
-    const std::optional<std::string> answer = hub_.request(req.body, std::chrono::seconds(3));
+    const std::optional<std::string> answer = hub_->request(std::move(body), std::chrono::seconds(3));
     if (!answer) {
       res.status = 503;
-      res.set_content(R"j({"class":"ERROR","message":"the epoch loop did not take the request (stopping?)"})j", "application/json");
+      res.set_content(faults::control_error("the epoch loop did not take the request (stopping?)"), "application/json");
       return;
     }
     const bool error = answer->rfind(R"({"class":"ERROR")", 0) == 0;

@@ -39,7 +39,9 @@ class Hub final : public LoopInput, public EpochObserver {
   // --- the loop's thread ---
   void epoch(const EpochView& view) override;
   void fds(std::vector<int>& out) const override;
-  /// Answers the requests the server queued.
+  /// Fault requests answered a call of service() at most (the rest at the loop's next wake-up).
+  static constexpr std::size_t kRequestsPerService = 4;
+  /// Answers the requests the server queued (kRequestsPerService of them; more wake the loop again).
   void service() override;
   /// `gpsemu ctl PATH watch` clients are this control socket's (may be null).
   void set_control_socket(ControlSocket* control) { control_socket_ = control; }

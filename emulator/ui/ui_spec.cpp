@@ -1,5 +1,7 @@
 #include "emulator/ui/ui_spec.hpp"
 
+#include "transport/posix/sockets.hpp"
+
 #include <charconv>
 #include <stdexcept>
 
@@ -25,8 +27,6 @@ HttpSettings parse_ui_spec(const std::string& spec) {
   return out;
 }
 
-bool is_loopback(const std::string& host) {
-  return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
-}
+bool is_loopback(const std::string& host) { return posix::is_loopback_host(host); }
 
 }  // namespace gpsemu::ui

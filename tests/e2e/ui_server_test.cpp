@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+#include <netinet/in.h>
 #include <nlohmann/json.hpp>
 
 #include "tests/support/process.hpp"
@@ -291,6 +293,169 @@ TEST(UiServer, ANonLoopbackBindNeedsTheTokenForFaults) {
   ASSERT_EQ(g.stop(log), 0) << log;
   expect_no_late_epoch(log);
   EXPECT_NE(log.find("2 without the token"), std::string::npos) << log;
+}
+
+
+/// Sends a POST /api/control with a chunked body of `chunks` chunks of `chunk` (after `prefix`),
+/// as far as the server takes it; the bytes it took and its answer.
+struct ChunkedPost {
+  std::size_t sent = 0;
+  std::string answer;
+};
+ChunkedPost chunked_post(std::uint16_t port, const std::string& prefix, const std::string& chunk, std::size_t chunks,
+                         const std::string& suffix, const std::string& headers = "") {
+  ChunkedPost out;
+  const int fd = tcp_client(port);
+  if (fd < 0) return out;
+  const auto send_all = [&](const std::string& text) {
+    std::size_t done = 0;
+    while (done < text.size()) {
+      pollfd p{fd, POLLOUT, 0};
+      if (::poll(&p, 1, 5000) <= 0) return false;
+      const ssize_t n = ::send(fd, text.data() + done, text.size() - done, MSG_NOSIGNAL);
+      if (n <= 0) return false;
+      done += static_cast<std::size_t>(n);
+      out.sent += static_cast<std::size_t>(n);
+    }
+    return true;
+  };
+  const auto framed = [](const std::string& body) { return fmt::format("{:x}\r\n{}\r\n", body.size(), body); };
+  bool open = send_all("POST /api/control HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n"
+                       "Transfer-Encoding: chunked\r\n" + headers + "\r\n");
+  if (open && !prefix.empty()) open = send_all(framed(prefix));
+  const std::string one = framed(chunk);
+  for (std::size_t k = 0; open && k < chunks; ++k) open = send_all(one);
+  if (open && !suffix.empty()) open = send_all(framed(suffix));
+  if (open) (void)send_all("0\r\n\r\n");
+  char buffer[4096];
+  const auto deadline = std::chrono::steady_clock::now() + seconds(10);
+  while (std::chrono::steady_clock::now() < deadline) {
+    pollfd p{fd, POLLIN, 0};
+    if (::poll(&p, 1, 50) <= 0) continue;
+    const ssize_t n = ::recv(fd, buffer, sizeof buffer, 0);
+    if (n <= 0) break;
+    out.answer.append(buffer, static_cast<std::size_t>(n));
+  }
+  ::close(fd);
+  return out;
+}
+
+TEST(UiServer, DeeplyNestedJsonIsRefusedBeforeItIsParsed) {
+  Gpsemu g("deep");
+  ASSERT_NE(g.port, 0) << g.process->stderr_text();
+  // 80 000 nested arrays in a chunked body (this crashed gpsemu: SIGSEGV).
+  const ChunkedPost deep = chunked_post(g.port, R"({"clear":)", std::string(8000, '['), 10, "");
+  EXPECT_EQ(status_of(deep.answer), 413) << deep.answer.substr(0, 300);
+  // Within the body limit, but deeper than any request: refused before parsing, over either framing.
+  const std::string nested = R"({"clear":)" + std::string(30000, '[') + std::string(30000, ']') + "}";
+  const std::string a = post(g.port, nested, "Content-Type: application/json\r\n");
+  EXPECT_EQ(status_of(a), 422) << a.substr(0, 300);
+  EXPECT_NE(a.find("nested deeper than"), std::string::npos) << a.substr(0, 300);
+  const ChunkedPost b = chunked_post(g.port, R"({"clear":)", std::string(20, '['), 1, std::string(20, ']') + "}");
+  EXPECT_EQ(status_of(b.answer), 422) << b.answer.substr(0, 300);
+  // A key twice is an error, not the last one winning.
+  const std::string twice = post(g.port, R"({"fault":"jam","fault":"outage"})", "Content-Type: application/json\r\n");
+  EXPECT_EQ(status_of(twice), 422) << twice;
+  EXPECT_NE(twice.find("given twice"), std::string::npos) << twice;
+  // Nor a media type that only begins like JSON's.
+  EXPECT_EQ(status_of(post(g.port, R"({"status":true})", "Content-Type: application/jsonfoo\r\n")), 415);
+  EXPECT_EQ(status_of(post(g.port, R"({"status":true})", "Content-Type: Application/JSON; charset=utf-8\r\n")), 200);
+  const json s = server_stats(g.port);
+  EXPECT_EQ(s["refused_shape"].get<int>(), 3) << s.dump();
+  EXPECT_EQ(s["too_large"].get<int>(), 1) << s.dump();
+  EXPECT_EQ(s["control_requests"].get<int>(), 1) << s.dump();
+  std::string log;
+  ASSERT_EQ(g.stop(log), 0) << log;
+  expect_no_late_epoch(log);
+  EXPECT_NE(log.find("3 JSON too deep or with a key twice"), std::string::npos) << log;
+}
+
+TEST(UiServer, AChunkedBodyIsCutAtTheLimitAndAnUnauthorisedOneIsNeverRead) {
+  Gpsemu g("chunked-limit");
+  ASSERT_NE(g.port, 0) << g.process->stderr_text();
+  // 10 MB of chunks: refused at 64 KiB, the rest never read (the sender is cut off).
+  const ChunkedPost big = chunked_post(g.port, "", std::string(64 * 1024, ' '), 160, "");
+  EXPECT_EQ(status_of(big.answer), 413) << big.answer.substr(0, 300);
+  EXPECT_LT(big.sent, 8u * 1024 * 1024) << "the server read on past the limit";
+  EXPECT_EQ(server_stats(g.port)["too_large"].get<int>(), 1);
+  std::string log;
+  ASSERT_EQ(g.stop(log), 0) << log;
+  expect_no_late_epoch(log);
+
+  // Off loopback, a 200 MB body without the token: 403 from its headers, the body not read.
+  Gpsemu open("chunked-token", "0.0.0.0:0");
+  ASSERT_NE(open.port, 0) << open.process->stderr_text();
+  const ChunkedPost unauthorised = chunked_post(open.port, "", std::string(64 * 1024, ' '), 3200, "");
+  EXPECT_EQ(status_of(unauthorised.answer), 403) << unauthorised.answer.substr(0, 300);
+  EXPECT_LT(unauthorised.sent, 8u * 1024 * 1024) << "the body was read before the token was checked";
+  EXPECT_EQ(server_stats(open.port)["refused_token"].get<int>(), 1);
+  ASSERT_EQ(open.stop(log), 0) << log;
+  expect_no_late_epoch(log);
+}
+
+TEST(UiServer, SlowRequestsAreClosedSoThePageIsStillServed) {
+  Gpsemu g("slowloris");
+  ASSERT_NE(g.port, 0) << g.process->stderr_text();
+  // 100 connections sending one header byte a second: more than every worker.
+  std::vector<int> slow;
+  for (int k = 0; k < 100; ++k) {
+    const int fd = tcp_client(g.port);
+    if (fd >= 0) slow.push_back(fd);
+  }
+  ASSERT_EQ(slow.size(), 100u);
+  const std::string request = "GET /api/info HTTP/1.1\r\nHost: 127.0.0.1\r\n";
+  std::size_t closed = 0;
+  for (std::size_t byte = 0; byte < 6; ++byte) {
+    for (int& fd : slow) {
+      if (fd >= 0 && ::send(fd, request.data() + byte, 1, MSG_NOSIGNAL) != 1) {
+        ::close(fd);
+        fd = -1;
+        ++closed;
+      }
+    }
+    test::pump_for(*g.process, milliseconds(1000));
+  }
+  // A real request meanwhile gets its answer at once.
+  const auto before = std::chrono::steady_clock::now();
+  EXPECT_EQ(status_of(get(g.port, "/api/info")), 200);
+  EXPECT_LT(std::chrono::steady_clock::now() - before, seconds(5));
+  // Every slow one was closed by the server (a read of 0 bytes or a send that fails).
+  for (int& fd : slow) {
+    if (fd < 0) continue;
+    char c = 0;
+    pollfd p{fd, POLLIN, 0};
+    if (::poll(&p, 1, 2000) > 0 && ::recv(fd, &c, 1, MSG_DONTWAIT) <= 0) ++closed;
+    ::close(fd);
+  }
+  EXPECT_EQ(closed, 100u);
+  const json s = server_stats(g.port);
+  EXPECT_GE(s["closed_slow"].get<int>(), 100) << s.dump();
+  EXPECT_EQ(s["malformed"].get<int>(), 0) << s.dump();
+  std::string log;
+  ASSERT_EQ(g.stop(log), 0) << log;
+  expect_no_late_epoch(log);
+  EXPECT_NE(log.find("slow requests (not whole within 3 s)"), std::string::npos) << log;
+}
+
+TEST(UiServer, APortInUseStopsTheStartBeforeAnyOutputIsOpened) {
+  const int holder = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ASSERT_EQ(::bind(holder, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
+  ASSERT_EQ(::listen(holder, 1), 0);
+  socklen_t len = sizeof address;
+  ASSERT_EQ(::getsockname(holder, reinterpret_cast<sockaddr*>(&address), &len), 0);
+  const auto dir = test::scratch_dir("ui", "port-in-use");
+  const auto out = dir / "kept.nmea";
+  test::write_file(out, std::string(520, 'x'));
+  test::Process p({GPSEMU_BINARY, "--rate", "10", "--duration", "2", "--output", "file:" + out.string(), "--ui",
+                   "127.0.0.1:" + std::to_string(ntohs(address.sin_port))});
+  EXPECT_EQ(p.wait(seconds(20)), 2) << p.stderr_text();
+  EXPECT_NE(p.stderr_text().find("cannot listen"), std::string::npos) << p.stderr_text();
+  EXPECT_EQ(std::filesystem::file_size(out), 520u) << "the output file was truncated before the bench view's port was tried";
+  ::close(holder);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace ui_server_test

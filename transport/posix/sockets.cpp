@@ -1,5 +1,6 @@
 #include "transport/posix/sockets.hpp"
 
+#include <dirent.h>
 #include <sys/resource.h>
 
 #include <arpa/inet.h>
@@ -10,6 +11,7 @@
 #include <cerrno>
 #include <charconv>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -58,6 +60,10 @@ std::string host_port(std::string_view host, std::uint16_t port) {
                                                   : fmt::format("{}:{}", host, port);
 }
 
+bool is_loopback_host(std::string_view host) {
+  return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
+}
+
 std::size_t format_address(const sockaddr_storage& address, std::span<char> out) {
   if (out.empty()) return 0;
   char ip[INET6_ADDRSTRLEN] = "?";
@@ -88,6 +94,47 @@ std::uint16_t bound_port(int fd) {
   if (address.ss_family == AF_INET) return ntohs(reinterpret_cast<const sockaddr_in*>(&address)->sin_port);
   if (address.ss_family == AF_INET6) return ntohs(reinterpret_cast<const sockaddr_in6*>(&address)->sin6_port);
   return 0;
+}
+
+namespace {
+
+/// The peer of a connected TCP socket (not a listening one, not another kind), if `fd` is one bound to `port`.
+std::optional<std::string> tcp_peer_on_port(int fd, std::uint16_t port) {
+  int type = 0, listening = 0;
+  socklen_t len = sizeof type;
+  if (::getsockopt(fd, SOL_SOCKET, SO_TYPE, &type, &len) != 0 || type != SOCK_STREAM) return std::nullopt;
+  len = sizeof listening;
+  if (::getsockopt(fd, SOL_SOCKET, SO_ACCEPTCONN, &listening, &len) != 0 || listening != 0) return std::nullopt;
+  if (bound_port(fd) != port) return std::nullopt;
+  sockaddr_storage peer{};
+  len = sizeof peer;
+  if (::getpeername(fd, reinterpret_cast<sockaddr*>(&peer), &len) != 0) return std::nullopt;
+  return address_text(peer);
+}
+
+}  // namespace
+
+std::vector<AcceptedConnection> connections_on_port(std::uint16_t port) {
+  std::vector<AcceptedConnection> out;
+  DIR* dir = ::opendir("/proc/self/fd");
+  if (dir == nullptr) return out;
+  const int own = ::dirfd(dir);
+  while (const dirent* entry = ::readdir(dir)) {
+    int fd = -1;
+    const std::string_view name(entry->d_name);
+    const auto [end, ec] = std::from_chars(name.data(), name.data() + name.size(), fd);
+    if (ec != std::errc() || end != name.data() + name.size() || fd == own) continue;
+    if (std::optional<std::string> peer = tcp_peer_on_port(fd, port)) out.push_back({fd, std::move(*peer)});
+  }
+  ::closedir(dir);
+  return out;
+}
+
+bool shut_down_connection(int fd, std::string_view peer) {
+  sockaddr_storage now{};
+  socklen_t len = sizeof now;
+  if (::getpeername(fd, reinterpret_cast<sockaddr*>(&now), &len) != 0 || address_text(now) != peer) return false;
+  return ::shutdown(fd, SHUT_RDWR) == 0;
 }
 
 UniqueFd open_socket(const SocketRequest& request, const SocketSetup& setup) {

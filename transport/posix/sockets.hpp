@@ -12,6 +12,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 #include <string_view>
 
 #include "transport/posix/fd.hpp"
@@ -28,6 +29,9 @@ struct Endpoint {
 /// Parses "[HOST:]PORT": HOST defaults to 127.0.0.1, an IPv6 literal goes in brackets
 /// ("[::1]:5005"), PORT is 0..65535. Throws std::invalid_argument naming the text.
 [[nodiscard]] Endpoint parse_endpoint(std::string_view text);
+
+/// Whether `host` names this machine's loopback only: localhost, ::1 or 127.x.y.z.
+[[nodiscard]] bool is_loopback_host(std::string_view host);
 
 /// "127.0.0.1:5005", or "[::1]:5005" for an IPv6 literal (a host holding ':').
 [[nodiscard]] std::string host_port(std::string_view host, std::uint16_t port);
@@ -48,6 +52,18 @@ void configure_listening_socket(int fd, int send_buffer_bytes);
 /// library that listens with a few slots (cpp-httplib: 5) makes every connect beyond them wait
 /// for a SYN retransmission, a second.
 void set_listen_backlog(int fd, int backlog);
+/// A TCP connection this process accepted, and its peer as address_text() writes it.
+struct AcceptedConnection {
+  int fd = -1;
+  std::string peer;
+};
+/// The connected TCP sockets of this process whose local port is `port` (a server's connections,
+/// served by another library's threads), found by looking at each open descriptor (/proc/self/fd).
+[[nodiscard]] std::vector<AcceptedConnection> connections_on_port(std::uint16_t port);
+/// Ends a connection another thread serves, if `fd` is still connected to `peer`: shutdown() both
+/// ways, so that thread's next read ends and it closes the descriptor itself (never reused under it).
+bool shut_down_connection(int fd, std::string_view peer);
+
 /// Raises this process's limit of open descriptors to its hard limit (many clients at once);
 /// returns the soft limit in force.
 std::uint64_t raise_open_files_limit();

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include <poll.h>
+#include <sys/eventfd.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/un.h>
@@ -48,7 +49,8 @@ bool someone_listens(const sockaddr_un& address, const std::function<std::runtim
 
 }  // namespace
 
-UnixLineServer::UnixLineServer(std::string path, Settings settings) : path_(std::move(path)), settings_(std::move(settings)) {
+UnixLineServer::UnixLineServer(std::string path, Settings settings)
+    : path_(std::move(path)), settings_(std::move(settings)), backlog_(::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC)) {
   const auto fail = [this](const std::string& why) { return std::runtime_error(fmt::format("control socket {}: {}", path_, why)); };
   sockaddr_un address{};
   address.sun_family = AF_UNIX;
@@ -77,7 +79,8 @@ UnixLineServer::UnixLineServer(std::string path, Settings settings) : path_(std:
 }
 
 UnixLineServer::UnixLineServer(UniqueFd listening, std::string name, Settings settings)
-    : path_(std::move(name)), settings_(std::move(settings)), listen_(std::move(listening)), owns_file_(false) {}
+    : path_(std::move(name)), settings_(std::move(settings)), listen_(std::move(listening)), owns_file_(false),
+      backlog_(::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC)) {}
 
 UnixLineServer::~UnixLineServer() {
   if (!listen_.valid() || !owns_file_) return;
@@ -99,6 +102,7 @@ void UnixLineServer::close_idle(std::chrono::steady_clock::time_point now) {
 
 void UnixLineServer::fds(std::vector<int>& out) const {
   out.push_back(listen_.get());
+  if (backlog_.valid()) out.push_back(backlog_.get());
   for (const Client& c : clients_) out.push_back(c.fd.get());
 }
 
@@ -129,13 +133,82 @@ std::size_t UnixLineServer::watchers() const {
   return static_cast<std::size_t>(std::count_if(clients_.begin(), clients_.end(), [](const Client& c) { return c.watch.has_value(); }));
 }
 
+bool UnixLineServer::make_room(std::chrono::steady_clock::time_point now) {
+  // The client whose last request is oldest, if it is older than kEvictAfter (never a watcher):
+  // clients that connect and say nothing (or only empty lines) cannot lock the operator out.
+  auto oldest = clients_.end();
+  for (auto it = clients_.begin(); it != clients_.end(); ++it) {
+    if (!it->watch && now - it->last_line >= kEvictAfter && (oldest == clients_.end() || it->last_line < oldest->last_line)) {
+      oldest = it;
+    }
+  }
+  if (oldest == clients_.end()) return false;
+  (void)send_line(oldest->fd.get(), settings_.messages.evicted);
+  ++stats_.clients_evicted;
+  clients_.erase(oldest);
+  return true;
+}
+
+bool UnixLineServer::answer_pending(Client& c, const WatchHandler& handle, std::size_t& budget,
+                                    std::chrono::steady_clock::time_point now) {
+  while (budget > 0) {
+    const std::size_t nl = c.pending.find('\n');
+    if (nl == std::string::npos) {
+      if (c.pending.size() > kMaxLineBytes) {
+        // A line too long: told once, skipped to its end.
+        if (!c.discarding) {
+          ++stats_.lines_too_long;
+          if (!send_line(c.fd.get(), settings_.messages.line_too_long)) {
+            ++stats_.clients_not_reading;
+            return false;
+          }
+        }
+        c.discarding = true;
+        c.pending.clear();
+      }
+      return true;
+    }
+    std::string line = c.pending.substr(0, nl);
+    c.pending.erase(0, nl + 1);
+    if (c.discarding) {  // the end of a line too long
+      c.discarding = false;
+      continue;
+    }
+    if (line.size() > kMaxLineBytes) {
+      ++stats_.lines_too_long;
+      if (!send_line(c.fd.get(), settings_.messages.line_too_long)) {
+        ++stats_.clients_not_reading;
+        return false;
+      }
+      continue;
+    }
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.find_first_not_of(" \t") == std::string::npos) {
+      ++stats_.empty_lines;  // neither a request nor activity: an empty line keeps no client in
+      continue;
+    }
+    c.last_line = now;
+    --budget;
+    ++stats_.lines_answered;
+    if (!send_line(c.fd.get(), handle(line, c.watch))) {
+      ++stats_.clients_not_reading;
+      return false;
+    }
+  }
+  return true;
+}
+
 void UnixLineServer::service(const WatchHandler& handle) {
   const auto now = std::chrono::steady_clock::now();
+  if (backlog_.valid()) {
+    std::uint64_t count = 0;
+    (void)!::read(backlog_.get(), &count, sizeof count);
+  }
   close_idle(now);
   while (true) {
     UniqueFd fd(::accept4(listen_.get(), nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC));
     if (!fd.valid()) break;
-    if (clients_.size() >= kMaxClients) {
+    if (clients_.size() >= kMaxClients && !make_room(now)) {
       (void)send_line(fd.get(), settings_.messages.too_many_clients);
       ++stats_.clients_refused;
       continue;
@@ -143,67 +216,44 @@ void UnixLineServer::service(const WatchHandler& handle) {
     ++stats_.clients_accepted;
     clients_.push_back({std::move(fd), now, {}, false, std::nullopt});
   }
-  char buffer[4096];
+  // Each client at most kLinesPerService answers a call, read kReadBytes at a time: a client that
+  // pipelines requests as fast as it can is answered between epochs, a few at a time, and never
+  // makes one late; what it sent beyond waits in its buffer (and its socket) for the next call.
+  bool backlog = false;
+  char buffer[kReadBytes];
   for (auto it = clients_.begin(); it != clients_.end();) {
     Client& c = *it;
-    bool gone = false;
-    while (true) {
+    std::size_t budget = kLinesPerService;
+    bool gone = !answer_pending(c, handle, budget, now);
+    while (!gone && budget > 0) {
       const ssize_t n = ::recv(c.fd.get(), buffer, sizeof buffer, MSG_DONTWAIT);
       if (n == 0 || (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) {
         // Its end closed: a last line without '\n' is still a request (printf '...' | nc -U PATH).
-        if (n == 0 && !c.discarding && !c.pending.empty()) {
-          std::string line = std::move(c.pending);
-          c.pending.clear();
-          if (line.back() == '\r') line.pop_back();
-          if (!line.empty()) {
-            ++stats_.lines_answered;
-            (void)send_line(c.fd.get(), handle(line, c.watch));
-          }
+        if (n == 0 && !c.discarding && c.pending.find('\n') == std::string::npos && !c.pending.empty()) c.pending += '\n';
+        if (n == 0) (void)answer_pending(c, handle, budget, now);
+        if (n == 0 && c.pending.find('\n') != std::string::npos) {
+          c.closed_by_peer = true;  // lines left: answered at the next calls, then closed
+          backlog = true;
+          break;
         }
         gone = true;
         break;
       }
       if (n < 0) break;
-      std::string_view chunk(buffer, static_cast<std::size_t>(n));
-      while (!chunk.empty() && !gone) {
-        const std::size_t nl = chunk.find('\n');
-        const std::string_view part = chunk.substr(0, nl);
-        if (!c.discarding) c.pending.append(part);
-        if (c.pending.size() > kMaxLineBytes) {
-          if (!c.discarding) {
-            ++stats_.lines_too_long;
-            if (!send_line(c.fd.get(), settings_.messages.line_too_long)) {
-              gone = true;
-              ++stats_.clients_not_reading;
-            }
-          }
-          c.discarding = true;
-          c.pending.clear();
-        }
-        if (nl == std::string_view::npos) break;
-        chunk.remove_prefix(nl + 1);
-        if (!c.discarding) {
-          std::string line = std::move(c.pending);
-          c.pending.clear();
-          if (!line.empty() && line.back() == '\r') line.pop_back();
-          c.last_line = now;
-          if (!line.empty()) {
-            ++stats_.lines_answered;
-            if (!send_line(c.fd.get(), handle(line, c.watch))) {
-              gone = true;
-              ++stats_.clients_not_reading;
-            }
-          }
-        }
-        c.discarding = false;
-      }
-      if (gone) break;
+      c.pending.append(buffer, static_cast<std::size_t>(n));
+      gone = !answer_pending(c, handle, budget, now);
     }
+    if (!gone && c.closed_by_peer && c.pending.find('\n') == std::string::npos) gone = true;
+    if (!gone && budget == 0) backlog = true;  // more may wait: the loop comes back at once
     if (gone) {
       it = clients_.erase(it);
     } else {
       ++it;
     }
+  }
+  if (backlog && backlog_.valid()) {
+    const std::uint64_t one = 1;
+    (void)!::write(backlog_.get(), &one, sizeof one);
   }
 }
 

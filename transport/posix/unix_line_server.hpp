@@ -3,8 +3,11 @@
 // polls fds() and calls service() when one is readable (and between epochs). A client's last line
 // may lack its '\n' (it is answered when the client shuts its end). A line longer than
 // kMaxLineBytes, or a client whose answers do not fit its socket buffer, is dropped; a client beyond
-// kMaxClients is told so and closed; a client silent for the idle timeout is told so and closed (so
-// idle connections never lock the operator out); each counted in stats(). A path where another
+// kMaxClients takes the slot of one that sent no request for kEvictAfter, or is told so and closed;
+// a client silent for the idle timeout is told so and closed (empty lines are not requests: they
+// keep nobody in), so idle connections never lock the operator out; each counted in stats(). A
+// client is answered kLinesPerService lines a call, so one that pipelines requests never holds
+// the loop (the rest at the next call, at once). A path where another
 // server answers is refused; the socket file is removed when the server goes, if it is still ours.
 #pragma once
 
@@ -25,6 +28,12 @@ class UnixLineServer {
  public:
   static constexpr std::size_t kMaxClients = 8;
   static constexpr std::size_t kMaxLineBytes = 4096;
+  /// Lines answered a client a call of service() at most, and the bytes read from it at a time.
+  static constexpr std::size_t kLinesPerService = 4;
+  static constexpr std::size_t kReadBytes = 4096;
+  /// When every slot is taken, a newcomer takes the slot of the client whose last request is
+  /// oldest, if that is at least this long ago (a watcher keeps its slot).
+  static constexpr std::chrono::milliseconds kEvictAfter{std::chrono::seconds(2)};
   /// Answers one line (without its '\n'); the answer is sent followed by '\n'.
   using Handler = std::function<std::string(std::string_view line)>;
   /// The same; setting `watch` makes the client a watcher of push()'s lines (its value: the one
@@ -36,6 +45,7 @@ class UnixLineServer {
     std::string too_many_clients;
     std::string line_too_long;
     std::string idle_closed;
+    std::string evicted;  ///< closed for a newcomer: no request for kEvictAfter, every slot taken
   };
   struct Settings {
     Messages messages;
@@ -51,6 +61,8 @@ class UnixLineServer {
     std::uint64_t clients_not_reading = 0;  ///< an answer did not fit their socket: dropped
     std::uint64_t lines_too_long = 0;       ///< over kMaxLineBytes: answered with an error, skipped
     std::uint64_t lines_pushed = 0;         ///< push()'s lines sent to watchers
+    std::uint64_t clients_evicted = 0;      ///< closed for a newcomer (make_room)
+    std::uint64_t empty_lines = 0;          ///< skipped: neither a request nor activity
   };
 
   /// Listens on `path`: a socket file nobody listens on (left by a run that died) is replaced;
@@ -86,7 +98,12 @@ class UnixLineServer {
     std::string pending;  ///< a line not yet ended
     bool discarding = false;  ///< inside a line too long: skip to its end
     std::optional<std::int64_t> watch{};  ///< a watcher of push()'s lines with this tag (-1: all)
+    bool closed_by_peer = false;  ///< its end closed with lines left to answer
   };
+  /// With every slot taken: closes the client quiet longest, if quiet kEvictAfter; false if none is.
+  bool make_room(std::chrono::steady_clock::time_point now);
+  /// Answers c's complete lines in `pending`, `budget` at most (it counts down); false: drop c.
+  bool answer_pending(Client& c, const WatchHandler& handle, std::size_t& budget, std::chrono::steady_clock::time_point now);
   /// Closes the clients silent for longer than the idle timeout.
   void close_idle(std::chrono::steady_clock::time_point now);
   /// Sends `text` + '\n' whole, or returns false (the client is then dropped).
@@ -99,6 +116,8 @@ class UnixLineServer {
   std::uint64_t file_device_ = 0, file_inode_ = 0;  ///< that file's identity
   std::vector<Client> clients_;
   Stats stats_;
+  /// Readable while a client has more lines than one call answers (eventfd): the loop comes back.
+  UniqueFd backlog_;
 };
 
 /// A client's one exchange: connects to the server at `path`, sends `line` + '\n' and returns the
