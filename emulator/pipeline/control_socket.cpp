@@ -140,10 +140,10 @@ std::string ControlSocket::summary() const {
   const posix::UnixLineServer::Stats& s = server_.stats();
   return fmt::format("control socket {}: {} requests answered ({} errors, {} refused before parsing); {} clients "
                      "connected, {} refused (too many), {} closed for a newcomer, {} closed idle, {} dropped not "
-                     "reading; {} lines too long, {} empty lines skipped",
+                     "reading; {} lines too long, {} empty lines skipped; held to {} requests a second {} times",
                      server_.path(), s.lines_answered, error_answers_, control_.refused_shape(), s.clients_accepted,
                      s.clients_refused, s.clients_evicted, s.clients_idle_closed, s.clients_not_reading,
-                     s.lines_too_long, s.empty_lines);
+                     s.lines_too_long, s.empty_lines, posix::UnixLineServer::kLinesPerSecond, s.clients_throttled);
 }
 
 std::string parse_control_spec(const std::string& spec) {

@@ -13,6 +13,7 @@
 #include <sys/un.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <chrono>
 #include <cstring>
 #include <filesystem>
@@ -105,7 +106,8 @@ TEST(FaultsControlSocket, IdleClientsAreClosedSoCtlGetsInAndEveryDropIsCounted) 
   EXPECT_TRUE(test::contains(err, " closed idle (no request for 0.5 s)")) << err;
   EXPECT_FALSE(test::contains(err, "0 dropped (not reading")) << err;  // a drop line names only what happened
   EXPECT_TRUE(test::contains(err, "error answer to")) << err;
-  EXPECT_TRUE(test::contains(err, "2 requests answered (1 errors); 10 clients connected, 1 refused (too many), 8 closed idle"))
+  EXPECT_TRUE(test::contains(err, "2 requests answered (1 errors, 0 refused before parsing); 10 clients connected, 1 refused "
+                                  "(too many), 0 closed for a newcomer, 8 closed idle"))
       << err;
   std::filesystem::remove_all(dir);
 }
@@ -135,6 +137,103 @@ TEST(FaultsControlSocket, CtlHasAFlagForEveryParameterAndItsHelpNamesPathAndKind
   gpsemu.signal(SIGTERM);
   ASSERT_EQ(gpsemu.wait(seconds(20)), 0) << gpsemu.stderr_text();
   std::filesystem::remove_all(dir);
+}
+
+
+/// The number in "N late epochs skipped" of a run's summary (-1: none).
+int late_epochs_of(const std::string& log) {
+  const std::string key = " late epochs skipped";
+  const std::size_t at = log.find(key);
+  if (at == std::string::npos) return -1;
+  std::size_t begin = at;
+  while (begin > 0 && std::isdigit(static_cast<unsigned char>(log[begin - 1]))) --begin;
+  return std::stoi(log.substr(begin, at - begin));
+}
+
+TEST(FaultsControlSocket, EmptyLinesHoldNoSlotAndANewcomerTakesAQuietClientsPlace) {
+  const auto dir = test::scratch_dir("faults", "control-empty-lines");
+  const std::string socket = (dir / "ctl.sock").string();
+  test::Process gpsemu({GPSEMU_BINARY, "--rate", "10", "--duration", "60", "--output", "file:" + (dir / "a.nmea").string(),
+                        "--control", "unix:" + socket});
+  ASSERT_TRUE(gpsemu.wait_for_stderr("control socket", seconds(20))) << gpsemu.stderr_text();
+  // Eight clients that send only "\n", every half second, for 3 s (the default idle timeout is 30 s).
+  std::vector<int> holders;
+  for (int i = 0; i < 8; ++i) holders.push_back(connect_unix(socket));
+  for (int k = 0; k < 6; ++k) {
+    for (const int fd : holders) (void)::send(fd, "\n", 1, MSG_NOSIGNAL);
+    test::pump_for(gpsemu, milliseconds(500));
+  }
+  // The operator gets in every time (four tries), each taking the place of one of them.
+  for (int k = 0; k < 4; ++k) {
+    const test::Result status = test::run({GPSEMU_BINARY, "ctl", socket, "status"});
+    EXPECT_EQ(status.status, 0) << status.out << status.err;
+    EXPECT_TRUE(test::contains(status.out, R"("class":"STATUS")")) << status.out;
+  }
+  std::size_t told = 0;
+  for (const int fd : holders) {
+    if (test::contains(read_line(fd, milliseconds(200)), "every slot is taken")) ++told;
+    ::close(fd);
+  }
+  EXPECT_EQ(told, 1u) << "the first ctl took a quiet client's place, the others the place it left";
+  gpsemu.signal(SIGTERM);
+  ASSERT_EQ(gpsemu.wait(seconds(20)), 0) << gpsemu.stderr_text();
+  const std::string err = gpsemu.stderr_text();
+  EXPECT_TRUE(test::contains(err, "0 refused (too many), 1 closed for a newcomer")) << err;
+  EXPECT_TRUE(test::contains(err, "48 empty lines skipped")) << err;
+  std::filesystem::remove_all(dir);
+}
+
+TEST(FaultsControlSocket, AClientPipeliningRequestsMakesNoEpochLate) {
+  const auto dir = test::scratch_dir("faults", "control-pipelining");
+  const std::string socket = (dir / "ctl.sock").string();
+  test::Process gpsemu({GPSEMU_BINARY, "--rate", "10", "--duration", "60", "--output", "file:" + (dir / "a.nmea").string(),
+                        "--control", "unix:" + socket});
+  ASSERT_TRUE(gpsemu.wait_for_stderr("first epoch", seconds(20))) << gpsemu.stderr_text();
+  const int fd = connect_unix(socket);
+  ASSERT_GE(fd, 0);
+  // For 4 s, status requests as fast as the socket takes them, every answer read.
+  const std::string request = "{\"status\":true}\n";
+  std::string burst;
+  for (int k = 0; k < 64; ++k) burst += request;
+  std::size_t sent = 0, answers = 0;
+  const auto end = std::chrono::steady_clock::now() + seconds(4);
+  char buffer[65536];
+  while (std::chrono::steady_clock::now() < end) {
+    pollfd p{fd, POLLIN | POLLOUT, 0};
+    if (::poll(&p, 1, 20) <= 0) continue;
+    if (p.revents & POLLOUT) {
+      const ssize_t n = ::send(fd, burst.data(), burst.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+      if (n > 0) sent += static_cast<std::size_t>(n);
+    }
+    if (p.revents & POLLIN) {
+      const ssize_t n = ::recv(fd, buffer, sizeof buffer, MSG_DONTWAIT);
+      for (ssize_t k = 0; k < n; ++k) answers += buffer[k] == '\n';
+    }
+    gpsemu.pump(milliseconds(0));
+  }
+  ::close(fd);
+  // Answered at its rate: 100 a second after a burst of 32 (4 s: about 430), the rest held in its socket.
+  EXPECT_GT(answers, 300u) << "sent " << sent / request.size();
+  EXPECT_LT(answers, 500u) << "sent " << sent / request.size();
+  gpsemu.signal(SIGTERM);
+  ASSERT_EQ(gpsemu.wait(seconds(20)), 0) << gpsemu.stderr_text();
+  const std::string err = gpsemu.stderr_text();
+  EXPECT_GE(late_epochs_of(err), 0) << err;
+  // (The first epoch alone may be skipped when an instrumented start-up outlasts its lead: ui_server_test.)
+  EXPECT_LE(late_epochs_of(err), 1) << err.substr(err.size() > 3000 ? err.size() - 3000 : 0);
+  EXPECT_FALSE(test::contains(err, "dropped (not reading")) << err.substr(err.size() > 3000 ? err.size() - 3000 : 0);
+  EXPECT_TRUE(test::contains(err, "held to 100 requests a second 1 times")) << err.substr(err.size() > 3000 ? err.size() - 3000 : 0);
+}
+
+TEST(FaultsControlSocket, ATcpBindOffLoopbackIsRefusedAtStart) {
+  for (const std::string bind : {"tcp:0.0.0.0:0", "tcp:[::]:0"}) {
+    const test::Result r = test::run({GPSEMU_BINARY, "--fast", "--duration", "1", "--control", bind}, seconds(20));
+    EXPECT_EQ(r.status, 2) << bind << ": " << r.err;
+    EXPECT_TRUE(test::contains(r.err, "no token")) << r.err;
+  }
+  const test::Result ok = test::run({GPSEMU_BINARY, "--fast", "--duration", "1", "--output", "file:/dev/null", "--control",
+                                     "tcp:127.0.0.1:0"}, seconds(20));
+  EXPECT_EQ(ok.status, 0) << ok.err;
 }
 
 }  // namespace faults_control_socket_test

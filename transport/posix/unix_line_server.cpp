@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include <poll.h>
-#include <sys/eventfd.h>
+#include <sys/timerfd.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/un.h>
@@ -50,7 +50,7 @@ bool someone_listens(const sockaddr_un& address, const std::function<std::runtim
 }  // namespace
 
 UnixLineServer::UnixLineServer(std::string path, Settings settings)
-    : path_(std::move(path)), settings_(std::move(settings)), backlog_(::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC)) {
+    : path_(std::move(path)), settings_(std::move(settings)), wake_(::timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC)) {
   const auto fail = [this](const std::string& why) { return std::runtime_error(fmt::format("control socket {}: {}", path_, why)); };
   sockaddr_un address{};
   address.sun_family = AF_UNIX;
@@ -80,7 +80,7 @@ UnixLineServer::UnixLineServer(std::string path, Settings settings)
 
 UnixLineServer::UnixLineServer(UniqueFd listening, std::string name, Settings settings)
     : path_(std::move(name)), settings_(std::move(settings)), listen_(std::move(listening)), owns_file_(false),
-      backlog_(::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC)) {}
+      wake_(::timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC)) {}
 
 UnixLineServer::~UnixLineServer() {
   if (!listen_.valid() || !owns_file_) return;
@@ -102,7 +102,7 @@ void UnixLineServer::close_idle(std::chrono::steady_clock::time_point now) {
 
 void UnixLineServer::fds(std::vector<int>& out) const {
   out.push_back(listen_.get());
-  if (backlog_.valid()) out.push_back(backlog_.get());
+  if (wake_.valid()) out.push_back(wake_.get());
   for (const Client& c : clients_) out.push_back(c.fd.get());
 }
 
@@ -200,9 +200,9 @@ bool UnixLineServer::answer_pending(Client& c, const WatchHandler& handle, std::
 
 void UnixLineServer::service(const WatchHandler& handle) {
   const auto now = std::chrono::steady_clock::now();
-  if (backlog_.valid()) {
+  if (wake_.valid()) {
     std::uint64_t count = 0;
-    (void)!::read(backlog_.get(), &count, sizeof count);
+    (void)!::read(wake_.get(), &count, sizeof count);
   }
   close_idle(now);
   while (true) {
@@ -214,16 +214,27 @@ void UnixLineServer::service(const WatchHandler& handle) {
       continue;
     }
     ++stats_.clients_accepted;
-    clients_.push_back({std::move(fd), now, {}, false, std::nullopt});
+    Client client{std::move(fd), now, {}, false, std::nullopt};
+    client.credit_at = now;
+    clients_.push_back(std::move(client));
   }
-  // Each client at most kLinesPerService answers a call, read kReadBytes at a time: a client that
-  // pipelines requests as fast as it can is answered between epochs, a few at a time, and never
-  // makes one late; what it sent beyond waits in its buffer (and its socket) for the next call.
-  bool backlog = false;
+  // Each client at most kLinesPerService answers a call and kLinesPerSecond on average (a burst of
+  // kLinesBurst), read kReadBytes at a time: a client that pipelines requests as fast as it can is
+  // answered between epochs, a few at a time, and never makes one late; what it sent beyond waits
+  // in its buffer and its socket (its sends block: the kernel's back-pressure), and the loop comes
+  // back when its budget allows (wake_).
+  std::optional<std::chrono::steady_clock::duration> come_back;
+  const auto again_in = [&come_back](std::chrono::steady_clock::duration d) {
+    if (!come_back || d < *come_back) come_back = d;
+  };
   char buffer[kReadBytes];
   for (auto it = clients_.begin(); it != clients_.end();) {
     Client& c = *it;
-    std::size_t budget = kLinesPerService;
+    const double elapsed_s = std::chrono::duration<double>(now - c.credit_at).count();
+    c.credit = std::min(static_cast<double>(kLinesBurst), c.credit + elapsed_s * static_cast<double>(kLinesPerSecond));
+    c.credit_at = now;
+    std::size_t budget = std::min<std::size_t>(kLinesPerService, static_cast<std::size_t>(c.credit));
+    const std::size_t given = budget;
     bool gone = !answer_pending(c, handle, budget, now);
     while (!gone && budget > 0) {
       const ssize_t n = ::recv(c.fd.get(), buffer, sizeof buffer, MSG_DONTWAIT);
@@ -233,7 +244,6 @@ void UnixLineServer::service(const WatchHandler& handle) {
         if (n == 0) (void)answer_pending(c, handle, budget, now);
         if (n == 0 && c.pending.find('\n') != std::string::npos) {
           c.closed_by_peer = true;  // lines left: answered at the next calls, then closed
-          backlog = true;
           break;
         }
         gone = true;
@@ -243,17 +253,33 @@ void UnixLineServer::service(const WatchHandler& handle) {
       c.pending.append(buffer, static_cast<std::size_t>(n));
       gone = !answer_pending(c, handle, budget, now);
     }
+    c.credit -= static_cast<double>(given - budget);
     if (!gone && c.closed_by_peer && c.pending.find('\n') == std::string::npos) gone = true;
-    if (!gone && budget == 0) backlog = true;  // more may wait: the loop comes back at once
+    if (!gone && budget == 0) {
+      // More may wait: at once while its rate allows, else when a line's credit is back.
+      if (c.credit >= 1.0) {
+        again_in(std::chrono::microseconds(1));
+      } else {
+        if (!c.throttled) ++stats_.clients_throttled;
+        c.throttled = true;
+        again_in(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+            std::chrono::duration<double>((1.0 - c.credit) / static_cast<double>(kLinesPerSecond))));
+      }
+    } else if (!gone) {
+      c.throttled = false;
+    }
     if (gone) {
       it = clients_.erase(it);
     } else {
       ++it;
     }
   }
-  if (backlog && backlog_.valid()) {
-    const std::uint64_t one = 1;
-    (void)!::write(backlog_.get(), &one, sizeof one);
+  if (come_back && wake_.valid()) {
+    const auto ns = std::max<std::int64_t>(1, std::chrono::duration_cast<std::chrono::nanoseconds>(*come_back).count());
+    itimerspec once{};
+    once.it_value.tv_sec = static_cast<time_t>(ns / 1'000'000'000);
+    once.it_value.tv_nsec = static_cast<long>(ns % 1'000'000'000);
+    (void)::timerfd_settime(wake_.get(), 0, &once, nullptr);
   }
 }
 

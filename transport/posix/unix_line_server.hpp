@@ -6,8 +6,8 @@
 // kMaxClients takes the slot of one that sent no request for kEvictAfter, or is told so and closed;
 // a client silent for the idle timeout is told so and closed (empty lines are not requests: they
 // keep nobody in), so idle connections never lock the operator out; each counted in stats(). A
-// client is answered kLinesPerService lines a call, so one that pipelines requests never holds
-// the loop (the rest at the next call, at once). A path where another
+// client is answered kLinesPerService lines a call and kLinesPerSecond a second, so one that
+// pipelines requests never holds the loop (the rest later; its sends block meanwhile). A path where another
 // server answers is refused; the socket file is removed when the server goes, if it is still ours.
 #pragma once
 
@@ -31,6 +31,9 @@ class UnixLineServer {
   /// Lines answered a client a call of service() at most, and the bytes read from it at a time.
   static constexpr std::size_t kLinesPerService = 4;
   static constexpr std::size_t kReadBytes = 4096;
+  /// A client's lines answered a second at most, on average, and in a burst.
+  static constexpr std::size_t kLinesPerSecond = 100;
+  static constexpr std::size_t kLinesBurst = 32;
   /// When every slot is taken, a newcomer takes the slot of the client whose last request is
   /// oldest, if that is at least this long ago (a watcher keeps its slot).
   static constexpr std::chrono::milliseconds kEvictAfter{std::chrono::seconds(2)};
@@ -63,6 +66,7 @@ class UnixLineServer {
     std::uint64_t lines_pushed = 0;         ///< push()'s lines sent to watchers
     std::uint64_t clients_evicted = 0;      ///< closed for a newcomer (make_room)
     std::uint64_t empty_lines = 0;          ///< skipped: neither a request nor activity
+    std::uint64_t clients_throttled = 0;    ///< times a client's requests were held to kLinesPerSecond
   };
 
   /// Listens on `path`: a socket file nobody listens on (left by a run that died) is replaced;
@@ -99,6 +103,9 @@ class UnixLineServer {
     bool discarding = false;  ///< inside a line too long: skip to its end
     std::optional<std::int64_t> watch{};  ///< a watcher of push()'s lines with this tag (-1: all)
     bool closed_by_peer = false;  ///< its end closed with lines left to answer
+    double credit = static_cast<double>(kLinesBurst);  ///< lines it may send now (kLinesPerSecond refill it)
+    std::chrono::steady_clock::time_point credit_at{};
+    bool throttled = false;  ///< its last call ended on its rate
   };
   /// With every slot taken: closes the client quiet longest, if quiet kEvictAfter; false if none is.
   bool make_room(std::chrono::steady_clock::time_point now);
@@ -116,8 +123,9 @@ class UnixLineServer {
   std::uint64_t file_device_ = 0, file_inode_ = 0;  ///< that file's identity
   std::vector<Client> clients_;
   Stats stats_;
-  /// Readable while a client has more lines than one call answers (eventfd): the loop comes back.
-  UniqueFd backlog_;
+  /// Readable when a client has more lines than one call answered (timerfd): the loop comes back
+  /// at once, or when a throttled client's rate allows another line.
+  UniqueFd wake_;
 };
 
 /// A client's one exchange: connects to the server at `path`, sends `line` + '\n' and returns the
