@@ -1,6 +1,7 @@
 // Loading a configuration: defaults, the TOML file, the command line, the [[receiver]] tables;
 // then resolving it into a Config (validate.hpp, fleet_config.hpp).
 #include "emulator/config/config.hpp"
+#include "emulator/config/toml_shape.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -301,6 +302,7 @@ namespace {
 Config build_config(const std::optional<std::string>& config_file, const RawOptions& command_line) {
   if (!config_file) return build(nullptr, {}, command_line);
   const std::string text = read_config_file(*config_file, "config file");
+  check_toml_shape(text, "config file", *config_file);
   toml::table file;
   try {
     file = toml::parse(text, *config_file);
@@ -318,6 +320,7 @@ Config build_config_from_text(std::string_view toml_text, const std::string& sou
     throw ConfigError(fmt::format("config file {}: larger than 1 MiB ({} bytes); a config file may have at most {} "
                                   "bytes", source_name, toml_text.size(), kMaxConfigFileBytes));
   }
+  check_toml_shape(toml_text, "config file", source_name);
   toml::table file;
   try {
     file = toml::parse(toml_text, source_name);

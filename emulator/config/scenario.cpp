@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "emulator/config/toml_shape.hpp"
 #include "emulator/faults/tee_events.hpp"
 
 #include "emulator/config/config_options.hpp"
@@ -67,6 +68,7 @@ std::vector<faults::Fault> load_scenario(const std::string& path) {
       throw ConfigError(config_values::shorten_quoted(fmt::format("scenario file {} (a --tee file): {}", path, e.what())));
     }
   }
+  check_toml_shape(text, "scenario file", path);
   toml::table file;
   try {
     file = toml::parse(text, path);

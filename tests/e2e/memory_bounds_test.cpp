@@ -96,6 +96,34 @@ TEST(MemoryBounds, AConfigFileOverOneMebibyteIsRefusedInOneShortLine) {
   EXPECT_EQ(fine.status, 0) << fine.err;
 }
 
+TEST(MemoryBounds, KeysOfThousandsOfPartsAndDeepValuesAreRefusedBeforeParsing) {
+  // [a.a.a...] of 50 000 parts crashed gpsemu (SIGSEGV, no message), as a --config and a --scenario.
+  const auto dir = test::scratch_dir("memory", "key_parts");
+  std::string parts = "a";
+  for (int k = 1; k < 50000; ++k) parts += ".a";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"[" + parts + "]\nx = 1\n", "a key of more than 16 dotted parts"},
+      {"[[fault]]\n" + parts + " = 1\n", "a key of more than 16 dotted parts"},
+      {"x = " + std::string(50000, '[') + std::string(50000, ']') + "\n", "values nested deeper than 16 levels"},
+      {"x = " + std::string(20000, '{') + "\n", "values nested deeper than 16 levels"}};
+  for (const auto& [text, says] : cases) {
+    const auto file = test::write_file(dir / "deep.toml", text);
+    for (const std::string flag : {"--config", "--scenario"}) {
+      const Result r = run({flag, file.string(), "--fast", "--duration", "1"});
+      EXPECT_EQ(r.status, 2) << flag << " " << r.err.substr(0, 300);
+      EXPECT_NE(r.err.find(says), std::string::npos) << flag << " " << r.err.substr(0, 300);
+      EXPECT_NE(r.err.find("deep.toml:"), std::string::npos) << r.err.substr(0, 300);
+      EXPECT_LT(r.err.size(), 300u) << r.err.substr(0, 300);
+    }
+  }
+  // Dots in values, comments and strings are not key parts.
+  const auto fine = test::write_file(dir / "fine.toml", "# a.b.c.d.e.f.g.h.i.j.k.l.m.n.o.p.q.r.s.t\nseed = 1\n"
+                                                        "origin = \"1.2.3.4.5.6.7.8.9.10.11.12.13.14.15.16.17.18\"\n");
+  const Result ok = run({"--config", fine.string(), "--fast", "--duration", "1", "--output", "stdout", "--log-level", "warn"});
+  EXPECT_NE(ok.err.find("origin"), std::string::npos) << "the origin's own check, not the shape's: " << ok.err;
+  EXPECT_EQ(ok.err.find("dotted parts"), std::string::npos) << ok.err;
+}
+
 TEST(MemoryBounds, AHugeValueIsCutTo80CharactersInTheMessage) {
   const auto dir = test::scratch_dir("memory", "value");
   const auto file = test::write_file(dir / "value.toml", "seed = \"" + std::string(900000, 'y') + "\"\n");
