@@ -70,9 +70,22 @@ void RtkReceiver::service() {
       it = streams_.end() - 1;
     }
     const std::uint64_t bad_before = it->reader.stats().bad_crc, garbage_before = it->reader.stats().garbage_bytes;
-    for (const rtk::Rtcm3Frame& frame : it->reader.feed(got->bytes)) received(rtk::decode_rtcm3(frame.payload));
+    for (const rtk::Rtcm3Frame& frame : it->reader.feed(got->bytes)) {
+      socket_->frame_from(got->source);  // a good CRC: this stream is a base station's
+      received(rtk::decode_rtcm3(frame.payload));
+    }
     counts_.stream_bad_crc += it->reader.stats().bad_crc - bad_before;
     counts_.stream_garbage_bytes += it->reader.stats().garbage_bytes - garbage_before;
+  }
+  const transport::RtcmSocket::Drops drops = socket_->drops();
+  if ((drops.refused != drops_logged_.refused || drops.replaced != drops_logged_.replaced ||
+       drops.other_senders != drops_logged_.other_senders) &&
+      transport::log_limited(drop_log_, spdlog::level::warn,
+                             "RTK: {}: {} connection(s) refused (every slot held by a base), {} closed to make room "
+                             "(no good frame, or quiet {} s), {} datagram(s) of other senders dropped (so far)",
+                             socket_->describe(), drops.refused, drops.replaced, transport::RtcmSocket::kQuietS,
+                             drops.other_senders)) {
+    drops_logged_ = drops;
   }
   if (counts_.stream_bad_crc != bad_crc_logged_ && bad_crc_log_.admit(transport::LogLimit::Clock::now())) {
     (void)bad_crc_log_.take_suppressed();
@@ -136,9 +149,15 @@ std::string RtkReceiver::summary(std::uint64_t port_bad_crc) const {
     if (counts_.by_type[type] == 0) continue;
     types += fmt::format("{}{} x{}", types.empty() ? "" : ", ", type, counts_.by_type[type]);
   }
-  return fmt::format("RTK: {} RTCM3 message(s) ({}), {} bad CRC dropped, {} too short; epochs DGPS {}, float {}, fixed {}",
+  std::string input;
+  if (socket_) {
+    const transport::RtcmSocket::Drops d = socket_->drops();
+    input = fmt::format("; {}: {} connection(s) refused, {} closed to make room, {} datagram(s) of other senders dropped",
+                        socket_->describe(), d.refused, d.replaced, d.other_senders);
+  }
+  return fmt::format("RTK: {} RTCM3 message(s) ({}), {} bad CRC dropped, {} too short; epochs DGPS {}, float {}, fixed {}{}",
                      counts_.messages, types.empty() ? "none" : types, bad, counts_.invalid, counts_.epochs_dgps,
-                     counts_.epochs_float, counts_.epochs_fixed);
+                     counts_.epochs_float, counts_.epochs_fixed, input);
 }
 
 }  // namespace gpsemu

@@ -80,6 +80,8 @@ class RtkReceiver {
   std::optional<nmea::FixQuality> logged_;  ///< the last state logged
   std::uint64_t bad_crc_logged_ = 0;
   transport::LogLimit bad_crc_log_{1};
+  transport::LogLimit drop_log_{1};
+  transport::RtcmSocket::Drops drops_logged_{};
 };
 
 }  // namespace gpsemu
