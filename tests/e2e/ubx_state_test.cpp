@@ -173,6 +173,33 @@ TEST(UbxState, ThePtyIsUart1AndStoredLayersSurviveARestartThroughReceiverState) 
   ::close(fd);
 }
 
+TEST(UbxState, TheStateFileIsNeverWrittenThroughALinkPlantedBesideIt) {
+  // As root, a link at PATH.new (the old temporary's name) made gpsemu overwrite the link's target.
+  const auto dir = test::scratch_dir("ubx_state", "planted-link");
+  const auto state = dir / "f9p.state";
+  const auto victim = test::write_file(dir / "victim", "precious\n");
+  std::filesystem::create_symlink(victim, dir / "f9p.state.new");
+  {
+    test::Process gpsemu = start(dir / "gps", {"--receiver", "ublox-f9p", "--receiver-state", state.string()});
+    ASSERT_TRUE(gpsemu.wait_for_stderr("NMEA+UBX on", seconds(20))) << gpsemu.stderr_text();
+    const int fd = test::open_raw(dir / "gps");
+    send(fd, cfg_valset, ubx::test::valset({{ubx::key::rate_meas, 200}}, ubx::layer_bit_bbr));
+    EXPECT_TRUE(acked(hear(fd, 700ms), cfg_valset));
+    ::close(fd);
+    gpsemu.signal(SIGTERM);
+    EXPECT_EQ(gpsemu.wait(seconds(10)), 0) << gpsemu.stderr_text();
+  }
+  EXPECT_EQ(test::read_file(victim), "precious\n") << "the link's target was overwritten";
+  EXPECT_TRUE(std::filesystem::is_symlink(dir / "f9p.state.new")) << "the planted link is left alone";
+  EXPECT_FALSE(std::filesystem::is_symlink(state));
+  EXPECT_NE(test::read_file(state).find("bbr key 30210001 c8"), std::string::npos) << test::read_file(state);
+  // No temporary left behind.
+  std::size_t files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) files += entry.path().filename().string().starts_with(".") ? 1 : 0;
+  EXPECT_EQ(files, 0u);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(UbxState, ABadReceiverStateFileStopsTheStartWithItsLine) {
   const auto dir = test::scratch_dir("ubx_state", "bad");
   const auto state = test::write_file(dir / "bad.state", "gpsemu u-blox receiver state 1\nmodel ublox-f9p\nbbr key zz 1\n");

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <string_view>
 #include <utility>
 
@@ -67,5 +68,12 @@ struct InputBudget {
                                          const std::function<void(std::string_view)>& consume = {}) {
   return drain_input(fd, InputBudget{.bytes = limit_bytes}, consume);
 }
+
+/// Replaces the file at `path` with `text` whole or not at all, safely in a directory others may
+/// write to (gpsemu may run as root): the text goes to a new temporary file of its own in the
+/// same directory (mkstemp: O_EXCL, never through a link someone put there), is flushed, and is
+/// renamed over `path` (rename replaces a link at `path` itself, never its target). False with
+/// `error` set when it cannot (the temporary is removed).
+bool replace_file(const std::string& path, std::string_view text, std::string& error);
 
 }  // namespace gpsemu::posix

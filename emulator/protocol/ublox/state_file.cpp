@@ -8,6 +8,8 @@
 
 #include <fmt/format.h>
 
+#include "transport/posix/fd.hpp"
+
 namespace gpsemu::protocol {
 
 /// A state file is a few kilobytes; anything far larger is not one.
@@ -34,23 +36,7 @@ ubx::StoredLayers read_receiver_state(const std::string& path, ubx::ReceiverMode
 
 bool write_receiver_state(const std::string& path, const ubx::StoredLayers& layers, ubx::ReceiverModel model,
                           std::string& error) {
-  const std::string temporary = path + ".new";
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out << ubx::to_text(layers, model);
-    out.flush();
-    if (!out) {
-      error = fmt::format("cannot write {}", temporary);
-      return false;
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) {
-    error = fmt::format("cannot rename {} to {}: {}", temporary, path, ec.message());
-    return false;
-  }
-  return true;
+  return posix::replace_file(path, ubx::to_text(layers, model), error);
 }
 
 }  // namespace gpsemu::protocol
