@@ -108,8 +108,9 @@ StateDecodeResult decode_state(const Frame& f) {
       const auto lat_e7 = get<std::int32_t>(f, 84), lon_e7 = get<std::int32_t>(f, 88);
       double lat = get_f(f, 52), lon = get_f(f, 56);
       // ArduPilot's SITL writes degE7 into the float fields too; without lat_int/lon_int (before
-      // the extension) a value beyond the degree range is read as degE7.
-      if (std::abs(lat) > 90.0 || std::abs(lon) > 180.0) {
+      // the extension) the pair is read as degE7 when both are beyond the degree range (one alone
+      // is a nonsense value, refused as out of range: lat 400 is not 0.00004 degrees).
+      if (std::abs(lat) > 90.0 && std::abs(lon) > 180.0) {
         lat *= 1e-7;
         lon *= 1e-7;
       }

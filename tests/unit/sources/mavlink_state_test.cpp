@@ -71,6 +71,17 @@ TEST(MavlinkState, ArduPilotsDegE7InTheFloatFieldsIsReadAsDegE7) {
   EXPECT_NEAR(s.lon_deg, 13.3777, 1e-5);
 }
 
+TEST(MavlinkState, OneFloatFieldBeyondItsRangeIsRefusedNotReadAsDegE7) {
+  // lat 400 beside a valid lon 13.4, no integer fields: once read as 0.00004, 0.0000013 (a fix
+  // 8 710 km from the origin), refused now; so is the mirror case.
+  for (const auto& [lat, lon] : {std::pair{400.0f, 13.4f}, std::pair{52.5f, 1800.0f}}) {
+    const auto p = sim_state_payload({{0, 1.0f}, {52, lat}, {56, lon}, {60, 34.0f}});
+    const auto r = decode_state(frame_of(encode_frame(kSimStateId, p, {.version = 1})));
+    ASSERT_TRUE(std::holds_alternative<PoseReject>(r)) << lat << " " << lon;
+    EXPECT_EQ(std::get<PoseReject>(r), PoseReject::out_of_range);
+  }
+}
+
 TEST(MavlinkState, ValuesAJsonPoseWouldBeRefusedForAreRefusedByTheSameReason) {
   const auto reason = [](const VehicleState& s) {
     const auto r = decode_state(frame_of(encode_state(s)));
