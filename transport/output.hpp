@@ -102,6 +102,8 @@ class Output {
 
   /// Where a client connects: "/dev/pts/3 (link /tmp/gpsemu)", "stdout", "file out.nmea".
   [[nodiscard]] virtual std::string describe() const = 0;
+  /// What the exit summary adds about this output's clients ("; clients: 3 connected, ..."), if it has any.
+  [[nodiscard]] virtual std::string clients_summary() const { return {}; }
 
   /// Flushes buffered bytes (files). Called at shutdown.
   virtual void flush() {}

@@ -1,9 +1,11 @@
 #include "transport/tcp_output.hpp"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <sys/socket.h>
 
 #include <cerrno>
+#include <utility>
 
 #include "transport/posix/sockets.hpp"
 
@@ -19,11 +21,33 @@ TcpOutput::TcpOutput(const std::string& host, std::uint16_t port, TcpOutputOptio
     : options_(options),
       server_(host, port, "tcp output: cannot listen on tcp:" + posix::host_port(host, port),
               {.max_clients = options.max_clients, .no_delay = true,  // an epoch goes out at once
-               .send_buffer_bytes = options.socket_send_buffer_bytes}),
+               .send_buffer_bytes = options.socket_send_buffer_bytes, .take_over = [this] { return most_behind(); }}),
       description_("tcp:" + server_.address()),
       pending_(options.max_clients),
-      ids_(options.max_clients, 0) {
+      ids_(options.max_clients, 0),
+      connected_at_(options.max_clients) {
   spdlog::info("tcp output: listening on {}", description_);
+}
+
+std::optional<std::size_t> TcpOutput::most_behind() const {
+  // Every slot taken: a newcomer takes the place of the client most behind (bytes waiting for it
+  // here and in its socket), the oldest of those equally behind, among those connected for
+  // kTakeOverAfter at least; so clients that connect and never read cannot keep a reader out,
+  // and the one that came last is the last to go.
+  const auto now = std::chrono::steady_clock::now();
+  std::optional<std::size_t> best;
+  std::pair<std::uint64_t, std::int64_t> best_score{};
+  for (std::size_t slot = 0; slot < server_.slots(); ++slot) {
+    if (!server_.occupied(slot) || now - connected_at_[slot] < kTakeOverAfter) continue;
+    std::uint64_t behind = pending_[slot].size();
+    if (const auto st = posix::tcp_peer_state(server_.client_fd(slot))) behind += st->unsent_bytes;
+    const std::pair<std::uint64_t, std::int64_t> score{behind, -connected_at_[slot].time_since_epoch().count()};
+    if (!best || score > best_score) {
+      best = slot;
+      best_score = score;
+    }
+  }
+  return best;
 }
 
 void TcpOutput::close_client(std::size_t slot, const char* why) {
@@ -116,6 +140,13 @@ void TcpOutput::handle(const posix::TcpServerEvent& event) {
     return;
   }
   if (event.kind == Kind::connected) {
+    if (event.replaced != 0) {
+      ++tcp_stats_.clients_replaced;
+      log_limited(refused_log_, spdlog::level::warn, "{}: client {} took the place of one {} s old and most behind "
+                  "(every one of {} slots taken)", description_, event.peer,
+                  std::chrono::duration_cast<std::chrono::seconds>(kTakeOverAfter).count(), server_.slots());
+    }
+    connected_at_[event.slot] = std::chrono::steady_clock::now();
     pending_[event.slot].clear();
     ids_[event.slot] = new_client_id();
     ++tcp_stats_.clients_accepted;
@@ -138,6 +169,13 @@ void TcpOutput::handle(const posix::TcpServerEvent& event) {
     ++tcp_stats_.clients_closed;
     close_client(event.slot, "closed the connection");
   }
+}
+
+std::string TcpOutput::clients_summary() const {
+  const TcpStats& t = tcp_stats_;
+  return fmt::format("; clients: {} connected, {} refused (every slot taken), {} closed for a newcomer (most behind), "
+                     "{} dropped too slow, {} closed", t.clients_accepted, t.clients_refused, t.clients_replaced,
+                     t.clients_dropped_slow, t.clients_closed);
 }
 
 void TcpOutput::report_drops() {

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,7 +22,8 @@
 namespace gpsemu::transport {
 
 struct TcpOutputOptions {
-  std::size_t max_clients = 32;  ///< more are accepted and closed at once (counted)
+  /// More take the place of the client most behind (connected 2 s at least), else are closed at once (counted).
+  std::size_t max_clients = 32;
   /// Bytes an epoch may wait for one client beyond what its socket buffer holds; a client whose
   /// backlog would pass this is disconnected (bytes).
   std::size_t client_buffer_bytes = 64 * 1024;
@@ -32,7 +34,8 @@ struct TcpOutputOptions {
 
 struct TcpStats {
   std::uint64_t clients_accepted = 0;
-  std::uint64_t clients_refused = 0;       ///< beyond max_clients
+  std::uint64_t clients_refused = 0;       ///< beyond max_clients, none connected kTakeOverAfter
+  std::uint64_t clients_replaced = 0;      ///< closed for a newcomer: every slot taken, the one most behind
   std::uint64_t clients_dropped_slow = 0;  ///< disconnected because their buffer was full
   std::uint64_t clients_closed = 0;        ///< closed by the client (or reset)
   std::uint64_t input_bytes_discarded = 0;
@@ -51,6 +54,7 @@ class TcpOutput final : public Output {
   /// "tcp:127.0.0.1:10110".
   [[nodiscard]] std::string describe() const override { return description_; }
 
+  [[nodiscard]] std::string clients_summary() const override;
   [[nodiscard]] std::uint16_t port() const { return server_.port(); }
   [[nodiscard]] std::size_t client_count() const { return server_.client_count(); }
   [[nodiscard]] const TcpStats& tcp_stats() const { return tcp_stats_; }
@@ -62,6 +66,9 @@ class TcpOutput final : public Output {
   WriteStatus write_reply(ClientId client, std::string_view bytes, std::string& error_text) override;
 
  private:
+  /// A newcomer with every slot taken takes the place of a client connected this long at least.
+  static constexpr std::chrono::milliseconds kTakeOverAfter{2000};
+  [[nodiscard]] std::optional<std::size_t> most_behind() const;
   void handle(const posix::TcpServerEvent& event);
   void close_client(std::size_t slot, const char* why);
   /// Sends what waits; false when the connection failed (the caller closes it).
@@ -74,6 +81,7 @@ class TcpOutput final : public Output {
   /// Per client slot: bytes its socket did not take yet (whole epochs, the first partly sent).
   std::vector<std::string> pending_;
   std::vector<ClientId> ids_;  ///< per client slot: the connection's ClientId
+  std::vector<std::chrono::steady_clock::time_point> connected_at_;  ///< per client slot
   std::vector<std::size_t> failed_, slow_;  ///< write_bytes' scratch lists (slots)
   TcpStats tcp_stats_;
   TcpStats reported_;

@@ -110,12 +110,13 @@ void Sink::log_opened(std::size_t i, std::string_view protocol) const {
 void Sink::log_summary(std::size_t i) const {
   for (const auto& out : receivers_.at(i)) {
     const auto& s = out->stats();
-    spdlog::info("{}{}: {} epochs written ({} bytes), {} dropped, {} failed{}{}", who(i), out->describe(),
+    spdlog::info("{}{}: {} epochs written ({} bytes), {} dropped, {} failed{}{}{}", who(i), out->describe(),
                  s.epochs_written, s.bytes_written, s.epochs_dropped, s.epochs_failed,
                  s.epochs_empty != 0 ? fmt::format(", {} with nothing to send", s.epochs_empty) : "",
                  s.replies_written != 0
                      ? fmt::format("; {} replies to the client ({} bytes)", s.replies_written, s.reply_bytes_written)
-                     : "");
+                     : "",
+                 out->clients_summary());
     if (s.replies_dropped > 0) {
       spdlog::warn("{}{}: answers to clients: {} batches written, {} dropped whole ({} bytes; a batch answers one read "
                    "of a client's): no room for them", who(i), out->describe(), s.replies_written, s.replies_dropped,

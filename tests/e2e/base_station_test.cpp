@@ -166,6 +166,39 @@ TEST(BaseStation, ATcpServerOutputServesSeveralClients) {
   EXPECT_EQ(stop(base), 0) << base.stderr_text();
 }
 
+TEST(BaseStation, ClientsThatNeverReadDoNotKeepARealReaderOut) {
+  // 300 connections that never read (32 slots); a real reader arriving 2.5 s later is served.
+  test::Process base({GPSEMU_BINARY, "base", "--output", "tcp:0", "--systems", "GPS"});
+  const auto port = test::wait_for_port(base, "listening on tcp:");
+  ASSERT_TRUE(port) << base.stderr_text();
+  std::vector<int> idle;
+  for (int i = 0; i < 300; ++i) {
+    const int fd = test::connect_to_loopback(::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0), *port);
+    if (fd >= 0) idle.push_back(fd);
+  }
+  test::pump_for(base, milliseconds(2500));
+  const int reader = test::connect_to_loopback(::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0), *port);
+  ASSERT_GE(reader, 0);
+  std::string got;
+  bool closed = false;
+  for (const auto until = steady_clock::now() + seconds(8); steady_clock::now() < until && !closed;) {
+    base.pump(milliseconds(50));
+    char buf[4096];
+    ssize_t n;
+    while ((n = ::recv(reader, buf, sizeof buf, MSG_DONTWAIT)) > 0) got.append(buf, static_cast<std::size_t>(n));
+    closed = n == 0;
+    if (rtk::Rtcm3Reader().feed(got).size() >= 6) break;
+  }
+  EXPECT_FALSE(closed) << "the reader was closed\n" << base.stderr_text();
+  EXPECT_GE(rtk::Rtcm3Reader().feed(got).size(), 6u) << base.stderr_text();
+  ::close(reader);
+  for (const int fd : idle) ::close(fd);
+  EXPECT_EQ(stop(base), 0) << base.stderr_text();
+  const std::string err = base.stderr_text();
+  EXPECT_NE(err.find("1 closed for a newcomer (most behind)"), std::string::npos) << err;
+  EXPECT_NE(err.find("268 refused (every slot taken)"), std::string::npos) << err;
+}
+
 /// The base at Madison, 10 epochs as fast as they go from a fixed time, to a file.
 test::Result run_base_to(const fs::path& file, const std::vector<std::string>& more) {
   std::vector<std::string> argv{GPSEMU_BINARY, "base", "--fast", "--duration", "10", "--start-time", "2024-05-01T12:00:00Z",
