@@ -30,7 +30,7 @@ namespace unix_line_server_test {
 using namespace std::chrono_literals;
 
 UnixLineServer::Settings settings(std::chrono::milliseconds idle_timeout = 0ms) {
-  return {{"too many", "too long", "idle"}, idle_timeout};
+  return {{"too many", "too long", "idle", "evicted"}, idle_timeout};
 }
 
 sockaddr_un address_of(const std::string& path) {
