@@ -17,6 +17,7 @@
 #include "emulator/model/time.hpp"
 #include "emulator/ubx/receiver_state.hpp"
 #include "nmea/fix.hpp"
+#include "transport/log_limit.hpp"
 
 namespace gpsemu::faults {
 
@@ -119,6 +120,7 @@ class FaultTimeline {
   std::vector<AppliedEvent> applied_;
   LastEpoch last_epoch_;
   std::string who_;
+  transport::LogLimit applied_log_{5};  ///< "control: applied" lines: a few a second (a flood of requests)
   UtcNs first_epoch_;
   bool keeps_last_ = false;            ///< a freeze is still to come: keep the last fix
   std::optional<nmea::Fix> last_;      ///< the last epoch's fix as written

@@ -81,8 +81,8 @@ void ControlSocket::service() {
     std::string answer = this->answer(line, watch);
     if (answer.rfind(kErrorClass, 0) == 0) {
       ++error_answers_;
-      transport::log_limited(error_log_, spdlog::level::warn, "control socket {}: error answer to {}: {}", server_.path(),
-                             line.substr(0, 200), answer);
+      transport::log_limited(error_log_, spdlog::level::warn, "control socket {}: error answer to {:?}: {}", server_.path(),
+                             line.substr(0, 200), answer);  // the client's bytes escaped
     }
     return answer;
   });

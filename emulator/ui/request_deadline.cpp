@@ -79,9 +79,12 @@ void RequestDeadline::run() {
     std::erase_if(connections_, [](const auto& entry) { return entry.second.unseen > (entry.second.answering ? 8 : 0); });
     for (auto& [peer, c] : connections_) {
       if (c.answering || c.unseen > 0 || now - c.since < deadline_) continue;
+      // Counted before the shutdown: the thread serving it may answer its 400 at once.
+      unclaimed_.fetch_add(1, std::memory_order_relaxed);
       if (posix::shut_down_connection(c.fd, peer)) {
         closed_.fetch_add(1, std::memory_order_relaxed);
-        unclaimed_.fetch_add(1, std::memory_order_relaxed);
+      } else {
+        (void)claim_ended();
       }
       c.since = now;  // once; the thread serving it closes it
       c.ended = true;

@@ -195,8 +195,11 @@ TEST(BaseStation, ClientsThatNeverReadDoNotKeepARealReaderOut) {
   for (const int fd : idle) ::close(fd);
   EXPECT_EQ(stop(base), 0) << base.stderr_text();
   const std::string err = base.stderr_text();
-  EXPECT_NE(err.find("1 closed for a newcomer (most behind)"), std::string::npos) << err;
-  EXPECT_NE(err.find("268 refused (every slot taken)"), std::string::npos) << err;
+  // (How many of the 300 were refused or took an older one's place depends on how fast they were
+  // accepted: a loaded machine spreads them over more than 2 s.)
+  EXPECT_NE(err.find("closed for a newcomer (most behind)"), std::string::npos) << err;
+  EXPECT_EQ(err.find(" 0 closed for a newcomer"), std::string::npos) << err;
+  EXPECT_NE(err.find("refused (every slot taken)"), std::string::npos) << err;
 }
 
 /// The base at Madison, 10 epochs as fast as they go from a fixed time, to a file.

@@ -28,15 +28,16 @@ const Geodetic kOrigin{47.0, 8.0, 400.0};
 
 int port_of(const std::string& described) { return std::stoi(described.substr(described.rfind(':') + 1)); }
 
+/// From one socket, as a base station sends (str2str's udpcli): --rtcm udp: takes the first sender
+/// of a good frame as the base and drops other senders' datagrams until it is quiet 2 s.
 void send_to(int port, const std::string& bytes) {
-  const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+  static const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
   sockaddr_in a{};
   a.sin_family = AF_INET;
   a.sin_port = htons(static_cast<std::uint16_t>(port));
   a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
   ASSERT_EQ(::sendto(fd, bytes.data(), bytes.size(), 0, reinterpret_cast<sockaddr*>(&a), sizeof a),
             static_cast<ssize_t>(bytes.size()));
-  ::close(fd);
 }
 
 std::string corrections() {
