@@ -40,7 +40,7 @@ std::optional<std::size_t> TcpOutput::most_behind() const {
   for (std::size_t slot = 0; slot < server_.slots(); ++slot) {
     if (!server_.occupied(slot) || now - connected_at_[slot] < kTakeOverAfter) continue;
     std::uint64_t behind = pending_[slot].size();
-    if (const auto st = posix::tcp_peer_state(server_.client_fd(slot))) behind += st->unsent_bytes;
+    behind += posix::tcp_unsent_bytes(server_.client_fd(slot)).value_or(0);
     const std::pair<std::uint64_t, std::int64_t> score{behind, -connected_at_[slot].time_since_epoch().count()};
     if (!best || score > best_score) {
       best = slot;

@@ -23,6 +23,7 @@
 #include "nmea/parse.hpp"
 #include "tests/support/process.hpp"
 #include "tests/support/gpsd.hpp"
+#include "tests/support/rtk_rover.hpp"
 
 namespace gpsemu {
 namespace {
@@ -40,17 +41,8 @@ std::string corrections(int k) {
 }
 
 std::set<int> gga_qualities(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  std::set<int> out;
-  nmea::StreamReader reader;
-  for (const auto& s : reader.feed(text.str())) {
-    if (s.type != "GGA") continue;
-    const auto gga = nmea::parse_gga(s);
-    if (gga.ok()) out.insert(static_cast<int>(gga->quality));
-  }
-  return out;
+  const std::vector<int> all = test::gga_qualities_in(file);
+  return {all.begin(), all.end()};
 }
 
 TEST(RtkFleet, EachReceiverHasItsOwnCorrectionsPort) {

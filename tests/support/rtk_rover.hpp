@@ -17,6 +17,7 @@
 
 #include "emulator/rtk/rtcm3_messages.hpp"
 #include "emulator/rtk/rtcm3_reader.hpp"
+#include "nmea/parse.hpp"
 #include "tests/support/process.hpp"
 #include "tests/support/pty_client.hpp"
 #include "tests/support/scratch.hpp"
@@ -36,6 +37,18 @@ inline rtk::BasePosition base_300m_north() {
 }
 
 /// The base's 1006 frame, as a base station sends it.
+/// The fix quality of each GGA written to `file`, in order.
+inline std::vector<int> gga_qualities_in(const std::filesystem::path& file) {
+  std::vector<int> out;
+  nmea::StreamReader reader;
+  for (const auto& s : reader.feed(read_file(file))) {
+    if (s.type != "GGA") continue;
+    const auto gga = nmea::parse_gga(s);
+    if (gga.ok()) out.push_back(static_cast<int>(gga->quality));
+  }
+  return out;
+}
+
 inline std::string base_1006() { return rtk::rtcm3_frame_bytes(rtk::encode_base_position(base_300m_north(), true)); }
 
 /// The base's epoch `k` (k = 0, 1, ... 100 ms apart): its 1006 and a GPS MSM7 of 10 satellites.

@@ -116,12 +116,12 @@ std::optional<std::string> tcp_peer_on_port(int fd, std::uint16_t port) {
 
 }  // namespace
 
-std::optional<TcpPeerState> tcp_peer_state(int fd) {
+std::optional<std::uint32_t> tcp_unsent_bytes(int fd) {
   tcp_info info{};
   socklen_t len = sizeof info;
   if (::getsockopt(fd, IPPROTO_TCP, TCP_INFO, &info, &len) != 0) return std::nullopt;
-  if (len < offsetof(tcp_info, tcpi_snd_wnd) + sizeof info.tcpi_snd_wnd) return std::nullopt;  // an older kernel
-  return TcpPeerState{info.tcpi_snd_wnd, info.tcpi_notsent_bytes};
+  if (len < offsetof(tcp_info, tcpi_notsent_bytes) + sizeof info.tcpi_notsent_bytes) return std::nullopt;  // an older kernel
+  return info.tcpi_notsent_bytes;
 }
 
 std::vector<AcceptedConnection> connections_on_port(std::uint16_t port) {

@@ -64,13 +64,9 @@ struct AcceptedConnection {
 /// ways, so that thread's next read ends and it closes the descriptor itself (never reused under it).
 bool shut_down_connection(int fd, std::string_view peer);
 
-/// A connected TCP socket's view of its peer (TCP_INFO): the receive window the peer advertises
-/// (its free buffer: it shrinks while the peer's program does not read) and the bytes not yet sent.
-struct TcpPeerState {
-  std::uint32_t peer_window_bytes = 0;
-  std::uint32_t unsent_bytes = 0;
-};
-[[nodiscard]] std::optional<TcpPeerState> tcp_peer_state(int fd);
+/// The bytes a connected TCP socket holds that it could not send yet (TCP_INFO's notsent: the
+/// peer's window is full), or nothing when the kernel does not say.
+[[nodiscard]] std::optional<std::uint32_t> tcp_unsent_bytes(int fd);
 
 /// Raises this process's limit of open descriptors to its hard limit (many clients at once);
 /// returns the soft limit in force.
