@@ -159,6 +159,7 @@ void SocketPoseSource::handle_message(const transport::ReceivedMessage& m) {
       spdlog::info("first pose from {}", m.sender_name);
     }
     history_.clear();
+    sender_clock_.reset();
     owner_ = m.sender;
     owner_name_.assign(m.sender_name);
   }
@@ -166,12 +167,14 @@ void SocketPoseSource::handle_message(const transport::ReceivedMessage& m) {
   const UtcNs time = options_.sender_time_base
                          ? *options_.sender_time_base +
                                std::chrono::nanoseconds{std::llround(*pose.sender_time_s * 1e9)}
-                         : m.arrival;
+                     : pose.sender_time_s ? sender_clock_.place(m.arrival, *pose.sender_time_s)
+                                          : m.arrival;
   const TimedPose timed{time, pose.sender_time_s, to_local(pose), pose.velocity_mps, pose.yaw_deg,
                         Tilt{pose.pitch_deg, pose.roll_deg}};
   const PushResult pushed = history_.push(timed);
   if (const auto why = refusal_of(pushed)) return reject(*why, m);
   if (pushed == PushResult::restarted) {
+    sender_clock_.reset();
     ++stats_.restarts;
     spdlog::warn("pose input: sender time or clock went back (simulator restarted?): pose history cleared");
   }

@@ -3,7 +3,9 @@
 // reports the truth sampled from the pose history (pose_history.hpp).
 //
 // - Time base: a pose holds at its arrival time on CLOCK_REALTIME (UTC), so epoch t reports the
-//   pose the simulator sent around t (interpolated; the epoch is sampled at t + latency).
+//   pose the simulator sent around t (interpolated; the epoch is sampled at t + latency). A pose
+//   with its own `t` holds where sender_clock.hpp puts it: by the sender's spacing, never later than
+//   its arrival, so a late read of queued TCP lines does not make them all hold at the read time.
 //   Lockstep time base (--clock lockstep, SocketSourceOptions::sender_time_base): a pose holds at
 //   base + its `t` instead, poses without `t` are refused (missing_key), and sim_time() tells the
 //   lockstep clock how far the simulator has got.
@@ -29,6 +31,7 @@
 #include "emulator/sources/pose_history.hpp"
 #include "emulator/sources/pose_message.hpp"
 #include "emulator/sources/pose_source.hpp"
+#include "emulator/sources/sender_clock.hpp"
 #include "transport/input/pose_socket.hpp"
 #include "transport/log_limit.hpp"
 
@@ -80,6 +83,7 @@ class SocketPoseSource final : public PoseSource {
   LocalFrame frame_;
   SocketSourceOptions options_;
   PoseHistory history_;
+  SenderClock sender_clock_;  ///< outside lockstep: where a pose with its own `t` holds
   SocketSourceStats stats_;
   FixTransitions transitions_{"pose", "poses"};
   std::optional<std::uint64_t> owner_;  ///< sender of the history's poses

@@ -12,6 +12,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -201,6 +202,7 @@ void check_positions(bool tcp, bool geodetic) {
   ASSERT_TRUE(sender.connected());
   const Circle circle{realtime_s()};
   double first_s = 0.0, last_s = 0.0;
+  std::vector<double> sent_s;  // the time in each pose sent, which is when it was sent
   pace_50hz(gpsemu, duration + 0.3, [&](int i, double now) {
     const Enu p = circle.position(now), v = circle.velocity(now);
     std::string m;
@@ -213,6 +215,7 @@ void check_positions(bool tcp, bool geodetic) {
                       p.east_m, p.north_m, p.up_m, v.east_m, v.north_m, v.up_m);
     }
     sender.send(m);
+    sent_s.push_back(now);
     if (i == 0) first_s = now;
     last_s = now;
   });
@@ -220,9 +223,17 @@ void check_positions(bool tcp, bool geodetic) {
   const auto epochs = parse_epochs(gpsemu.stdout_text(), first_s);
   expect_steady_rate(epochs, static_cast<std::size_t>(duration * 10));
   double worst_h = 0.0, worst_v = 0.0, worst_speed_kn = 0.0;
-  int compared = 0;
+  int compared = 0, sender_late = 0;
   for (const auto& e : epochs) {
     if (e.t_s < first_s + 0.1 || e.t_s > last_s) continue;  // before the first pose / after the last
+    // On a loaded machine this test's own sender can be descheduled for longer than the extrapolation
+    // horizon (0.2 s); gpsemu then holds the newest pose, as it should, and that epoch says nothing of
+    // the resolution. Such epochs are counted and left out; the pace of the others is still checked.
+    const auto newest = std::upper_bound(sent_s.begin(), sent_s.end(), e.t_s);
+    if (newest == sent_s.begin() || e.t_s - *std::prev(newest) > 0.15) {
+      ++sender_late;
+      continue;
+    }
     EXPECT_TRUE(e.fix && e.rmc_valid) << fmt::format("no fix at {:.2f}", e.t_s);
     if (!e.fix) continue;
     const auto [h, v] = error_m(frame, e, circle.position(e.t_s));
@@ -231,13 +242,15 @@ void check_positions(bool tcp, bool geodetic) {
     if (e.speed_kn) worst_speed_kn = std::max(worst_speed_kn, std::abs(*e.speed_kn - 0.5 * 3600.0 / 1852.0));
     ++compared;
   }
-  EXPECT_GE(compared, 30);
+  EXPECT_GE(compared, 30) << sender_late << " epochs left out: the sender sent no pose in the 0.15 s before them";
   EXPECT_LT(worst_h, 0.02) << "horizontal error (m)";
   EXPECT_LT(worst_v, 0.051) << "vertical error (m); GGA altitude has 0.1 m resolution";
   EXPECT_LT(worst_speed_kn, 0.01) << "RMC speed error (knots)";
   ::testing::Test::RecordProperty("worst_horizontal_error_mm", fmt::format("{:.2f}", worst_h * 1000.0));
-  std::printf("[ info ] %s %s: %d epochs compared, worst horizontal error %.2f mm, vertical %.1f mm\n",
-              tcp ? "tcp" : "udp", geodetic ? "lat/lon/alt" : "x/y/z", compared, worst_h * 1000.0, worst_v * 1000.0);
+  std::printf("[ info ] %s %s: %d epochs compared (%d left out, sender late), worst horizontal error %.2f mm, "
+              "vertical %.1f mm\n",
+              tcp ? "tcp" : "udp", geodetic ? "lat/lon/alt" : "x/y/z", compared, sender_late, worst_h * 1000.0,
+              worst_v * 1000.0);
 }
 
 TEST(PoseSocketEndToEnd, UdpLocalPosesAt50HzComeOutWithinTheOutputResolutionAt10Hz) { check_positions(false, false); }

@@ -8,6 +8,7 @@
 #include <mutex>
 #include <string>
 
+#include <fmt/format.h>
 #include <spdlog/sinks/base_sink.h>
 #include <spdlog/spdlog.h>
 
@@ -71,6 +72,19 @@ TEST_F(SocketSourceTest, LocalAndGeodeticPosesReachTheTruth) {
   EXPECT_NEAR(truth->position_m.east_m, 0.0, 1e-6);
   EXPECT_NEAR(truth->position_m.up_m, 0.0, 1e-6);
   EXPECT_EQ(source_->stats().accepted, 2u);
+}
+
+TEST_F(SocketSourceTest, PosesReadLateInABurstHoldWhereTheirOwnTimesPutThem) {
+  // 1 m/s east at 50 Hz, each pose read 1 ms after it was sent, then five read together 100 ms late
+  // (gpsemu descheduled; TCP lines are stamped when read). Epoch 0.200 is sampled after the burst.
+  for (int i = 0; i < 10; ++i) send(0.02 * i + 0.001, fmt::format(R"({{"t": {}, "x": {}, "y": 0}})", 0.02 * i, 0.02 * i));
+  for (int i = 10; i < 15; ++i) send(0.300, fmt::format(R"({{"t": {}, "x": {}, "y": 0}})", 0.02 * i, 0.02 * i));
+  source_->service();
+  const auto truth = source_->truth_at(at_s(0.201));
+  ASSERT_TRUE(truth);
+  // Where the sender was at 0.200; by arrival times alone it would be 0.18 m (pose 9 to pose 10 at 0.300).
+  EXPECT_NEAR(truth->position_m.east_m, 0.200, 1e-6);
+  EXPECT_EQ(source_->stats().accepted, 15u);
 }
 
 TEST_F(SocketSourceTest, YawReachesTheTruthInterpolatedAcrossNorth) {
