@@ -119,6 +119,7 @@ class Channel final : public transport::ClientInput {
   [[nodiscard]] faults::FaultTimeline& faults() { return *faults_; }
   /// The RTK state and its correction inputs (rtk_receiver.hpp).
   [[nodiscard]] const RtkReceiver& rtk() const { return *rtk_; }
+  [[nodiscard]] RtkReceiver& rtk() { return *rtk_; }
   /// A `latency` fault holds epochs back: the epoch time the first of them is due at, if any.
   [[nodiscard]] std::optional<UtcNs> delayed_until() const {
     return delayed_.empty() ? std::nullopt : std::optional<UtcNs>(delayed_.front().release);

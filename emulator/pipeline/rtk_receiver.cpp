@@ -54,11 +54,13 @@ void RtkReceiver::received(const rtk::Rtcm3Message& m) {
   state_.received(m);
 }
 
-void RtkReceiver::service() {
-  if (!socket_) return;
+std::size_t RtkReceiver::service() {
+  if (!socket_) return 0;
+  std::size_t reads = 0;
   for (int i = 0; i < kReadsPerService; ++i) {
     const std::optional<transport::RtcmBytes> got = socket_->receive();
     if (!got) break;
+    ++reads;
     auto it = std::find_if(streams_.begin(), streams_.end(), [&](const Stream& s) { return s.source == got->source; });
     if (got->closed) {
       if (it != streams_.end()) streams_.erase(it);
@@ -93,6 +95,7 @@ void RtkReceiver::service() {
                  socket_->describe(), counts_.stream_bad_crc);
     bad_crc_logged_ = counts_.stream_bad_crc;
   }
+  return reads;
 }
 
 void RtkReceiver::apply(UtcNs t, nmea::Fix& fix, const std::optional<Enu>& truth_m, const LocalFrame& frame) {
@@ -130,12 +133,12 @@ void RtkReceiver::apply(UtcNs t, nmea::Fix& fix, const std::optional<Enu>& truth
     fix.lon_deg = p.lon_deg;
     fix.alt_msl_m = p.alt_m;
   }
-  const double floor_m = sky::accuracy_floor_m(s.quality);
-  fix.sigma_lat_m = std::max(floor_m, k * fix.sigma_lat_m);
-  fix.sigma_lon_m = std::max(floor_m, k * fix.sigma_lon_m);
-  fix.sigma_alt_m = std::max(1.5 * floor_m, k * fix.sigma_alt_m);
-  fix.range_rms_m = std::max(floor_m, k * fix.range_rms_m);
+  fix.sigma_lat_m *= k;
+  fix.sigma_lon_m *= k;
+  fix.sigma_alt_m *= k;
+  fix.range_rms_m *= k;
   fix.quality = s.quality;
+  sky::apply_accuracy_floor(fix);
   ++(s.quality == nmea::FixQuality::rtk_fixed   ? counts_.epochs_fixed
      : s.quality == nmea::FixQuality::rtk_float ? counts_.epochs_float
                                                 : counts_.epochs_dgps);

@@ -47,8 +47,9 @@ class RtkReceiver {
 
   /// A decoded message from the u-blox port.
   void received(const rtk::Rtcm3Message& message);
-  /// Reads what the --rtcm socket has (a bounded number of reads).
-  void service();
+  /// Reads what the --rtcm socket has (a bounded number of reads); returns how many it made
+  /// (0: nothing waiting).
+  std::size_t service();
   /// Applies the state at `t` to `fix` (see above); `truth_m` in `frame`'s ENU metres.
   void apply(UtcNs t, nmea::Fix& fix, const std::optional<Enu>& truth_m, const LocalFrame& frame);
   /// A cold start: the corrections and the convergence are forgotten.
@@ -61,6 +62,12 @@ class RtkReceiver {
   [[nodiscard]] const std::optional<rtk::BasePosition>& base() const { return state_.base(); }
 
   [[nodiscard]] const RtkCounts& counts() const { return counts_; }
+  /// At the end of a run: what is already waiting in the input is read and counted (used or
+  /// dropped), so the summary accounts for every datagram a base sent before the stop.
+  void drain() {
+    for (int round = 0; round < 64 && service() > 0; ++round) {
+    }
+  }
   /// "RTK: 120 RTCM3 messages (1005 x10, 1077 x60, ...), 2 bad CRC; epochs DGPS 3, float 9, fixed 88";
   /// empty when nothing arrived. `port_bad_crc`: the u-blox port's (its frame readers count them).
   [[nodiscard]] std::string summary(std::uint64_t port_bad_crc) const;

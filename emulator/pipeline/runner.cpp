@@ -173,6 +173,8 @@ int Runner::run(const std::atomic<bool>& stop) {
   EpochLoop loop(*channels_, sink_, *clock_, options, realtime ? pps_.get() : nullptr);
   loop.run(stop);
   if (hub_) hub_->close();
+  // Corrections already waiting when the run stops are read and counted, not left unaccounted.
+  for (std::size_t i = 0; i < channels_->size(); ++i) channels_->channel(i).rtk().drain();
   stats_.epochs_emitted = loop.stats().epochs_emitted;
   stats_.epochs_late_skipped = loop.stats().epochs_late_skipped;
   stats_.clock_steps_back = loop.stats().clock_steps_back;
