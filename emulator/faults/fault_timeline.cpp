@@ -9,6 +9,7 @@
 
 #include "emulator/faults/sky_faults.hpp"
 #include "emulator/model/receiver.hpp"
+#include "emulator/model/sky/profile.hpp"
 
 namespace gpsemu::faults {
 namespace {
@@ -47,16 +48,6 @@ int keep_strongest(nmea::Fix& fix, int keep) {
     --used;
   }
   return used;
-}
-
-/// After `before` used satellites became `after` (>= kMinFixSatellites), with the error x `extra`:
-/// HDOP grows as 1/sqrt(satellites) (the receiver model's relation), the error and sigmas follow.
-void fewer_satellites(nmea::Fix& fix, int before, int after, double extra, const std::optional<Enu>& truth_m,
-                      const LocalFrame& frame) {
-  const double dop_k = after > 0 && before > after ? std::sqrt(double(before) / double(after)) : 1.0;
-  fix.satellites_used = after;
-  scale_dops(fix, dop_k, dop_k * extra);
-  if (truth_m) scale_error(fix, *truth_m, dop_k * extra, frame);
 }
 
 }  // namespace
@@ -129,20 +120,29 @@ void act(const ForcedQuality& p, EpochContext& c) {
   const double k = noise_scale(p.quality) / noise_scale(c.fix.quality);
   c.fix.quality = p.quality;
   scale_dops(c.fix, 1.0, k);
+  sky::apply_accuracy_floor(c.fix);  // the new quality's floor
   if (c.truth_m) scale_error(c.fix, *c.truth_m, k, c.frame);
 }
 
 void act(const Degrade& p, EpochContext& c) {
   nmea::Fix& fix = c.fix;
   if (!fix.has_fix()) return;
-  const int before = count_used(fix);
-  const int after = p.satellites ? keep_strongest(fix, *p.satellites) : before;
-  if (after < kMinFixSatellites) {
-    drop_fix(fix);
+  if (p.satellites) {
+    // Satellites out of the solution at once: the DOPs are the geometry of the rest from the first
+    // epoch (a receiver does not ramp its DOP); the error ramps in by noise_k (default the HDOP's rise).
+    const sky::Dops before = used_dops(fix);
+    const double hdop_before = fix.hdop;
+    (void)keep_strongest(fix, *p.satellites);
+    if (!resolve_used_set(fix, before, 1.0, std::nullopt, c.frame)) return;
+    const double geometric_k = hdop_before > 0.0 ? fix.hdop / hdop_before : 1.0;
+    if (p.dop_k) scale_dops(fix, 1.0 + c.strength * (*p.dop_k - 1.0), 1.0);
+    const double nk = 1.0 + c.strength * (p.noise_k.value_or(p.dop_k.value_or(geometric_k)) - 1.0);
+    // The sigmas grew with the geometry already; the error grows by the whole factor.
+    scale_dops(fix, 1.0, nk / geometric_k);
+    if (c.truth_m) scale_error(fix, *c.truth_m, nk, c.frame);
     return;
   }
-  fix.satellites_used = after;
-  const double dop_k = p.dop_k ? *p.dop_k : (after > 0 && before > after ? std::sqrt(double(before) / after) : 1.0);
+  const double dop_k = p.dop_k.value_or(1.0);
   const double noise_k = p.noise_k.value_or(dop_k);
   const double dk = 1.0 + c.strength * (dop_k - 1.0);
   const double nk = 1.0 + c.strength * (noise_k - 1.0);
@@ -161,7 +161,7 @@ void act(const Jam& p, EpochContext& c) {
     rf->agc_count = static_cast<std::uint16_t>(std::lround(3140.0 * std::max(0.1, 1.0 - drop_db / 40.0)));
     rf->noise_per_ms = static_cast<std::uint16_t>(std::lround(89.0 + 4.0 * drop_db));
   }
-  const int before = count_used(fix);
+  const sky::Dops before = used_dops(fix);
   for (int i = 0; i < fix.satellites_in_view; ++i) {
     nmea::SatelliteInView& s = sat(fix, i);
     if (!s.snr_dbhz) continue;
@@ -173,14 +173,8 @@ void act(const Jam& p, EpochContext& c) {
       s.snr_dbhz = static_cast<int>(std::lround(cn0));
     }
   }
-  if (!fix.has_fix()) return;
-  const int after = count_used(fix);
-  if (after < kMinFixSatellites) {
-    drop_fix(fix);
-    return;
-  }
-  // The tracking error grows as 1/sqrt(C/N0): x 10^(dB/20) on the remaining satellites.
-  fewer_satellites(fix, before, after, std::pow(10.0, drop_db / 20.0), c.truth_m, c.frame);
+  // The DOPs of what is left; the tracking error grows as 1/sqrt(C/N0): x 10^(dB/20).
+  (void)resolve_used_set(fix, before, std::pow(10.0, drop_db / 20.0), c.truth_m, c.frame);
 }
 
 void act(const SkyMask& p, EpochContext& c) { mask_sky(c.fix, p.mask, c.truth_m, c.frame); }

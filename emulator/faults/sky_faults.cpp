@@ -13,6 +13,10 @@ namespace {
 
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 
+double ratio(double after, double before) { return before > 0.0 ? after / before : 1.0; }
+
+}  // namespace
+
 sky::Dops used_dops(const nmea::Fix& fix) {
   std::vector<sky::UsedSatellite> used;
   for (int i = 0; i < fix.satellites_in_view; ++i) {
@@ -22,9 +26,30 @@ sky::Dops used_dops(const nmea::Fix& fix) {
   return sky::multi_clock_dops(used);
 }
 
-double ratio(double after, double before) { return before > 0.0 ? after / before : 1.0; }
-
-}  // namespace
+bool resolve_used_set(nmea::Fix& fix, const sky::Dops& before, double tracking_k, const std::optional<Enu>& truth_m,
+                      const LocalFrame& frame) {
+  if (!fix.has_fix()) return false;
+  int used = 0;
+  for (int i = 0; i < fix.satellites_in_view; ++i) used += fix.satellites[static_cast<std::size_t>(i)].used;
+  const sky::Dops after = used_dops(fix);
+  if (used < kMinFixSatellites || !after.valid()) {
+    drop_fix(fix);
+    return false;
+  }
+  fix.satellites_used = used;
+  const double kh = ratio(after.hdop, before.hdop), kv = ratio(after.vdop, before.vdop);
+  fix.hdop *= kh;
+  fix.vdop *= kv;
+  fix.pdop *= ratio(after.pdop, before.pdop);
+  fix.tdop *= ratio(after.tdop, before.tdop);
+  fix.gdop *= ratio(after.gdop, before.gdop);
+  fix.sigma_lat_m *= kh * tracking_k;
+  fix.sigma_lon_m *= kh * tracking_k;
+  fix.sigma_alt_m *= kv * tracking_k;
+  fix.range_rms_m *= tracking_k;
+  if (truth_m) scale_error(fix, *truth_m, kh * tracking_k, frame);
+  return true;
+}
 
 bool masked(const std::vector<SkyMaskSector>& mask, double azimuth_deg, double elevation_deg) {
   for (const SkyMaskSector& s : mask) {
@@ -39,32 +64,15 @@ bool masked(const std::vector<SkyMaskSector>& mask, double azimuth_deg, double e
 void mask_sky(nmea::Fix& fix, const std::vector<SkyMaskSector>& mask, const std::optional<Enu>& truth_m,
               const LocalFrame& frame) {
   const sky::Dops before = used_dops(fix);
-  int kept = 0, used = 0;
+  int kept = 0;
   for (int i = 0; i < fix.satellites_in_view; ++i) {
     const nmea::SatelliteInView s = fix.satellites[static_cast<std::size_t>(i)];
     if (masked(mask, s.azimuth_deg, s.elevation_deg)) continue;
     fix.satellites[static_cast<std::size_t>(kept++)] = s;
-    used += s.used;
   }
   for (int i = kept; i < fix.satellites_in_view; ++i) fix.satellites[static_cast<std::size_t>(i)] = {};
   fix.satellites_in_view = kept;
-  if (!fix.has_fix()) return;
-  const sky::Dops after = used_dops(fix);
-  if (used < kMinFixSatellites || !after.valid()) {
-    drop_fix(fix);
-    return;
-  }
-  fix.satellites_used = used;
-  const double kh = ratio(after.hdop, before.hdop), kv = ratio(after.vdop, before.vdop);
-  fix.hdop *= kh;
-  fix.vdop *= kv;
-  fix.pdop *= ratio(after.pdop, before.pdop);
-  fix.tdop *= ratio(after.tdop, before.tdop);
-  fix.gdop *= ratio(after.gdop, before.gdop);
-  fix.sigma_lat_m *= kh;
-  fix.sigma_lon_m *= kh;
-  fix.sigma_alt_m *= kv;
-  if (truth_m) scale_error(fix, *truth_m, kh, frame);
+  (void)resolve_used_set(fix, before, 1.0, truth_m, frame);
 }
 
 void spoof(nmea::Fix& fix, const Fault& f, const Spoof& p, double since_s, const LocalFrame& frame,

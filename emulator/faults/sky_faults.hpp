@@ -11,12 +11,26 @@
 #include "emulator/model/enu.hpp"
 #include "emulator/model/geo.hpp"
 #include "emulator/model/sky.hpp"
+#include "emulator/model/sky/dop.hpp"
 #include "nmea/fix.hpp"
 
 namespace gpsemu::faults {
 
 /// Whether a satellite at `azimuth_deg`, `elevation_deg` is behind one of `mask`'s sectors.
 [[nodiscard]] bool masked(const std::vector<SkyMaskSector>& mask, double azimuth_deg, double elevation_deg);
+
+/// The DOPs of the satellites a fix lists as used (sky::multi_clock_dops, one clock per system).
+[[nodiscard]] sky::Dops used_dops(const nmea::Fix& fix);
+
+/// After a fault took satellites out of the solution (their `used` cleared or their entries
+/// removed), from the geometry they had (`before`, used_dops() before the change): the DOPs become
+/// the geometry of the used ones left (the ratio applied to the fix's own DOPs, so a --hdop or 2-D
+/// scale stays), satellites_used their count, the sigmas grow with HDOP and VDOP times
+/// `tracking_k` (a jam's weaker signals), and the position error about `truth_m` (when given) by
+/// the HDOP ratio times `tracking_k`. Under kMinFixSatellites used, or a geometry that fixes nothing
+/// (4 satellites of two systems: five unknowns): no fix. Returns whether the fix stays.
+bool resolve_used_set(nmea::Fix& fix, const sky::Dops& before, double tracking_k, const std::optional<Enu>& truth_m,
+                      const LocalFrame& frame);
 
 /// sky-mask: the satellites behind `mask` leave the sky (not in view: GSV, NAV-SAT) and the
 /// solution; the DOPs follow the geometry of the used ones left (sky::multi_clock_dops, the ratio

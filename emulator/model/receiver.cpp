@@ -195,21 +195,20 @@ nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) 
   fix.tdop = sky.dops.tdop;
   fix.gdop = std::sqrt(pdop * pdop + fix.tdop * fix.tdop);
   // Reported accuracy: the error applied (the model's sigma x the scales x the receiver's ratio),
-  // or without noise DOP x UERE x scale; never below the quality's floor.
-  const double floor_m = sky::accuracy_floor_m(options_.quality);
+  // or without noise DOP x UERE x scale; never below the quality's floor (applied here, once).
   const Enu& sigma = options_.noise_sigma_m;
   const double k = options_.accuracy_ratio;
   if (sigma.east_m > 0.0 || sigma.north_m > 0.0 || sigma.up_m > 0.0) {
-    fix.sigma_lat_m = std::max(floor_m, k * h_scale * sigma.north_m);
-    fix.sigma_lon_m = std::max(floor_m, k * h_scale * sigma.east_m);
-    fix.sigma_alt_m = std::max(1.5 * floor_m, k * v_scale * sigma.up_m);
+    fix.sigma_lat_m = k * h_scale * sigma.north_m;
+    fix.sigma_lon_m = k * h_scale * sigma.east_m;
+    fix.sigma_alt_m = k * v_scale * sigma.up_m;
   } else {
-    const double sigma_axis_m = std::max(floor_m, hdop * uere_m_ * scale / std::numbers::sqrt2);
-    fix.sigma_lat_m = sigma_axis_m;
-    fix.sigma_lon_m = sigma_axis_m;
-    fix.sigma_alt_m = std::max(1.5 * floor_m, vdop * uere_m_ * scale);
+    fix.sigma_lat_m = hdop * uere_m_ * scale / std::numbers::sqrt2;
+    fix.sigma_lon_m = fix.sigma_lat_m;
+    fix.sigma_alt_m = vdop * uere_m_ * scale;
   }
-  fix.range_rms_m = std::max(floor_m, uere_m_ * scale);
+  fix.range_rms_m = uere_m_ * scale;
+  sky::apply_accuracy_floor(fix);
   return fix;
 }
 

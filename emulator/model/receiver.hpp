@@ -12,7 +12,7 @@
 //   kReferenceHdop horizontally and x VDOP / kReferenceVdop vertically
 //   reported accuracy: the error actually applied, per axis: the noise model's 1-sigma
 //   (noise_sigma_m) x the same scales x accuracy_ratio (1: honest; a calibrated receiver's own
-//   reported/actual ratio), never below the quality's floor (sky::accuracy_floor_m). Without noise
+//   reported/actual ratio), never below the quality's floor (sky::apply_accuracy_floor). Without noise
 //   (--noise none) a receiver still claims what its geometry gives: sigma_h = HDOP x UERE x scale,
 //   sigma_v = VDOP x UERE x scale. GST's RMS of the ranges is UERE x scale.
 // where scale = noise_scale(quality) / noise_scale(noise_quality) (the noise parameters describe the

@@ -7,6 +7,7 @@
 
 #include <GeographicLib/Geocentric.hpp>
 
+#include "emulator/model/accuracy.hpp"
 #include "emulator/rtk/correction_age.hpp"
 #include "emulator/ubx/layouts.hpp"
 
@@ -57,15 +58,14 @@ Solution solution_of(const nmea::Fix& fix) {
   return s;
 }
 
-/// The fix's 1-sigma errors, each at least the floor of its quality.
+/// The fix's 1-sigma errors as the model reported them; the speed's at least its quality's floor
+/// (the speed accuracy is not in the fix yet: a protocol setting).
 struct Sigmas {
   double north_m = 0.0, east_m = 0.0, down_m = 0.0, speed_mps = 0.0;
 };
 Sigmas sigmas_of(const nmea::Fix& fix, double speed_sigma_mps) {
-  const AccuracyFloor floor = accuracy_floor(fix.quality);
-  const double per_axis_m = floor.horizontal_m / std::numbers::sqrt2;
-  return {std::max(fix.sigma_lat_m, per_axis_m), std::max(fix.sigma_lon_m, per_axis_m),
-          std::max(fix.sigma_alt_m, floor.vertical_m), std::max(speed_sigma_mps, floor.speed_mps)};
+  return {fix.sigma_lat_m, fix.sigma_lon_m, fix.sigma_alt_m,
+          std::max(speed_sigma_mps, sky::accuracy_floor(fix.quality).speed_mps)};
 }
 double h_acc_m(const nmea::Fix& fix) {
   const NedAccuracy a = position_accuracy(fix);
@@ -161,15 +161,6 @@ Ecef ecef_of(const nmea::Fix& fix) {
 NedAccuracy position_accuracy(const nmea::Fix& fix) {
   const Sigmas s = sigmas_of(fix, 0.0);
   return {s.north_m, s.east_m, s.down_m};
-}
-
-AccuracyFloor accuracy_floor(nmea::FixQuality quality) {
-  switch (quality) {
-    case nmea::FixQuality::rtk_fixed: return {0.01, 0.015, 0.02};
-    case nmea::FixQuality::rtk_float: return {0.05, 0.075, 0.02};
-    case nmea::FixQuality::dgps: return {0.3, 0.45, 0.05};
-    default: return {0.5, 0.75, 0.05};
-  }
 }
 
 std::string nav_pvt(const nmea::Fix& fix, const NavExtras& extras) {

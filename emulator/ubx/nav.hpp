@@ -4,8 +4,8 @@
 // AP_GPS_UBLOX.h. Pure: a fix and a few receiver values in, payload bytes out.
 //
 // Where the fix is silent: accuracies come from its GST sigmas (hAcc = hypot(sigma_lat,
-// sigma_lon), vAcc = sigma_alt) and NavExtras::speed_sigma_mps, never below the floor of the fix
-// quality (accuracy_floor: no receiver reports 0); velD is -vel_up_mps; time is UTC +
+// sigma_lon), vAcc = sigma_alt, floored once by the model: sky::accuracy_floor) and
+// NavExtras::speed_sigma_mps (at least the quality's speed floor); velD is -vel_up_mps; time is UTC +
 // gps_leap_seconds, its validity flags NavExtras::time's; TDOP and GDOP the fix's, or when it has
 // none (0) TDOP = 0.6 PDOP and GDOP = hypot(PDOP, TDOP); NDOP = EDOP = HDOP/sqrt 2.
 #pragma once
@@ -48,16 +48,9 @@ struct NavExtras {
   RelPosNed relpos{};                            ///< NAV-RELPOSNED (a rover's; zeros elsewhere)
 };
 
-/// The smallest accuracies a receiver reports with a fix of `quality` (1 sigma): horizontal and
-/// vertical position (metres) and speed (metres per second).
-struct AccuracyFloor {
-  double horizontal_m = 0.0, vertical_m = 0.0, speed_mps = 0.0;
-};
-[[nodiscard]] AccuracyFloor accuracy_floor(nmea::FixQuality quality);
-
-/// The fix's 1-sigma position accuracy as the NAV messages report it (metres): its GST sigmas,
-/// each at least its share of accuracy_floor(): NAV-PVT hAcc = hypot(north, east), vAcc = down;
-/// NAV-RELPOSNED's accN/accE/accD are these.
+/// The fix's 1-sigma position accuracy as the NAV messages report it (metres): its GST sigmas as
+/// they are (the model floored them once: sky::accuracy_floor): NAV-PVT hAcc = hypot(north, east),
+/// vAcc = down; NAV-RELPOSNED's accN/accE/accD are these.
 struct NedAccuracy {
   double north_m = 0.0, east_m = 0.0, down_m = 0.0;
 };

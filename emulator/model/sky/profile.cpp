@@ -1,5 +1,7 @@
 #include "emulator/model/sky/profile.hpp"
 
+#include <algorithm>
+
 namespace gpsemu::sky {
 
 using S = nmea::GnssSystem;
@@ -33,15 +35,6 @@ ReceiverProfile profile_of(ubx::ReceiverModel model) {
       break;
   }
   return p;
-}
-
-double accuracy_floor_m(nmea::FixQuality quality) {
-  switch (quality) {
-    case nmea::FixQuality::dgps: return 0.2;
-    case nmea::FixQuality::rtk_float: return 0.05;
-    case nmea::FixQuality::rtk_fixed: return 0.01;
-    default: return 0.3;
-  }
 }
 
 }  // namespace gpsemu::sky

@@ -7,6 +7,7 @@
 #include <initializer_list>
 
 #include "emulator/ubx/model.hpp"
+#include "emulator/model/accuracy.hpp"
 #include "nmea/fix.hpp"
 
 namespace gpsemu::sky {
@@ -42,8 +43,6 @@ struct ReceiverProfile {
 /// 184 channels.
 [[nodiscard]] ReceiverProfile profile_of(ubx::ReceiverModel model);
 
-/// Reported accuracy floor (1 sigma per horizontal axis, metres) for a fix quality: no receiver
-/// reports 0 (gps 0.3, dgps 0.2, rtk_float 0.05, rtk_fixed 0.01).
-[[nodiscard]] double accuracy_floor_m(nmea::FixQuality quality);
+
 
 }  // namespace gpsemu::sky

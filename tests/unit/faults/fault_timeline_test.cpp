@@ -1,5 +1,6 @@
 // Each fault's effect on a fix (and a u-blox's RF state), at the epochs it covers.
 #include "emulator/faults/fault_timeline.hpp"
+#include "emulator/faults/sky_faults.hpp"
 
 #include <gtest/gtest.h>
 
@@ -20,7 +21,8 @@ const UtcNs kStart = UtcNs{std::chrono::duration_cast<UtcNs::duration>(std::chro
 const Enu kTruth{10.0, -5.0, 2.0};
 const Enu kError{0.6, -0.8, 1.0};  // the receiver model's error: 1 m horizontally
 
-/// A 3-D gps fix of 10 used satellites (C/N0 30..48 dB-Hz) at kTruth + kError.
+/// A 3-D gps fix of 10 used satellites (C/N0 30..48 dB-Hz) at kTruth + kError, spread over the sky,
+/// its DOPs those of their geometry.
 nmea::Fix make_fix(const LocalFrame& frame, UtcNs t) {
   nmea::Fix fix = test::gps_fix_at(frame, t, kTruth + kError);
   fix.satellites_in_view = 12;
@@ -29,11 +31,16 @@ nmea::Fix make_fix(const LocalFrame& frame, UtcNs t) {
     s.prn = i + 1;
     s.snr_dbhz = 26 + 2 * i;  // 26..48
     s.used = i >= 2;          // the 10 strongest
+    s.azimuth_deg = (97 * i) % 360;
+    s.elevation_deg = 10 + (37 * i) % 75;
   }
   fix.satellites_used = 10;
-  fix.hdop = 1.0;
-  fix.vdop = 1.5;
-  fix.pdop = std::hypot(1.0, 1.5);
+  const sky::Dops dops = used_dops(fix);
+  fix.hdop = dops.hdop;
+  fix.vdop = dops.vdop;
+  fix.pdop = dops.pdop;
+  fix.tdop = dops.tdop;
+  fix.gdop = dops.gdop;
   fix.sigma_lat_m = 0.8;
   fix.sigma_lon_m = 0.6;
   fix.sigma_alt_m = 1.0;
@@ -121,9 +128,11 @@ TEST(FaultTimeline, FixQualityForcesTheQualityAndScalesTheAccuracy) {
   Epochs run({q});
   const nmea::Fix f = run.at(1);
   EXPECT_EQ(f.quality, nmea::FixQuality::rtk_fixed);
-  EXPECT_NEAR(f.sigma_lat_m, 0.8 * noise_scale(nmea::FixQuality::rtk_fixed), 1e-12);
+  // 0.8 m x 0.01 = 8 mm, raised to RTK fixed's floor of 1 cm (the floor of the new quality, once).
+  EXPECT_NEAR(f.sigma_lat_m, 0.01, 1e-12);
+  EXPECT_NEAR(f.sigma_alt_m, 0.015, 1e-12);
   EXPECT_NEAR(error_of(f, run.frame).east_m, kError.east_m * noise_scale(nmea::FixQuality::rtk_fixed), 1e-6);
-  EXPECT_DOUBLE_EQ(f.hdop, 1.0);  // the geometry is the same
+  EXPECT_DOUBLE_EQ(f.hdop, make_fix(run.frame, kStart).hdop);  // the geometry is the same
 }
 
 TEST(FaultTimeline, DegradeUsesFewerSatellitesWithLargerDopAndError) {
@@ -136,7 +145,9 @@ TEST(FaultTimeline, DegradeUsesFewerSatellitesWithLargerDopAndError) {
   EXPECT_EQ(used, 5);
   EXPECT_TRUE(f.satellites[11].used);  // the strongest stay
   EXPECT_FALSE(f.satellites[2].used);
-  EXPECT_NEAR(f.hdop, std::sqrt(10.0 / 5.0), 1e-12);  // DOP from the satellites dropped
+  EXPECT_NEAR(f.hdop, used_dops(f).hdop, 1e-9);  // the geometry of the five left
+  EXPECT_NEAR(f.vdop, used_dops(f).vdop, 1e-9);
+  EXPECT_GT(f.hdop, make_fix(run.frame, kStart).hdop * 1.2);
   EXPECT_NEAR(error_of(f, run.frame).east_m, 3.0 * kError.east_m, 1e-6);
   EXPECT_NEAR(f.sigma_lon_m, 3.0 * 0.6, 1e-12);
 
@@ -177,8 +188,10 @@ TEST(FaultTimeline, JamLowersCn0DropsWeakSatellitesAndLosesTheFix) {
   EXPECT_EQ(f.satellites[11].snr_dbhz, 36);
   EXPECT_EQ(f.satellites_used, 8);
   EXPECT_TRUE(f.has_fix());
-  EXPECT_NEAR(f.hdop, std::sqrt(10.0 / 8.0), 1e-12);
-  const double error_k = std::sqrt(10.0 / 8.0) * std::pow(10.0, 12.5 / 20.0);
+  const double hdop_before = make_fix(run.frame, kStart).hdop;
+  EXPECT_NEAR(f.hdop, used_dops(f).hdop, 1e-9);  // the geometry of the eight left
+  EXPECT_GT(f.hdop, hdop_before);
+  const double error_k = f.hdop / hdop_before * std::pow(10.0, 12.5 / 20.0);
   EXPECT_NEAR(f.sigma_lat_m, 0.8 * error_k, 1e-9);
   EXPECT_NEAR(error_of(f, run.frame).north_m, kError.north_m * error_k, 1e-6);
   EXPECT_EQ(run.rf.jamming_state, 2);  // warning

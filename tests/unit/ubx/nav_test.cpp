@@ -12,6 +12,7 @@
 #include <string>
 
 #include "emulator/ubx/bytes.hpp"
+#include "emulator/model/accuracy.hpp"
 #include "emulator/ubx/nav.hpp"
 #include "emulator/ubx/messages.hpp"
 #include "tests/support/ubx_frames.hpp"
@@ -198,18 +199,26 @@ TEST(UbxNav, WithoutTimeNothingIsValidOrConfirmed) {
   EXPECT_EQ(get_u1(nav_timeutc(fixed_fix(), x), 19), 0x37);
 }
 
-TEST(UbxNav, AccuracyIsNeverZero) {
-  nmea::Fix f = fixed_fix();  // --noise none: every sigma 0
+TEST(UbxNav, AccuracyIsTheFixsOwnFlooredOnceByTheModel) {
+  // --noise none at the autonomous floor the model applied (0.3 m an axis, 0.45 m vertical):
+  // hAcc, vAcc and GST say the same; no second floor here.
+  nmea::Fix f = fixed_fix();
   f.sigma_lat_m = f.sigma_lon_m = f.sigma_alt_m = 0.0;
+  sky::apply_accuracy_floor(f);
   NavExtras x = fixed_extras();
   x.speed_sigma_mps = 0.0;
   const std::string p = nav_pvt(f, x);
-  EXPECT_EQ(get_u4(p, 40), 500u);      // hAcc: the autonomous floor 0.5 m
-  EXPECT_EQ(get_u4(p, 44), 750u);      // vAcc 0.75 m
-  EXPECT_EQ(get_u4(p, 68), 50u);       // sAcc 0.05 m/s
+  EXPECT_EQ(get_u4(p, 40), 424u);      // hAcc: hypot(0.3, 0.3) m
+  EXPECT_EQ(get_u4(p, 44), 450u);      // vAcc 0.45 m
+  EXPECT_EQ(get_u4(p, 68), 50u);       // sAcc: the speed floor 0.05 m/s (not in the fix yet)
   EXPECT_EQ(get_u4(p, 72), 57294u);    // headAcc: atan(0.05 / 5) = 0.57294 deg
+  f.sigma_lat_m = 0.8;                 // what the fix says is written, whatever it is
+  f.sigma_lon_m = 0.6;
+  EXPECT_EQ(get_u4(nav_pvt(f, x), 40), 1000u);
   f.quality = nmea::FixQuality::rtk_fixed;
-  EXPECT_EQ(get_u4(nav_pvt(f, x), 40), 10u);  // 1 cm
+  f.sigma_lat_m = f.sigma_lon_m = f.sigma_alt_m = 0.0;
+  sky::apply_accuracy_floor(f);
+  EXPECT_EQ(get_u4(nav_pvt(f, x), 40), 14u);  // hypot(1 cm, 1 cm)
   EXPECT_GT(get_u4(nav_posecef(f), 16), 0u);   // pAcc
   const std::string cov = nav_cov(f, x);
   EXPECT_GT(get_u4(cov, 16), 0u);  // posCovNN
