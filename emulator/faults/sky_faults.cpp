@@ -38,11 +38,22 @@ bool resolve_used_set(nmea::Fix& fix, const sky::Dops& before, double tracking_k
   }
   fix.satellites_used = used;
   const double kh = ratio(after.hdop, before.hdop), kv = ratio(after.vdop, before.vdop);
-  fix.hdop *= kh;
-  fix.vdop *= kv;
-  fix.pdop *= ratio(after.pdop, before.pdop);
-  fix.tdop *= ratio(after.tdop, before.tdop);
-  fix.gdop *= ratio(after.gdop, before.gdop);
+  // DOPs that were the listed geometry's (within the rounding of the listed azimuths and
+  // elevations) become the new geometry's; others (--hdop, a 2-D fix's) keep their scale.
+  const auto near = [](double a, double b) { return std::abs(a - b) <= 0.02 * b; };
+  if (near(fix.hdop, before.hdop) && near(fix.vdop, before.vdop)) {
+    fix.hdop = after.hdop;
+    fix.vdop = after.vdop;
+    fix.pdop = after.pdop;
+    fix.tdop = after.tdop;
+    fix.gdop = after.gdop;
+  } else {
+    fix.hdop *= kh;
+    fix.vdop *= kv;
+    fix.pdop *= ratio(after.pdop, before.pdop);
+    fix.tdop *= ratio(after.tdop, before.tdop);
+    fix.gdop *= ratio(after.gdop, before.gdop);
+  }
   fix.sigma_lat_m *= kh * tracking_k;
   fix.sigma_lon_m *= kh * tracking_k;
   fix.sigma_alt_m *= kv * tracking_k;

@@ -24,8 +24,8 @@ namespace gpsemu::faults {
 
 /// After a fault took satellites out of the solution (their `used` cleared or their entries
 /// removed), from the geometry they had (`before`, used_dops() before the change): the DOPs become
-/// the geometry of the used ones left (the ratio applied to the fix's own DOPs, so a --hdop or 2-D
-/// scale stays), satellites_used their count, the sigmas grow with HDOP and VDOP times
+/// the geometry of the used ones left (when they were the geometry's before; otherwise, a --hdop
+/// or 2-D scale, the ratio applied to the fix's own DOPs, so that scale stays), satellites_used their count, the sigmas grow with HDOP and VDOP times
 /// `tracking_k` (a jam's weaker signals), and the position error about `truth_m` (when given) by
 /// the HDOP ratio times `tracking_k`. Under kMinFixSatellites used, or a geometry that fixes nothing
 /// (4 satellites of two systems: five unknowns): no fix. Returns whether the fix stays.
