@@ -85,7 +85,7 @@ struct EpochContext {
   nmea::Fix& fix;
   const std::optional<Enu>& truth_m;
   const LocalFrame& frame;
-  ubx::RfState* rf;  ///< a u-blox's RF state, or null
+  RfState& rf;  ///< the epoch's front end
   EpochEffect& effect;
   const std::optional<nmea::Fix>& frozen;  ///< the fix a freeze repeats
   std::optional<double> ended_s;  ///< fading out: when it ended (spoof fades by its offsets)
@@ -155,12 +155,11 @@ void act(const Silence&, EpochContext& c) { c.effect.silent = true; }
 void act(const Jam& p, EpochContext& c) {
   nmea::Fix& fix = c.fix;
   const double drop_db = c.strength * p.db;
-  if (ubx::RfState* rf = c.rf) {
-    rf->jamming_indicator = static_cast<std::uint8_t>(std::clamp(9.0 + 8.0 * drop_db, 0.0, 255.0));
-    rf->jamming_state = drop_db < 6.0 ? 1 : drop_db < 15.0 ? 2 : 3;
-    rf->agc_count = static_cast<std::uint16_t>(std::lround(3140.0 * std::max(0.1, 1.0 - drop_db / 40.0)));
-    rf->noise_per_ms = static_cast<std::uint16_t>(std::lround(89.0 + 4.0 * drop_db));
-  }
+  RfState& rf = c.rf;
+  rf.jamming_indicator = static_cast<std::uint8_t>(std::clamp(9.0 + 8.0 * drop_db, 0.0, 255.0));
+  rf.jamming_state = drop_db < 6.0 ? 1 : drop_db < 15.0 ? 2 : 3;
+  rf.agc_count = static_cast<std::uint16_t>(std::lround(3140.0 * std::max(0.1, 1.0 - drop_db / 40.0)));
+  rf.noise_per_ms = static_cast<std::uint16_t>(std::lround(89.0 + 4.0 * drop_db));
   const sky::Dops before = used_dops(fix);
   for (int i = 0; i < fix.satellites_in_view; ++i) {
     nmea::SatelliteInView& s = sat(fix, i);
@@ -184,7 +183,7 @@ void act(const Spoof& p, EpochContext& c) {
     spoof(c.fix, c.fault, p, c.since_s, c.frame, c.ended_s);
     return;
   }
-  if (c.rf) c.rf->spoof_detection_state = spoof_detection_state(p.detected);
+  c.rf.spoof_detection_state = spoof_detection_state(p.detected);
   spoof(c.fix, c.fault, p, c.since_s, c.frame);
 }
 
@@ -201,12 +200,10 @@ void act(const Latency& p, EpochContext& c) {
   c.effect.jitter_ms += p.jitter_ms;
 }
 
-/// What a kind's start, end and being over act on beside the epoch's fix (the timeline's state).
+/// What a kind's start acts on beside the epoch (the timeline's state).
 struct Moment {
   const std::optional<nmea::Fix>& last;   ///< the last epoch's fix as written
   std::optional<nmea::Fix>& frozen;       ///< the fix a freeze repeats
-  std::optional<ubx::RfState>& clean_rf;  ///< the RF state before a jam
-  ubx::RfState* rf;                       ///< a u-blox's RF state, or null
   EpochEffect& effect;
 };
 
@@ -214,27 +211,7 @@ struct Moment {
 template <class Kind>
 void on_start(const Kind&, Moment&) {}
 void on_start(const Freeze&, Moment& m) { m.frozen = m.last; }
-void on_start(const Jam&, Moment& m) {
-  if (m.rf && !m.clean_rf) m.clean_rf = *m.rf;
-}
 void on_start(const Reset& p, Moment& m) { m.effect.reboot_cold_start_s = p.silent_s + p.ttff_s; }
-
-// The epoch it ends at (its fade out, if any, still to come).
-template <class Kind>
-void on_end(const Kind&, Moment&) {}
-void on_end(const Spoof&, Moment& m) {
-  if (m.rf) m.rf->spoof_detection_state = 0;
-}
-
-// The first epoch it no longer acts at (its fade out over).
-template <class Kind>
-void on_over(const Kind&, Moment&) {}
-void on_over(const Jam&, Moment& m) {
-  if (!m.rf || !m.clean_rf) return;
-  const std::uint8_t spoofing = m.rf->spoof_detection_state;  // a spoof's, still active or not
-  *m.rf = *m.clean_rf;
-  m.rf->spoof_detection_state = spoofing;
-}
 
 }  // namespace
 
@@ -305,8 +282,8 @@ bool FaultTimeline::active_now(Entry& e, double since_s, const std::optional<Enu
   return !f.duration_s || ns_of(since_s) < ns_of(*e.entered_s + *f.duration_s);
 }
 
-EpochEffect FaultTimeline::apply(UtcNs t, nmea::Fix& fix, const std::optional<Enu>& truth_m, const LocalFrame& frame,
-                                 ubx::RfState* rf) {
+EpochEffect FaultTimeline::apply(UtcNs t, ReceiverEpoch& epoch, const std::optional<Enu>& truth_m, const LocalFrame& frame) {
+  nmea::Fix& fix = epoch.fix;
   EpochEffect effect;
   const double since_s = std::chrono::duration<double>(t - first_epoch_).count();
   if (!pending_.empty() || !pending_clears_.empty() || !applied_.empty()) take_pending(t, since_s, fix);
@@ -318,10 +295,9 @@ EpochEffect FaultTimeline::apply(UtcNs t, nmea::Fix& fix, const std::optional<En
     return effect;
   }
   bool freeze_ahead = false;
-  Moment moment{last_, frozen_, clean_rf_, rf, effect};
+  Moment moment{last_, frozen_, effect};
   for (Entry& e : entries_) {
     if (e.ended) continue;
-    const bool was_acting = e.active || e.fading_from_s.has_value();
     const bool active = active_now(e, since_s, truth_m, frame);
     if (active && !e.active) {
       spdlog::info("{}fault {} starts at epoch {} (+{:.3f} s)", who_, e.fault.describe(), format_iso8601_utc(t), since_s);
@@ -332,7 +308,6 @@ EpochEffect FaultTimeline::apply(UtcNs t, nmea::Fix& fix, const std::optional<En
                    format_iso8601_utc(t), since_s, e.epochs,
                    fades(e.fault) ? fmt::format(", fading out over {:.6g} s", e.fault.ramp_out_s) : std::string());
       if (fades(e.fault)) e.fading_from_s = since_s;
-      std::visit([&moment](const auto& params) { on_end(params, moment); }, e.fault.params);
     }
     e.active = active;
     // Ramp in from the start of this visit (`at`, or entering the area); fade out after the end.
@@ -349,10 +324,9 @@ EpochEffect FaultTimeline::apply(UtcNs t, nmea::Fix& fix, const std::optional<En
     if (active || e.fading_from_s) {
       ++e.epochs;
       const std::optional<double> ended_s = active ? std::nullopt : e.fading_from_s;
-      EpochContext c{e.fault, since_s, start_s, strength, fix, truth_m, frame, rf, effect, frozen_, ended_s};
+      EpochContext c{e.fault, since_s, start_s, strength, fix, truth_m, frame, epoch.rf, effect, frozen_, ended_s};
       std::visit([&c](const auto& params) { act(params, c); }, e.fault.params);
     } else {
-      if (was_acting) std::visit([&moment](const auto& params) { on_over(params, moment); }, e.fault.params);
       // Over for good: its time passed, or cleared (an area's fault can start again on the next visit).
       const bool past = e.fault.duration_s && !e.fault.where && ns_of(since_s) >= ns_of(e.fault.at_s + *e.fault.duration_s);
       e.ended = e.cleared || past;

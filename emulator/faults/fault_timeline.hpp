@@ -15,7 +15,7 @@
 #include "emulator/model/enu.hpp"
 #include "emulator/model/geo.hpp"
 #include "emulator/model/time.hpp"
-#include "emulator/ubx/receiver_state.hpp"
+#include "emulator/model/epoch.hpp"
 #include "nmea/fix.hpp"
 #include "transport/log_limit.hpp"
 
@@ -51,11 +51,10 @@ class FaultTimeline {
  public:
   FaultTimeline(FaultPlan plan, UtcNs first_epoch);
 
-  /// Applies the faults active at `t` to `fix` (the receiver model's, for `truth_m` in `frame`;
-  /// no truth: the position is not touched) and to `rf` (a u-blox's; may be null). Call once per
-  /// epoch with non-decreasing `t`.
-  EpochEffect apply(UtcNs t, nmea::Fix& fix, const std::optional<Enu>& truth_m, const LocalFrame& frame,
-                    ubx::RfState* rf);
+  /// Applies the faults active at `t` to `epoch` as the model and RTK built it: its fix (for
+  /// `truth_m` in `frame`; no truth: the position is not touched) and its RF front end (clean
+  /// unless a fault acts on it this epoch). Call once per epoch with non-decreasing `t`.
+  EpochEffect apply(UtcNs t, ReceiverEpoch& epoch, const std::optional<Enu>& truth_m, const LocalFrame& frame);
 
   struct Entry {
     Fault fault;
@@ -125,7 +124,6 @@ class FaultTimeline {
   bool keeps_last_ = false;            ///< a freeze is still to come: keep the last fix
   std::optional<nmea::Fix> last_;      ///< the last epoch's fix as written
   std::optional<nmea::Fix> frozen_;    ///< the fix a freeze repeats
-  std::optional<ubx::RfState> clean_rf_;  ///< the RF state before a jam
 };
 
 /// Moves `fix`'s position by `offset` in `frame` (jump, wrong).

@@ -84,9 +84,9 @@ Ned baseline_ned(const AntennaOffset& base, const AntennaOffset& rover, double y
 RoverRelPos::RoverRelPos(const MovingBaseOptions& options, std::uint64_t seed)
     : options_(options), rng_(seed, kRelPosStream) {}
 
-ubx::RelPosNed RoverRelPos::at(UtcNs t, const std::optional<sources::Truth>& truth,
+RelativePosition RoverRelPos::at(UtcNs t, const std::optional<sources::Truth>& truth,
                                const std::optional<UtcNs>& last_corrections) {
-  ubx::RelPosNed rel;
+  RelativePosition rel;
   rel.is_moving = true;
   // The noise runs every epoch, so a valid epoch's noise does not depend on the ones before it.
   const double sigma = options_.baseline_sigma_m;
@@ -104,7 +104,7 @@ ubx::RelPosNed RoverRelPos::at(UtcNs t, const std::optional<sources::Truth>& tru
   rel.acc_north_m = rel.acc_east_m = rel.acc_down_m = rel.acc_length_m = sigma;
   rel.diff_soln = true;
   rel.rel_pos_valid = true;
-  rel.carrier = ubx::CarrierSolution::fixed;
+  rel.carrier = CarrierSolution::fixed;
   // The heading of the baseline and its 1 sigma: the cross-track error over the length.
   const double true_horizontal_m = std::hypot(b.north_m, b.east_m);
   if (true_horizontal_m > 10.0 * sigma && horizontal_m > 0.0) {

@@ -22,7 +22,7 @@
 #include "emulator/model/noise/rng.hpp"
 #include "emulator/model/time.hpp"
 #include "emulator/sources/pose_source.hpp"
-#include "emulator/ubx/relposned.hpp"
+#include "emulator/model/epoch.hpp"
 
 namespace gpsemu::heading {
 
@@ -75,7 +75,7 @@ class RoverRelPos {
   /// At epoch `t`: valid (carrSoln fixed, diffSoln, heading valid when the baseline has a
   /// horizontal length) when the truth has a yaw and corrections arrived within the timeout;
   /// otherwise only isMoving. `last_corrections`: when the base's RTCM3 last arrived.
-  [[nodiscard]] ubx::RelPosNed at(UtcNs t, const std::optional<sources::Truth>& truth,
+  [[nodiscard]] RelativePosition at(UtcNs t, const std::optional<sources::Truth>& truth,
                                   const std::optional<UtcNs>& last_corrections);
 
  private:

@@ -112,7 +112,7 @@ struct Receiver::Impl {
   }
   Epoch report(const std::optional<sources::Truth>& truth) {
     const UtcNs t = next_time();
-    return report(t, channel.step(t, truth));
+    return report(t, channel.step(t, truth).fix);
   }
 };
 
@@ -147,7 +147,7 @@ Epoch Receiver::step() {
     }
   }
   const UtcNs t = s.next_time();
-  return s.report(t, s.channel.step(t));
+  return s.report(t, s.channel.step(t).fix);
 }
 
 Epoch Receiver::step_enu(const Enu& position_m, const Enu& velocity_mps) {

@@ -25,12 +25,12 @@ Channel::Channel(const ChannelSettings& settings, UtcNs first_epoch) : settings_
 
 Channel::~Channel() = default;
 
-nmea::Fix Channel::step(UtcNs t) {
+const ReceiverEpoch& Channel::step(UtcNs t) {
   source_->service();
   return step(t, source_->truth_at(t));
 }
 
-nmea::Fix Channel::step(UtcNs t, const std::optional<sources::Truth>& vehicle) {
+const ReceiverEpoch& Channel::step(UtcNs t, const std::optional<sources::Truth>& vehicle) {
   // The antenna's place on the vehicle (docs/heading.md): where this receiver's truth is.
   std::optional<sources::Truth> truth = vehicle;
   if (truth && truth->yaw_deg) {
@@ -38,30 +38,35 @@ nmea::Fix Channel::step(UtcNs t, const std::optional<sources::Truth>& vehicle) {
                                                                 truth->tilt.pitch_deg, truth->tilt.roll_deg);
   }
   last_step_ = t;
-  nmea::Fix fix = receiver_->fix_at(t, truth);  // one fix a step, never copied
-  auto* const relpos = protocol_->relative_position();  // null: the protocol reports none
-  if (rover_ && relpos) *relpos = rover_->at(t, truth, last_corrections_);
+  // The epoch, built forward: the model's fix, then RTK and the relative position, then the faults;
+  // then every protocol encodes it as it is.
+  ReceiverEpoch& epoch = epoch_;
+  epoch.fix = receiver_->fix_at(t, truth);
+  epoch.rf = RfState{};
+  epoch.relative_position.reset();
+  nmea::Fix& fix = epoch.fix;
   bytes_.clear();
   const std::optional<Enu> truth_m = truth ? std::optional<Enu>(truth->position_m) : std::nullopt;
   last_truth_m_ = truth_m;
   rtk_->service();
   rtk_->apply(t, fix, truth_m, frame_);  // corrections before faults: a forced quality or an outage wins
-  // A rover of a fixed base (not of a moving-base pair): NAV-RELPOSNED from the RTK state.
-  if (relpos && !rover_ && rtk_->counts().messages > 0) {
-    *relpos = rtk::static_base_relpos(rtk_->status(), rtk_->base(), fix);
+  if (rover_) {
+    epoch.relative_position = rover_->at(t, truth, last_corrections_);  // a moving-base rover's baseline
+  } else if (rtk_->counts().messages > 0) {
+    epoch.relative_position = rtk::static_base_relpos(rtk_->status(), rtk_->base(), fix);  // a fixed base's rover
   }
-  const faults::EpochEffect effect = faults_->apply(t, fix, truth_m, frame_, protocol_->rf_front_end());
+  const faults::EpochEffect effect = faults_->apply(t, epoch, truth_m, frame_);
   silent_ = effect.silent;
   if (effect.reboot_cold_start_s) reboot(t, *effect.reboot_cold_start_s);
   if (silent_) {
     ++stats_.epochs_silent;
   } else {
     if (!fix.has_fix()) ++stats_.epochs_without_fix;
-    for (const auto& p : protocols_) p->encode(fix, bytes_);
+    for (const auto& p : protocols_) p->encode(epoch, bytes_);
     if (settings_.moving_base.role == heading::Role::moving_base) bytes_ += heading::base_rtcm3_epoch(fix, 0);
   }
   apply_byte_faults(t, effect);
-  return fix;
+  return epoch;
 }
 
 void Channel::cold_start(UtcNs t) {

@@ -4,7 +4,7 @@
 
 namespace gpsemu::protocol {
 
-void NmeaProtocol::encode(const nmea::Fix& fix, std::string& out) { nmea::append_epoch(fix, options_, out, memo_); }
+void NmeaProtocol::encode(const ReceiverEpoch& epoch, std::string& out) { nmea::append_epoch(epoch.fix, options_, out, memo_); }
 
 std::size_t NmeaProtocol::widest_epoch_bytes(const Geometry& sky) const {
   return nmea::line_budget(options_, sky.in_view_by_system, sky.satellites_used, 1.0).bytes_per_epoch;

@@ -13,7 +13,7 @@ namespace gpsemu::protocol {
 class NmeaProtocol final : public ReceiverProtocol {
  public:
   explicit NmeaProtocol(nmea::FormatOptions options) : options_(std::move(options)) {}
-  void encode(const nmea::Fix& fix, std::string& out) override;
+  void encode(const ReceiverEpoch& epoch, std::string& out) override;
   [[nodiscard]] std::size_t widest_epoch_bytes(const Geometry& sky) const override;
   [[nodiscard]] std::string name() const override { return "NMEA"; }
   [[nodiscard]] std::string written() const override { return "NMEA"; }

@@ -1,11 +1,11 @@
 // A receiver protocol as the receiver channel sees it: one interface, the shape of gpsd's driver
 // descriptor (struct gps_type_t: a protocol is a set of hooks, the daemon's core calls them and
 // never names a protocol). What a client writes comes in (client_wrote); out come each epoch's
-// bytes for the one fix (encode), the answers to that client (take_reply), the effects the
+// bytes for the one epoch value (encode), the answers to that client (take_reply), the effects the
 // emulator applies to the running receiver (a solution period, a baud, a cold start:
 // take_effects) and the corrections the client sent (RTCM3: take_corrections). The emulator asks
 // the protocol for a reset (a reset fault) with reset(). Plain NMEA (nmea_protocol.hpp) and the
-// u-blox port (ublox/ublox_protocol.hpp) implement it; protocol_spec.hpp says which a receiver has.
+// u-blox port (ublox/ublox_protocol.hpp) implement it; registry.hpp says which a receiver has.
 // A protocol state machine stays pure code over bytes (PX4-GPSDrivers' shape): the pipeline does
 // the I/O and applies the effects (pipeline/protocol_effects.hpp).
 #pragma once
@@ -21,16 +21,12 @@
 #include <variant>
 #include <vector>
 
+#include "emulator/model/epoch.hpp"
 #include "emulator/model/receiver.hpp"
 #include "emulator/model/time.hpp"
 #include "emulator/rtk/rtcm3_messages.hpp"
 #include "nmea/fix.hpp"
 #include "transport/output.hpp"
-
-namespace gpsemu::ubx {
-struct RfState;
-struct RelPosNed;
-}  // namespace gpsemu::ubx
 
 namespace gpsemu::protocol {
 
@@ -75,8 +71,9 @@ class ReceiverProtocol {
   virtual ~ReceiverProtocol() = default;
 
   // What the receiver writes.
-  /// Appends this protocol's bytes for `fix` to `out` (which holds the earlier protocols' bytes).
-  virtual void encode(const nmea::Fix& fix, std::string& out) = 0;
+  /// Appends this protocol's bytes for `epoch` to `out` (which holds the earlier protocols'
+  /// bytes). The epoch is read-only: it is whole before any protocol sees it (model/epoch.hpp).
+  virtual void encode(const ReceiverEpoch& epoch, std::string& out) = 0;
   /// The widest epoch it may write with its settings now, for satellites as `sky` (the model's
   /// worst case by system): the line budget's figure (bytes).
   [[nodiscard]] virtual std::size_t widest_epoch_bytes(const Geometry& sky) const = 0;
@@ -117,12 +114,6 @@ class ReceiverProtocol {
   [[nodiscard]] virtual bool has_tx_buffer() const { return false; }
   /// Keeps, in order, the whole messages of `epoch` that fit in `budget_bytes`; returns the rest's count.
   virtual LineDrops fit_to_line(std::string& /*epoch*/, std::size_t /*budget_bytes*/) { return {}; }
-
-  // What the channel and its faults feed it, beside the fix.
-  /// The RF front end its monitor messages report (a jam fault changes it); null: none reported.
-  [[nodiscard]] virtual ubx::RfState* rf_front_end() { return nullptr; }
-  /// The relative position (NAV-RELPOSNED) it reports, set before each epoch; null: none reported.
-  [[nodiscard]] virtual ubx::RelPosNed* relative_position() { return nullptr; }
 
   // The exit summary.
   /// One line of what the clients wrote and were answered (empty when the protocol reads no

@@ -7,7 +7,6 @@
 
 #include <GeographicLib/Geocentric.hpp>
 
-#include "emulator/ubx/nav.hpp"
 
 namespace gpsemu::rtk {
 
@@ -23,9 +22,9 @@ NedOffset ned_from(const BasePosition& from, double to_x_m, double to_y_m, doubl
   return {north, east, -up};
 }
 
-ubx::RelPosNed static_base_relpos(const RtkStatus& status, const std::optional<BasePosition>& base,
+RelativePosition static_base_relpos(const RtkStatus& status, const std::optional<BasePosition>& base,
                                   const nmea::Fix& fix) {
-  ubx::RelPosNed rel;
+  RelativePosition rel;
   if (!fix.has_fix()) return rel;
   if (status.station_id) {
     rel.ref_station_id = *status.station_id;
@@ -33,9 +32,9 @@ ubx::RelPosNed static_base_relpos(const RtkStatus& status, const std::optional<B
     rel.ref_station_id = base->station_id;
   }
   rel.diff_soln = status.differential();
-  rel.carrier = status.quality == nmea::FixQuality::rtk_fixed   ? ubx::CarrierSolution::fixed
-                : status.quality == nmea::FixQuality::rtk_float ? ubx::CarrierSolution::floating
-                                                                : ubx::CarrierSolution::none;
+  rel.carrier = status.quality == nmea::FixQuality::rtk_fixed   ? CarrierSolution::fixed
+                : status.quality == nmea::FixQuality::rtk_float ? CarrierSolution::floating
+                                                                : CarrierSolution::none;
   if (!rel.diff_soln || !base) return rel;
   double x = 0.0, y = 0.0, z = 0.0;
   GeographicLib::Geocentric::WGS84().Forward(fix.lat_deg, fix.lon_deg, fix.alt_msl_m + fix.geoid_sep_m, x, y, z);
@@ -44,8 +43,10 @@ ubx::RelPosNed static_base_relpos(const RtkStatus& status, const std::optional<B
   rel.east_m = d.east_m;
   rel.down_m = d.down_m;
   rel.length_m = std::sqrt(d.north_m * d.north_m + d.east_m * d.east_m + d.down_m * d.down_m);
-  // The accuracies NAV-PVT reports (one source: hypot(accN, accE) is its hAcc, accD its vAcc).
-  const ubx::NedAccuracy acc = ubx::position_accuracy(fix);
+  // The epoch's accuracy (floored once by the model): hypot(accN, accE) is NAV-PVT's hAcc, accD its vAcc.
+  const struct {
+    double north_m, east_m, down_m;
+  } acc{fix.sigma_lat_m, fix.sigma_lon_m, fix.sigma_alt_m};
   rel.acc_north_m = acc.north_m;
   rel.acc_east_m = acc.east_m;
   rel.acc_down_m = acc.down_m;

@@ -1,12 +1,12 @@
 // NAV-RELPOSNED of an RTK rover whose base is a fixed station (docs/rtk.md "NAV-RELPOSNED"): an
 // F9P rover fed a base's RTCM3 reports where it is relative to the base's antenna reference point
 // (1005/1006). Pure: the RTK state, the base position and the rover's reported fix in, the
-// message's values out (ubx/relposned.hpp encodes them).
+// relative position out (model/epoch.hpp; ubx/relposned.hpp encodes it).
 //
 //   relPos N/E/D  rover - base, in the local north/east/down frame at the base (metres)
 //   length        |relPos| (3-D)
-//   accN/E/D      the fix's 1-sigma north/east/vertical accuracy as NAV-PVT reports it
-//                 (ubx::position_accuracy: what the RTK state made of it, at least NAV-PVT's floor)
+//   accN/E/D      the fix's 1-sigma north/east/vertical accuracy (its GST sigmas, as NAV-PVT
+//                 reports them: what the RTK state made of them, floored once)
 //   accLength     the accuracy along the baseline: sqrt(sum (relPos_i / length)^2 acc_i^2)
 //   flags         gnssFixOK (the fix's), diffSoln (corrections in use), relPosValid (differential
 //                 and the base position known), carrSoln none / float / fixed from the RTK state,
@@ -19,7 +19,7 @@
 
 #include "emulator/rtk/rtcm3_messages.hpp"
 #include "emulator/rtk/rtk_state.hpp"
-#include "emulator/ubx/relposned.hpp"
+#include "emulator/model/epoch.hpp"
 #include "nmea/fix.hpp"
 
 namespace gpsemu::rtk {
@@ -33,7 +33,7 @@ struct NedOffset {
 /// The values above for a rover whose reported fix is `fix`, at RTK state `status`, with the
 /// base position `base` (empty until a 1005/1006 arrived). Without a fix: all zero (the encoder
 /// then writes only what a rover without a solution writes).
-[[nodiscard]] ubx::RelPosNed static_base_relpos(const RtkStatus& status, const std::optional<BasePosition>& base,
+[[nodiscard]] RelativePosition static_base_relpos(const RtkStatus& status, const std::optional<BasePosition>& base,
                                                 const nmea::Fix& fix);
 
 }  // namespace gpsemu::rtk

@@ -1,7 +1,7 @@
 // What a u-blox knows about itself beside the fix, as the UBX messages report it: how long it has
 // run and its time to first fix (NAV-STATUS), whether its time is valid, fully resolved and
-// confirmed (NAV-PVT, NAV-TIMEUTC, NAV-TIMEGPS), its local clock's bias and drift (NAV-CLOCK) and
-// its RF front end (MON-HW, MON-RF). Pure and deterministic given the seed.
+// confirmed (NAV-PVT, NAV-TIMEUTC, NAV-TIMEGPS) and its local clock's bias and drift (NAV-CLOCK);
+// the RF front end and the relative position come with each epoch (emulator/model/epoch.hpp). Pure and deterministic given the seed.
 //
 // Time, as a receiver learns it: without a satellite (cold start, outage) nothing is valid; the
 // first tracked satellite gives time of week and week (validDate, validTime); the first fix after
@@ -23,19 +23,8 @@
 
 namespace gpsemu::ubx {
 
-/// The RF front end a u-blox reports in MON-HW and MON-RF: a clean steady state by default; a
-/// fault (jamming, antenna short) changes these fields.
-struct RfState {
-  std::uint16_t noise_per_ms = 89;   ///< noise level of the correlators (MON-HW noisePerMS)
-  std::uint16_t agc_count = 3140;    ///< automatic gain control, 0..8191 (MON-HW agcCnt)
-  std::uint8_t jamming_indicator = 9;  ///< CW jamming indicator, 0 (none) .. 255 (strong)
-  std::uint8_t jamming_state = 1;    ///< 0 unknown, 1 ok, 2 warning, 3 critical
-  std::uint8_t antenna_status = 2;   ///< 0 init, 1 don't know, 2 ok, 3 short, 4 open
-  std::uint8_t antenna_power = 1;    ///< 0 off, 1 on, 2 don't know
-  /// NAV-STATUS spoofDetState: 0 unknown or off, 1 no spoofing indicated, 2 spoofing indicated,
-  /// 3 multiple spoofing indications (a spoof fault sets it).
-  std::uint8_t spoof_detection_state = 0;
-};
+/// The RF front end MON-HW and MON-RF report: the epoch's (emulator/model/epoch.hpp).
+using RfState = gpsemu::RfState;
 
 /// The receiver clock (NAV-CLOCK).
 struct ClockState {
@@ -91,10 +80,6 @@ class ReceiverState {
   /// CFG-RST: the receiver starts again at its next solution (msss 0, no fix yet, nothing valid).
   void restart();
 
-  RfState& rf() { return rf_; }
-  [[nodiscard]] const RfState& rf() const { return rf_; }
-  /// A rover's position relative to its moving base (NAV-RELPOSNED), set each epoch by the channel.
-  RelPosNed& relative_position() { return relpos_; }
 
  private:
   std::optional<nmea::UtcTime> power_on_;
@@ -103,8 +88,6 @@ class ReceiverState {
   bool time_valid_ = false;
   std::optional<nmea::UtcTime> resolved_at_;  // the first fix since the time became valid
   ReceiverClock clock_;
-  RfState rf_;
-  RelPosNed relpos_;
 };
 
 }  // namespace gpsemu::ubx

@@ -12,29 +12,14 @@
 #include <cstdint>
 #include <string>
 
+#include "emulator/model/epoch.hpp"
 #include "nmea/fix.hpp"
 
 namespace gpsemu::ubx {
 
-/// carrSoln of NAV-RELPOSNED (and NAV-PVT): none, float or fixed ambiguities.
-enum class CarrierSolution : std::uint8_t { none = 0, floating = 1, fixed = 2 };
-
-/// What a rover knows of its base at one solution. Metres and degrees; zeros when not valid.
-struct RelPosNed {
-  std::uint16_t ref_station_id = 0;
-  double north_m = 0.0, east_m = 0.0, down_m = 0.0;  ///< base antenna -> rover antenna, NED (metres)
-  double length_m = 0.0;                             ///< |relPos| (metres)
-  double heading_deg = 0.0;                          ///< heading of the baseline, degrees true [0, 360)
-  double acc_north_m = 0.0, acc_east_m = 0.0, acc_down_m = 0.0, acc_length_m = 0.0;  ///< 1 sigma (metres)
-  double acc_heading_deg = 0.0;                      ///< 1 sigma (degrees)
-  bool diff_soln = false;         ///< corrections (the base's RTCM3) applied
-  bool rel_pos_valid = false;     ///< the relative position components are valid
-  CarrierSolution carrier = CarrierSolution::none;
-  bool is_moving = false;         ///< moving-base mode
-  bool ref_pos_miss = false;      ///< the base's position was extrapolated (its 4072.0 missing)
-  bool ref_obs_miss = false;      ///< the base's observations were extrapolated (its MSM missing)
-  bool heading_valid = false;     ///< relPosHeading is valid
-};
+/// The model's values under their u-blox names (emulator/model/epoch.hpp).
+using CarrierSolution = gpsemu::CarrierSolution;
+using RelPosNed = gpsemu::RelativePosition;
 
 /// The version-1 payload (64 bytes). gnssFixOK is the fix's; without a fix every relative value
 /// is written 0 and only isMoving can be set, as a rover does.

@@ -150,7 +150,8 @@ std::string Session::take_reply(ClientId id) {
 
 std::vector<Effect> Session::take_effects() { return std::exchange(effects_, std::vector<Effect>{}); }
 
-void Session::append_solution(const nmea::Fix& fix, std::string& out) {
+void Session::append_solution(const ReceiverEpoch& epoch, std::string& out) {
+  const nmea::Fix& fix = epoch.fix;
   if (!on_solution_grid(fix.time_utc)) return;
   const ReceiverState::AtSolution now = state_.at(fix);
   NavExtras extras;
@@ -160,8 +161,8 @@ void Session::append_solution(const nmea::Fix& fix, std::string& out) {
   extras.model = machine_.model();
   extras.time = now.time;
   extras.clock = now.clock;
-  extras.rf = state_.rf();
-  extras.relpos = state_.relative_position();
+  extras.rf = epoch.rf;
+  extras.relpos = epoch.relative_position.value_or(RelPosNed{});
 
   const Settings& s = machine_.settings();
   const Port port = machine_.port();

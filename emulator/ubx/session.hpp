@@ -96,8 +96,9 @@ class Session {
   /// (a client's one still waiting is superseded).
   void hardware_reset();
 
-  /// Appends the epoch's bytes for `fix` to `out`: nothing off the measurement grid.
-  void append_solution(const nmea::Fix& fix, std::string& out);
+  /// Appends the bytes of `epoch` (its fix, front end and relative position) to `out`: nothing
+  /// off the measurement grid.
+  void append_solution(const ReceiverEpoch& epoch, std::string& out);
 
   /// Whether a solution falls at `t`: any epoch while the period is the start one, else those on
   /// the asked solution grid.
@@ -111,9 +112,6 @@ class Session {
   /// NAV polls and effects waiting for the next solution (at most one a kind of each).
   [[nodiscard]] std::size_t polls_waiting() const { return polled_.size(); }
   [[nodiscard]] std::size_t effects_waiting() const { return effects_.size(); }
-  /// The RF front end MON-HW and MON-RF report (a fault may change it).
-  [[nodiscard]] RfState& rf() { return state_.rf(); }
-  [[nodiscard]] RelPosNed& relative_position() { return state_.relative_position(); }
 
  private:
   struct Client {

@@ -58,7 +58,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const UtcNs start{};
   faults::FaultTimeline a({{}, ""}, start), b({{}, ""}, start);
   faults::FaultControl control({&a, &b});
-  ubx::RfState rf;
+  RfState rf;
   std::string_view input(reinterpret_cast<const char*>(data), size);
   int epoch = 0;
   while (!input.empty() && epoch < 200) {

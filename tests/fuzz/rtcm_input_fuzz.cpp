@@ -83,7 +83,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     fix.lat_deg = 48.8;
     fix.lon_deg = 2.3;
     fix.sigma_lat_m = fix.sigma_lon_m = fix.sigma_alt_m = 0.01;
-    const ubx::RelPosNed rel = rtk::static_base_relpos(s, rtk.base(), fix);
+    const RelativePosition rel = rtk::static_base_relpos(s, rtk.base(), fix);
     GPSEMU_FUZZ_CHECK(!rel.rel_pos_valid || (rel.diff_soln && rtk.base()));
     GPSEMU_FUZZ_CHECK(!rel.rel_pos_valid || (std::isfinite(rel.length_m) && rel.length_m >= 0.0));
     GPSEMU_FUZZ_CHECK(ubx::nav_relposned(fix, rel).size() == 64);

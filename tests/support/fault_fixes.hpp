@@ -5,10 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
 #include "emulator/faults/fault.hpp"
+#include "emulator/faults/fault_timeline.hpp"
+#include "emulator/model/epoch.hpp"
 #include "emulator/model/enu.hpp"
 #include "emulator/model/geo.hpp"
 #include "emulator/model/time.hpp"
@@ -27,6 +30,19 @@ inline nmea::Fix gps_fix_at(const LocalFrame& frame, UtcNs t, const Enu& positio
   fix.lon_deg = g.lon_deg;
   fix.alt_msl_m = g.alt_m;
   return fix;
+}
+
+/// One epoch through `timeline` as the channel applies it: `fix` in a fresh epoch (a clean RF
+/// front end), the faults applied, the fix handed back and, when asked, the epoch's front end.
+inline faults::EpochEffect apply_faults(faults::FaultTimeline& timeline, UtcNs t, nmea::Fix& fix,
+                                        const std::optional<Enu>& truth_m, const LocalFrame& frame,
+                                        RfState* rf = nullptr) {
+  ReceiverEpoch epoch;
+  epoch.fix = fix;
+  const faults::EpochEffect effect = timeline.apply(t, epoch, truth_m, frame);
+  fix = epoch.fix;
+  if (rf) *rf = epoch.rf;
+  return effect;
 }
 
 /// make_fault(keys) throws std::invalid_argument whose message holds `part`.

@@ -29,7 +29,7 @@ class UbloxProtocol final : public ReceiverProtocol {
   /// `state_file`: where the stored layers are written each time a client changes them.
   explicit UbloxProtocol(ubx::SessionSettings settings, std::optional<std::string> state_file = std::nullopt);
 
-  void encode(const nmea::Fix& fix, std::string& out) override { session_.append_solution(fix, out); }
+  void encode(const ReceiverEpoch& epoch, std::string& out) override { session_.append_solution(epoch, out); }
   [[nodiscard]] std::size_t widest_epoch_bytes(const Geometry& sky) const override;
   [[nodiscard]] std::string name() const override { return "u-blox"; }
   [[nodiscard]] std::string written() const override { return nmea_on_at_start_ ? "NMEA+UBX" : "UBX"; }
@@ -49,8 +49,6 @@ class UbloxProtocol final : public ReceiverProtocol {
   [[nodiscard]] bool has_tx_buffer() const override { return true; }
   LineDrops fit_to_line(std::string& epoch, std::size_t budget_bytes) override;
 
-  [[nodiscard]] ubx::RfState* rf_front_end() override { return &session_.rf(); }
-  [[nodiscard]] ubx::RelPosNed* relative_position() override { return &session_.relative_position(); }
 
   [[nodiscard]] std::string client_input_summary(std::string_view extra) const override;
   [[nodiscard]] std::string configuration_summary() const override;

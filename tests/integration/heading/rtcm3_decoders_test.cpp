@@ -43,7 +43,7 @@ BaseRun run_base() {
   BaseRun run;
   rtk::Rtcm3Reader reader;
   for (int k = 0; k < kEpochs; ++k) {
-    const nmea::Fix fix = base.step(t0 + k * 1s);
+    const nmea::Fix fix = base.step(t0 + k * 1s).fix;
     run.bytes += base.bytes();
     for (const rtk::Rtcm3Frame& f : reader.feed(base.bytes())) run.types.push_back(f.message_type());
     int sats = 0;

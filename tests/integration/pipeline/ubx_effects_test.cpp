@@ -102,8 +102,8 @@ TEST(UbxEffects, CfgRstColdStartRestartsTheReceiverAtTheEpoch) {
   settings.receiver.cold_start_2d_s = 0.0;
   const UtcNs t0 = parse_iso8601_utc("2024-05-01T12:00:00Z");
   Channel channel(settings, t0);
-  EXPECT_FALSE(channel.step(t0 + 1s, sources::Truth{}).has_fix());
-  EXPECT_TRUE(channel.step(t0 + 3s, sources::Truth{}).has_fix());
+  EXPECT_FALSE(channel.step(t0 + 1s, sources::Truth{}).fix.has_fix());
+  EXPECT_TRUE(channel.step(t0 + 3s, sources::Truth{}).fix.has_fix());
 
   channel.client_wrote(ubx::frame_bytes(ubx::msg::cfg_rst, std::string("\xff\xff\x02\x00", 4)), 1);
   EXPECT_TRUE(channel.take_reply(1).empty()) << "a u-blox does not acknowledge CFG-RST";
@@ -111,9 +111,9 @@ TEST(UbxEffects, CfgRstColdStartRestartsTheReceiverAtTheEpoch) {
   ReceiverSchedule schedule(grid, grid.index_at_or_after(t0));
   ReceiverLine line;
   apply_protocol_effects(channel, {}, schedule, line, t0 + 4s, "");
-  EXPECT_FALSE(channel.step(t0 + 4s, sources::Truth{}).has_fix());
-  EXPECT_FALSE(channel.step(t0 + 5s, sources::Truth{}).has_fix());
-  EXPECT_TRUE(channel.step(t0 + 6s, sources::Truth{}).has_fix());
+  EXPECT_FALSE(channel.step(t0 + 4s, sources::Truth{}).fix.has_fix());
+  EXPECT_FALSE(channel.step(t0 + 5s, sources::Truth{}).fix.has_fix());
+  EXPECT_TRUE(channel.step(t0 + 6s, sources::Truth{}).fix.has_fix());
 }
 
 }  // namespace ubx_effects_test

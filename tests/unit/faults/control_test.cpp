@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/support/fault_fixes.hpp"
+
 #include <chrono>
 
 #include <nlohmann/json.hpp>
@@ -30,7 +32,7 @@ struct TwoReceivers {
         fix.satellites[static_cast<std::size_t>(i)].snr_dbhz = 40;
       }
       fix.satellites_used = 8;
-      (void)t->apply(kStart + milliseconds(ms), fix, Enu{}, frame, nullptr);
+      (void)test::apply_faults(*t, kStart + milliseconds(ms), fix, Enu{}, frame);
       if (t == &a && out_a) *out_a = fix;
     }
   }
@@ -175,7 +177,7 @@ TEST(FaultControl, ALiveSpoofThatWouldOverlapAScheduledSpoofIsRefused) {
   FaultControl control({&t});
   const LocalFrame frame({47.0, 8.0, 400.0});
   nmea::Fix fix;
-  (void)t.apply(kStart + milliseconds(500), fix, Enu{}, frame, nullptr);
+  (void)test::apply_faults(t, kStart + milliseconds(500), fix, Enu{}, frame);
   const json on = json::parse(control.handle(R"({"fault":"spoof","speed_mps":2})"));
   EXPECT_EQ(on["class"], "ERROR");
   EXPECT_EQ(on["message"], "spoof: receiver 0 has a spoof scheduled from 2 s (scenario file s.toml:1): two spoofers would add "
@@ -185,7 +187,7 @@ TEST(FaultControl, ALiveSpoofThatWouldOverlapAScheduledSpoofIsRefused) {
   const json brief = json::parse(control.handle(R"({"fault":"spoof","speed_mps":2,"duration":1})"));
   EXPECT_EQ(brief["class"], "FAULT") << brief;
   // After the scheduled one ends, a spoof until cleared is fine.
-  for (int ms = 1000; ms <= 5000; ms += 500) (void)t.apply(kStart + milliseconds(ms), fix, Enu{}, frame, nullptr);
+  for (int ms = 1000; ms <= 5000; ms += 500) (void)test::apply_faults(t, kStart + milliseconds(ms), fix, Enu{}, frame);
   EXPECT_EQ(json::parse(control.handle(R"({"fault":"spoof","speed_mps":2})"))["class"], "FAULT");
 }
 

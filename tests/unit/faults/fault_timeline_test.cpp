@@ -58,13 +58,13 @@ struct Epochs {
   nmea::Fix at(int s, bool* silent = nullptr) {
     const UtcNs t = kStart + seconds(s);
     nmea::Fix fix = make_fix(frame, t);
-    const EpochEffect e = timeline.apply(t, fix, kTruth, frame, &rf);
+    const EpochEffect e = test::apply_faults(timeline, t, fix, kTruth, frame, &rf);
     if (silent) *silent = e.silent;
     return fix;
   }
   LocalFrame frame;
   FaultTimeline timeline;
-  ubx::RfState rf;
+  RfState rf;
 };
 
 Fault fault(FaultParams params, double at_s, double duration_s) {
@@ -176,7 +176,7 @@ TEST(FaultTimeline, JamLowersCn0DropsWeakSatellitesAndLosesTheFix) {
   Fault jam = fault(Jam{.db = 25.0}, 10, 20);
   jam.ramp_s = 10.0;
   Epochs run({jam});
-  const ubx::RfState clean = run.rf;
+  const RfState clean = run.rf;
   EXPECT_EQ(run.at(10).satellites_used, 10);  // the ramp starts at 0 dB
   // 12.5 dB down: C/N0 26..48 -> 13.5..35.5; 30 and 32 fall under 20 dB-Hz and leave the solution.
   const nmea::Fix f = run.at(15);

@@ -41,7 +41,7 @@ struct Epochs {
   nmea::Fix at(int s, const Enu& truth_m = {}) {
     const UtcNs t = kStart + seconds(s);
     nmea::Fix fix = make_fix(frame, t, truth_m);
-    effect = timeline.apply(t, fix, truth_m, frame, &rf);
+    effect = test::apply_faults(timeline, t, fix, truth_m, frame, &rf);
     return fix;
   }
   /// The east offset of epoch `s`'s fix from the truth (metres).
@@ -51,7 +51,7 @@ struct Epochs {
   }
   LocalFrame frame;
   FaultTimeline timeline;
-  ubx::RfState rf;
+  RfState rf;
   EpochEffect effect;
 };
 
@@ -124,7 +124,7 @@ TEST(FaultTriggers, RampOutFadesAWrongOffsetAsItFadedIn) {
 TEST(FaultTriggers, RampOutOfAJamRestoresTheRfStateAfterTheFade) {
   Epochs run({make({{"kind", "jam"}, {"at", 1.0}, {"duration", 2.0}, {"db", 10.0}, {"ramp_out_s", 2.0}})});
   (void)run.at(0);
-  const ubx::RfState clean = run.rf;
+  const RfState clean = run.rf;
   EXPECT_EQ(run.at(2).satellites[0].snr_dbhz, 30);
   EXPECT_EQ(run.at(3).satellites[0].snr_dbhz, 30);  // fading from its end
   EXPECT_EQ(run.at(4).satellites[0].snr_dbhz, 35);

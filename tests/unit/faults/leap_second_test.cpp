@@ -42,7 +42,7 @@ struct Epochs {
     fix.quality = nmea::FixQuality::gps;
     fix.dimension = nmea::FixDimension::three_d;
     fix.satellites_used = 8;
-    (void)timeline.apply(t, fix, std::nullopt, frame, nullptr);
+    (void)test::apply_faults(timeline, t, fix, std::nullopt, frame);
     return fix;
   }
   LocalFrame frame;

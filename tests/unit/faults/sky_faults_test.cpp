@@ -62,7 +62,7 @@ struct Epochs {
   nmea::Fix at(int s, EpochEffect* effect = nullptr) {
     const UtcNs t = kStart + seconds(s);
     nmea::Fix fix = make_fix(frame, t);
-    const EpochEffect e = timeline.apply(t, fix, kTruth, frame, &rf);
+    const EpochEffect e = test::apply_faults(timeline, t, fix, kTruth, frame, &rf);
     if (effect) *effect = e;
     return fix;
   }
@@ -72,7 +72,7 @@ struct Epochs {
   }
   LocalFrame frame;
   FaultTimeline timeline;
-  ubx::RfState rf;
+  RfState rf;
 };
 
 Fault fault_of(FaultKeys keys) { return make_fault(keys); }

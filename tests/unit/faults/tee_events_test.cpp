@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/support/fault_fixes.hpp"
+
 #include <stdexcept>
 
 namespace gpsemu::faults {
@@ -60,7 +62,7 @@ TEST(TeeEvents, AClearDisarmsAnAreasFaultFromItsEpoch) {
     nmea::Fix fix;
     fix.quality = nmea::FixQuality::gps;
     fix.satellites_in_view = fix.satellites_used = 8;
-    (void)timeline.apply(kStart + std::chrono::seconds(s), fix, Enu{}, frame, nullptr);
+    (void)test::apply_faults(timeline, kStart + std::chrono::seconds(s), fix, Enu{}, frame);
     fixes.push_back(fix.has_fix());
   }
   EXPECT_EQ(fixes, (std::vector<bool>{true, false, false, false, true, true}));

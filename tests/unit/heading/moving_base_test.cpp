@@ -51,10 +51,10 @@ TEST(MovingBase, RoverHeadingIsTheYawWithinItsAccuracy) {
     const UtcNs t = kT0 + k * 100ms;
     sources::Truth truth;
     truth.yaw_deg = std::fmod(k * 0.5, 360.0);
-    const ubx::RelPosNed rel = rover.at(t, truth, t - 100ms);
+    const RelativePosition rel = rover.at(t, truth, t - 100ms);
     ASSERT_TRUE(rel.rel_pos_valid);
     ASSERT_TRUE(rel.heading_valid);
-    EXPECT_EQ(rel.carrier, ubx::CarrierSolution::fixed);
+    EXPECT_EQ(rel.carrier, CarrierSolution::fixed);
     EXPECT_TRUE(rel.diff_soln);
     EXPECT_NEAR(rel.length_m, 1.2, 0.06);
     // 1 cm over 1.2 m: 0.48 degrees 1 sigma
@@ -77,10 +77,10 @@ TEST(MovingBase, NothingValidWithoutCorrectionsOrYaw) {
   EXPECT_FALSE(rover.at(kT0, truth, std::nullopt).rel_pos_valid);
   EXPECT_TRUE(rover.at(kT0 + 1500ms, truth, kT0).rel_pos_valid);   // 1.5 s old: still in time
   EXPECT_FALSE(rover.at(kT0 + 1600ms, truth, kT0).rel_pos_valid);  // older: the base is lost
-  const ubx::RelPosNed lost = rover.at(kT0 + 2s, truth, kT0);
+  const RelativePosition lost = rover.at(kT0 + 2s, truth, kT0);
   EXPECT_TRUE(lost.is_moving);
   EXPECT_FALSE(lost.diff_soln);
-  EXPECT_EQ(lost.carrier, ubx::CarrierSolution::none);
+  EXPECT_EQ(lost.carrier, CarrierSolution::none);
   EXPECT_FALSE(rover.at(kT0, sources::Truth{}, kT0).rel_pos_valid);  // no yaw: no baseline
   EXPECT_FALSE(rover.at(kT0, std::nullopt, kT0).rel_pos_valid);
 }
@@ -92,7 +92,7 @@ TEST(MovingBase, AVerticalBaselineHasNoHeading) {
   RoverRelPos rover(o, 1);
   sources::Truth truth;
   truth.yaw_deg = 10.0;
-  const ubx::RelPosNed rel = rover.at(kT0, truth, kT0);
+  const RelativePosition rel = rover.at(kT0, truth, kT0);
   EXPECT_TRUE(rel.rel_pos_valid);
   EXPECT_FALSE(rel.heading_valid);
 }
@@ -140,7 +140,7 @@ TEST(MovingBase, PitchAndRollTiltTheBaseline) {
   sources::Truth truth;
   truth.yaw_deg = 45.0;
   truth.tilt = {20.0, 5.0};
-  const ubx::RelPosNed rel = r.at(kT0, truth, kT0);
+  const RelativePosition rel = r.at(kT0, truth, kT0);
   ASSERT_TRUE(rel.rel_pos_valid);
   ASSERT_TRUE(rel.heading_valid);
   EXPECT_NEAR(rel.down_m, -1.2 * std::sin(20.0 * M_PI / 180.0), 0.05);

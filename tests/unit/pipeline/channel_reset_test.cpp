@@ -47,7 +47,7 @@ TEST(ChannelReset, SilentThenColdWithTheConfigurationLostUntilTheClientConfigure
     for (const protocol::Effect& e : channel.protocol().take_effects()) {
       if (std::holds_alternative<protocol::ColdStart>(e.what)) channel.cold_start(t);  // as apply_protocol_effects does
     }
-    const nmea::Fix fix = channel.step(t, sources::Truth{});
+    const nmea::Fix fix = channel.step(t, sources::Truth{}).fix;
     return std::pair{fix, frames_in(channel.bytes())};
   };
   for (int s = 0; s < 2; ++s) {
@@ -92,7 +92,7 @@ TEST(ChannelReset, AnNmeaReceiverRebootsToo) {
   std::vector<bool> fixes;
   std::vector<bool> written;
   for (int s = 0; s < 6; ++s) {
-    fixes.push_back(channel.step(kT0 + seconds(s), sources::Truth{}).has_fix());
+    fixes.push_back(channel.step(kT0 + seconds(s), sources::Truth{}).fix.has_fix());
     written.push_back(!channel.bytes().empty());
   }
   EXPECT_EQ(written, (std::vector<bool>{true, false, true, true, true, true}));

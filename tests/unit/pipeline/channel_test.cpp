@@ -26,8 +26,8 @@ class TagProtocol final : public protocol::ReceiverProtocol {
   [[nodiscard]] std::size_t widest_epoch_bytes(const Geometry& /*sky*/) const override { return 9; }
   [[nodiscard]] std::string name() const override { return "TAG"; }
   [[nodiscard]] std::string written() const override { return "TAG"; }
-  void encode(const nmea::Fix& fix, std::string& out) override {
-    out += fix.has_fix() ? "TAG fix\r\n" : "TAG none\r\n";
+  void encode(const ReceiverEpoch& epoch, std::string& out) override {
+    out += epoch.fix.has_fix() ? "TAG fix\r\n" : "TAG none\r\n";
   }
   void client_wrote(std::string_view bytes, transport::ClientId /*client*/) override { heard += bytes; }
   std::string heard;
@@ -43,7 +43,7 @@ TEST(Channel, EachProtocolPublishesTheSameFixInTheOrderAdded) {
   Channel channel(settings(), kT0);
   auto tag = std::make_unique<TagProtocol>();
   channel.add_protocol(std::move(tag));
-  const nmea::Fix fix = channel.step(kT0, sources::Truth{});
+  const nmea::Fix fix = channel.step(kT0, sources::Truth{}).fix;
   ASSERT_TRUE(fix.has_fix());
   std::string nmea_only;
   format_epoch(fix, channel.settings().format, nmea_only);

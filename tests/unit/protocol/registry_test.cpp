@@ -74,10 +74,13 @@ TEST(ProtocolRegistry, AUbloxPortForProtocolUbxOrAModelInItsFactoryState) {
 TEST(NmeaProtocol, WritesTheSentencesAndAsksForNothing) {
   nmea::FormatOptions format;
   NmeaProtocol nmea(format);
-  nmea::Fix fix;
-  fix.quality = nmea::FixQuality::gps;
+  ReceiverEpoch epoch;
+  epoch.fix.quality = nmea::FixQuality::gps;
+  epoch.rf.jamming_state = 3;  // what NMEA has no sentence for is left out
+  epoch.relative_position = RelativePosition{.north_m = 1.0};
+  const nmea::Fix& fix = epoch.fix;
   std::string out;
-  nmea.encode(fix, out);
+  nmea.encode(epoch, out);
   std::string expected;
   nmea::SatelliteTextMemo memo;
   nmea::append_epoch(fix, format, expected, memo);
@@ -87,8 +90,6 @@ TEST(NmeaProtocol, WritesTheSentencesAndAsksForNothing) {
   EXPECT_TRUE(nmea.take_effects().empty());
   EXPECT_TRUE(nmea.take_corrections().empty());
   EXPECT_FALSE(nmea.period_change_pending());
-  EXPECT_EQ(nmea.rf_front_end(), nullptr);
-  EXPECT_EQ(nmea.relative_position(), nullptr);
   EXPECT_FALSE(nmea.has_tx_buffer());
   EXPECT_TRUE(nmea.client_input_summary("").empty());
 }

@@ -78,7 +78,7 @@ TEST(StaticBaseRelPos, RtkFixedGivesTheRoverMinusTheBaseInTheBasesNed) {
   EXPECT_EQ(f.flags & (kMoving | kRefPosMiss | kRefObsMiss | kHeadingValid), 0u);
   EXPECT_EQ(f.heading_1e5deg, 0);
   EXPECT_EQ(f.acc_heading_1e5deg, 0u);
-  const ubx::RelPosNed rel = static_base_relpos(status(Q::rtk_fixed), base(), fix);
+  const RelativePosition rel = static_base_relpos(status(Q::rtk_fixed), base(), fix);
   EXPECT_EQ(rel.ref_station_id, 42);
   EXPECT_FALSE(rel.is_moving);
 }

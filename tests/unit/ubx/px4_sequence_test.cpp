@@ -169,7 +169,7 @@ std::string solutions_after_configuration(ReceiverModel model) {
   std::string out;
   for (int k = 0; k < 5; ++k) {
     fix.time_utc = std::chrono::sys_days{std::chrono::year{2026} / 11 / 24} + std::chrono::hours{12} + k * 200ms;
-    session.append_solution(fix, out);
+    session.append_solution(epoch_of(fix), out);
   }
   return out;
 }
@@ -362,7 +362,7 @@ TEST(UbxPx4Sequence, M9nAcceptsPx4sU9ValsetWithRxmRtcmAndOutputsWhatItEnabled) {
   std::string out;
   for (int k = 0; k < 10; ++k) {
     fix.time_utc = std::chrono::sys_days{std::chrono::year{2026} / 11 / 24} + std::chrono::hours{12} + k * 125ms;
-    session.append_solution(fix, out);
+    session.append_solution(epoch_of(fix), out);
   }
   std::map<MessageId, int> counts;
   for (const Frame& f : test::frames_in(out)) ++counts[f.id];

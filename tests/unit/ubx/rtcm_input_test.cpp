@@ -134,7 +134,7 @@ TEST(UbxRtcmInput, NavPvtCarriesCorrectionAgeAndCarrierSolution) {
   f.diff_age_s = 3.0;
   f.diff_station_id = 77;
   std::string out;
-  session.append_solution(f, out);
+  session.append_solution(epoch_of(f), out);
   const auto frames = test::frames_in(out);
   const auto pvt = std::find_if(frames.begin(), frames.end(), [](const Frame& fr) { return fr.id == msg::nav_pvt; });
   ASSERT_NE(pvt, frames.end());

@@ -41,7 +41,7 @@ SessionSettings f9p_nmea_only() {
 TEST(UbxSession, StartsWithNmeaOnly) {
   Session session(f9p_nmea_only());
   std::string out;
-  session.append_solution(fix_at(hours{12}), out);
+  session.append_solution(epoch_of(fix_at(hours{12})), out);
   EXPECT_EQ(out.rfind("$GPRMC", 0), 0u);
   EXPECT_TRUE(frames_in(out).empty());
 }
@@ -54,7 +54,7 @@ TEST(UbxSession, EpochIsNavMessagesThenNmeaThenEndOfEpoch) {
   for (const char* on : {"0104 01", "0107 01", "0161 01"}) session.client_wrote(frame_bytes(msg::cfg_msg, test::unhex(on)));
   (void)session.take_reply();
   std::string out;
-  session.append_solution(fix_at(hours{12}), out);
+  session.append_solution(epoch_of(fix_at(hours{12})), out);
   const auto frames = frames_in(out);
   ASSERT_EQ(frames.size(), 3u);
   EXPECT_EQ(frames[0].id, msg::nav_dop);
@@ -83,7 +83,7 @@ TEST(UbxSession, ConfiguredFiveHertzPvtOnlyOnTheGrid) {
   std::vector<std::uint32_t> tows;
   for (int k = 0; k < 10; ++k) {  // one second of 10 Hz epochs
     std::string out;
-    session.append_solution(fix_at(hours{12} + milliseconds{100 * k}), out);
+    session.append_solution(epoch_of(fix_at(hours{12} + milliseconds{100 * k})), out);
     for (const Frame& f : frames_in(out)) {
       EXPECT_EQ(f.id, msg::nav_pvt);
       tows.push_back(get_u4(f.payload, 0));
@@ -99,8 +99,8 @@ TEST(UbxSession, PollIsAnsweredWithTheNextSolutionOnly) {
   session.client_wrote(frame_bytes(msg::nav_dop, ""));
   EXPECT_TRUE(session.take_reply().empty());
   std::string first, second;
-  session.append_solution(fix_at(hours{12}), first);
-  session.append_solution(fix_at(hours{12} + milliseconds{100}), second);
+  session.append_solution(epoch_of(fix_at(hours{12})), first);
+  session.append_solution(epoch_of(fix_at(hours{12} + milliseconds{100})), second);
   ASSERT_EQ(frames_in(first).size(), 1u);
   EXPECT_EQ(frames_in(first)[0].id, msg::nav_dop);
   EXPECT_TRUE(frames_in(second).empty());
@@ -121,9 +121,9 @@ TEST(UbxSession, StatusCountsTimeToFirstFix) {
   Session session(f9p_nmea_only());
   session.client_wrote(frame_bytes(msg::cfg_msg, test::unhex("0103 01")));
   std::string out;
-  session.append_solution(fix_at(hours{12}, false), out);
+  session.append_solution(epoch_of(fix_at(hours{12}, false)), out);
   out.clear();
-  session.append_solution(fix_at(hours{12} + milliseconds{2500}, true), out);
+  session.append_solution(epoch_of(fix_at(hours{12} + milliseconds{2500}, true)), out);
   const auto frames = frames_in(out);
   ASSERT_EQ(frames.size(), 1u);
   EXPECT_EQ(get_u4(frames[0].payload, 8), 2500u);   // ttff
@@ -214,7 +214,7 @@ TEST(UbxSession, PollsAndEffectsWaitingForASolutionAreBoundedAndCounted) {
   EXPECT_EQ(std::get<MeasurementPeriodChanged>(effects[1]).period, milliseconds{500});
   // The next solution answers each polled kind once.
   std::string out;
-  session.append_solution(fix_at(hours{12}), out);
+  session.append_solution(epoch_of(fix_at(hours{12})), out);
   std::size_t pvt = 0, dop = 0;
   for (const Frame& f : frames_in(out)) {
     pvt += f.id == msg::nav_pvt ? 1 : 0;
@@ -253,7 +253,7 @@ TEST(UbxSession, M8WritesSvinfoAndMonHwAndNaksWhatItLacks) {
   for (std::size_t i = 3; i < 6; ++i) EXPECT_EQ(reply[i], test::nak_of(msg::cfg_msg)) << i;
   session.client_wrote(frame_bytes(msg::mon_rf, "") + frame_bytes(msg::nav_sig, ""));  // polls: no answer
   std::string out;
-  session.append_solution(fix_at(hours{12}), out);
+  session.append_solution(epoch_of(fix_at(hours{12})), out);
   EXPECT_EQ(ids_of(out), (std::vector<MessageId>{msg::nav_clock, msg::nav_svinfo, msg::mon_hw}));
 }
 
@@ -270,7 +270,7 @@ TEST(UbxSession, F9pWritesSigRfHpposllhAndNaksSvinfo) {
   EXPECT_EQ(reply[0], test::ack_of(msg::cfg_valset));
   EXPECT_EQ(reply[1], test::nak_of(msg::cfg_msg));
   std::string out;
-  session.append_solution(fix_at(hours{12}), out);
+  session.append_solution(epoch_of(fix_at(hours{12})), out);
   // The messages on, by class and id, then the polled MON-HW.
   EXPECT_EQ(ids_of(out), (std::vector<MessageId>{msg::nav_hpposllh, msg::nav_sig, msg::mon_rf, msg::mon_hw}));
 }
@@ -298,7 +298,7 @@ TEST(UbxSession, NavSolTurnedOnByValsetIsWrittenOnM9nAndF9p) {
     session.client_wrote(frame_bytes(msg::cfg_valset, valset({{nav_sol_uart1, 1}})));
     EXPECT_EQ(frames_in(session.take_reply()), std::vector<Frame>{test::ack_of(msg::cfg_valset)});
     std::string out;
-    session.append_solution(fix_at(hours{12}), out);
+    session.append_solution(epoch_of(fix_at(hours{12})), out);
     EXPECT_EQ(ids_of(out), std::vector<MessageId>{msg::nav_sol}) << model_info(model).name;
   }
 }
@@ -323,11 +323,11 @@ TEST(UbxSession, ColdResetStartsTheRunTimeAgain) {
   Session session(f9p_nmea_only());
   session.client_wrote(frame_bytes(msg::cfg_msg, test::unhex("0103 01")));
   std::string out;
-  session.append_solution(fix_at(hours{12}), out);
+  session.append_solution(epoch_of(fix_at(hours{12})), out);
   EXPECT_EQ(get_u4(frames_in(out).at(0).payload, 12), 1000u);  // hot: on a second before
   session.client_wrote(frame_bytes(msg::cfg_rst, test::unhex("ffff 0200")));
   out.clear();
-  session.append_solution(fix_at(hours{12} + milliseconds{100}, false), out);
+  session.append_solution(epoch_of(fix_at(hours{12} + milliseconds{100}, false)), out);
   const std::string status = frames_in(out).at(0).payload;
   EXPECT_EQ(get_u4(status, 12), 0u);  // msss
   EXPECT_EQ(get_u4(status, 8), 0u);   // no fix since the reset
