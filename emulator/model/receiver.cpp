@@ -111,8 +111,9 @@ Receiver::Receiver(const LocalFrame& frame, const ReceiverOptions& options,
   geometry_.in_view_by_system = resolve_geometry(options).in_view_by_system;
 }
 
-nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) {
-  nmea::Fix fix;
+ReceiverEpoch Receiver::epoch_at(UtcNs t, const std::optional<sources::Truth>& truth) {
+  ReceiverEpoch epoch;
+  nmea::Fix& fix = epoch.fix;
   fix.time_utc = std::chrono::floor<std::chrono::milliseconds>(t);
   // The noise process runs whether or not there is a fix, so a fix that returns after an outage
   // continues the same smooth wander instead of restarting it.
@@ -122,7 +123,7 @@ nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) 
   const ReceiverPhase phase = phase_at(options_, since_s);
   if (phase == ReceiverPhase::outage) {  // nothing in view
     hold_.reset();
-    return fix;
+    return epoch;
   }
 
   Sky::Tracking tracking;
@@ -135,11 +136,11 @@ nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) 
   if (phase == ReceiverPhase::acquiring) fix.time_valid = sky.listed > 0;
   if (!tracking.solving) {
     hold_.reset();
-    return fix;
+    return epoch;
   }
   // A 3-D fix needs the geometry to determine position and clocks; a 2-D start holds the height.
-  if (!two_d && !sky.dops.valid()) return fix;
-  if (two_d && sky.used < kTwoDSatellites) return fix;
+  if (!two_d && !sky.dops.valid()) return epoch;
+  if (two_d && sky.used < kTwoDSatellites) return epoch;
 
   double hdop = sky.dops.valid() ? sky.dops.hdop : 0.0, vdop = sky.dops.vdop, pdop = sky.dops.pdop;
   if (two_d) {
@@ -209,7 +210,7 @@ nmea::Fix Receiver::fix_at(UtcNs t, const std::optional<sources::Truth>& truth) 
   }
   fix.range_rms_m = uere_m_ * scale;
   sky::apply_accuracy_floor(fix);
-  return fix;
+  return epoch;
 }
 
 }  // namespace gpsemu

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "emulator/model/enu.hpp"
+#include "emulator/model/epoch.hpp"
 #include "emulator/model/geo.hpp"
 #include "emulator/model/geo_near.hpp"
 #include "emulator/model/noise/noise_model.hpp"
@@ -130,9 +131,13 @@ class Receiver {
   Receiver(const LocalFrame& frame, const ReceiverOptions& options,
            std::unique_ptr<noise::NoiseModel> noise, UtcNs first_epoch);
 
-  /// The fix for epoch `t`; no fix when `truth` is empty (satellites still tracked, none used) or
-  /// during an outage or the acquisition phase of a cold start. Call with non-decreasing `t`.
-  [[nodiscard]] nmea::Fix fix_at(UtcNs t, const std::optional<sources::Truth>& truth);
+  /// Epoch `t` as the model knows it, the first stage of the epoch (model/epoch.hpp): its fix (none
+  /// when `truth` is empty, satellites still tracked and none used, or during an outage or the
+  /// acquisition phase of a cold start), a clean front end, no relative position. Made in place,
+  /// once (a 2 KB value). Call with non-decreasing `t`.
+  [[nodiscard]] ReceiverEpoch epoch_at(UtcNs t, const std::optional<sources::Truth>& truth);
+  /// epoch_at(t, truth).fix.
+  [[nodiscard]] nmea::Fix fix_at(UtcNs t, const std::optional<sources::Truth>& truth) { return epoch_at(t, truth).fix; }
 
   /// Starts again at `t` (a cold start, CFG-RST): the cold-start phases and outages of the
   /// options count from `t`, the held course is forgotten.

@@ -25,12 +25,12 @@ Channel::Channel(const ChannelSettings& settings, UtcNs first_epoch) : settings_
 
 Channel::~Channel() = default;
 
-const ReceiverEpoch& Channel::step(UtcNs t) {
+ReceiverEpoch Channel::step(UtcNs t) {
   source_->service();
   return step(t, source_->truth_at(t));
 }
 
-const ReceiverEpoch& Channel::step(UtcNs t, const std::optional<sources::Truth>& vehicle) {
+ReceiverEpoch Channel::step(UtcNs t, const std::optional<sources::Truth>& vehicle) {
   // The antenna's place on the vehicle (docs/heading.md): where this receiver's truth is.
   std::optional<sources::Truth> truth = vehicle;
   if (truth && truth->yaw_deg) {
@@ -40,10 +40,7 @@ const ReceiverEpoch& Channel::step(UtcNs t, const std::optional<sources::Truth>&
   last_step_ = t;
   // The epoch, built forward: the model's fix, then RTK and the relative position, then the faults;
   // then every protocol encodes it as it is.
-  ReceiverEpoch& epoch = epoch_;
-  epoch.fix = receiver_->fix_at(t, truth);
-  epoch.rf = RfState{};
-  epoch.relative_position.reset();
+  ReceiverEpoch epoch = receiver_->epoch_at(t, truth);  // made in place: no 2 KB copy an epoch
   nmea::Fix& fix = epoch.fix;
   bytes_.clear();
   const std::optional<Enu> truth_m = truth ? std::optional<Enu>(truth->position_m) : std::nullopt;

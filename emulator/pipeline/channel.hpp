@@ -80,12 +80,10 @@ class Channel final : public transport::ClientInput {
   void add_protocol(std::unique_ptr<protocol::ReceiverProtocol> p) { protocols_.push_back(std::move(p)); }
 
   /// Epoch `t` from the channel's own source (serviced first): the epoch as every protocol
-  /// encoded it (valid until the next step); bytes() holds its bytes.
-  const ReceiverEpoch& step(UtcNs t);
+  /// encoded it; bytes() holds its bytes.
+  ReceiverEpoch step(UtcNs t);
   /// Epoch `t` from `truth` (none: no fix).
-  const ReceiverEpoch& step(UtcNs t, const std::optional<sources::Truth>& truth);
-  /// The last epoch step() built.
-  [[nodiscard]] const ReceiverEpoch& epoch() const { return epoch_; }
+  ReceiverEpoch step(UtcNs t, const std::optional<sources::Truth>& truth);
   /// The last epoch's bytes (every protocol's, in order; with a `latency` fault: those whose time
   /// to leave has come by the epoch).
   [[nodiscard]] const std::string& bytes() const { return bytes_; }
@@ -153,7 +151,6 @@ class Channel final : public transport::ClientInput {
     UtcNs release;  ///< the epoch time it is due at (its epoch + the latency)
     std::string bytes;
   };
-  ReceiverEpoch epoch_;  ///< the last epoch, rebuilt by each step
   std::string bytes_;
   std::deque<Delayed> delayed_;  ///< `latency`: epochs held back, in order
   std::string released_;         ///< take_delayed()'s bytes

@@ -78,7 +78,8 @@ std::string_view ChannelSet::produce(std::size_t i, UtcNs t) {
     apply_protocol_effects(ch, sink_->outputs(i), r.schedule, r.line, t, sink_->who(i));
     if (r.schedule.period() != period && finest_changed_) finest_changed_(finest_period());
   }
-  const nmea::Fix& fix = ch.step(t).fix;
+  const ReceiverEpoch epoch = ch.step(t);
+  const nmea::Fix& fix = epoch.fix;
   ++ch.stats().epochs_emitted;
   if (observer_) observer_->epoch({i, t, ch, fix, sink_ ? &sink_->outputs(i) : nullptr, r.line});
   if (!ch.faults().applied_events().empty() && sink_) record_events(ch.faults().applied_events(), sink_->outputs(i));
