@@ -1,5 +1,7 @@
 #include "emulator/faults/garble.hpp"
 
+#include "emulator/model/noise/splitmix.hpp"
+
 #include <cstddef>
 #include <string_view>
 #include <vector>
@@ -7,17 +9,9 @@
 namespace gpsemu::faults {
 namespace {
 
-/// splitmix64: small, fast and the same on every platform (std:: distributions are not).
-struct Draws {
-  std::uint64_t state;
-  std::uint64_t next() {
-    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-  }
-  /// Uniform in [0, 1).
-  double unit() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+/// The shared SplitMix64 (model/noise/splitmix.hpp): the same draws on every platform.
+struct Draws : noise::SplitMix64 {
+  explicit Draws(std::uint64_t seed) : noise::SplitMix64{seed} {}
   /// Uniform in [0, n), n > 0.
   std::size_t below(std::size_t n) { return static_cast<std::size_t>(next() % n); }
 };

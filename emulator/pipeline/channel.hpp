@@ -31,7 +31,7 @@ namespace gpsemu {
 
 class RtkReceiver;
 
-/// What a channel is made from (pipeline/settings.hpp builds it from a Config).
+/// What a channel is made from (pipeline/run_settings.hpp builds it from a Config).
 struct ChannelSettings {
   Geodetic origin;
   ReceiverOptions receiver;  ///< derived: measured noise sigma, sky seed (receiver_config.hpp)

@@ -18,7 +18,7 @@
 
 namespace gpsemu {
 
-/// --pps and its options (pipeline/settings.hpp builds them from a Config).
+/// --pps and its options (pipeline/run_settings.hpp builds them from a Config).
 struct PpsSettings {
   std::optional<transport::PpsSpec> spec;  ///< gpio:CHIP:LINE | modem:RTS | modem:DTR; none: no PPS
   std::chrono::nanoseconds width{100'000'000};

@@ -18,7 +18,7 @@
 
 namespace gpsemu {
 
-/// One receiver's outputs (pipeline/settings.hpp builds them from a Config).
+/// One receiver's outputs (pipeline/run_settings.hpp builds them from a Config).
 struct OutputSettings {
   std::vector<transport::OutputSpec> outputs;  ///< parsed --output specs
   std::optional<std::string> tee;    ///< a copy of everything sent, with send times

@@ -123,7 +123,7 @@ class ReceiverProtocol {
   [[nodiscard]] virtual std::string configuration_summary() const { return {}; }
 };
 
-/// What a channel's protocol is made from: a receiver's choice (protocol_spec.hpp).
+/// What a channel's protocol is made from: a receiver's choice (registry.hpp).
 class ProtocolSpec {
  public:
   virtual ~ProtocolSpec() = default;

@@ -6,7 +6,7 @@
 //
 // Time base: each pose holds at its arrival time (CLOCK_REALTIME, i.e. UTC; the kernel's receive
 // time stamp for UDP). The sender's own time `t`, when given, is only used to refuse reordered
-// datagrams and to compute speed from the track; see readme_pose_input.md for the trade-off.
+// datagrams and to compute speed from the track; see docs/pose-input.md for the trade-off.
 // Lockstep time base (--clock lockstep): the caller places each pose at base + `t` instead, so
 // the history is keyed by sender time; nothing here changes (every time is the caller's).
 #pragma once

@@ -1,6 +1,8 @@
 // A u-blox's own state (see receiver_state.hpp).
 #include "emulator/ubx/receiver_state.hpp"
 
+#include "emulator/model/noise/splitmix.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -21,11 +23,11 @@ constexpr std::uint32_t kFixFrequencyAccuracyPsPerS = 500;
 constexpr std::uint32_t kNoFixTimeAccuracyNs = 1'000'000'000;
 constexpr std::uint32_t kNoFixFrequencyAccuracyPsPerS = 1'000'000;
 
-std::uint64_t splitmix64(std::uint64_t& state) {
-  std::uint64_t z = (state += 0x9E3779B97F4A7C15ULL);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-  return z ^ (z >> 31);
+/// The shared SplitMix64, stepping `state` (model/noise/splitmix.hpp).
+std::uint64_t next_draw(std::uint64_t& state) {
+  const std::uint64_t z = noise::splitmix64(state);
+  state += 0x9E3779B97F4A7C15ULL;
+  return z;
 }
 
 std::int32_t to_i32(double v) { return static_cast<std::int32_t>(std::clamp(std::round(v), -2147483648.0, 2147483647.0)); }
@@ -36,8 +38,8 @@ ReceiverClock::ReceiverClock(std::uint64_t seed) : seed_(seed) { restart(); }
 
 double ReceiverClock::gaussian() {
   // Box-Muller over two uniform draws in (0, 1].
-  const double u1 = (static_cast<double>(splitmix64(state_) >> 11) + 1.0) / 9007199254740992.0;
-  const double u2 = static_cast<double>(splitmix64(state_) >> 11) / 9007199254740992.0;
+  const double u1 = (static_cast<double>(next_draw(state_) >> 11) + 1.0) / 9007199254740992.0;
+  const double u2 = static_cast<double>(next_draw(state_) >> 11) / 9007199254740992.0;
   return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
 }
 

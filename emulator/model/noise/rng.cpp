@@ -4,13 +4,6 @@
 
 namespace gpsemu::noise {
 
-std::uint64_t splitmix64(std::uint64_t state) {
-  std::uint64_t z = state + 0x9E3779B97F4A7C15ULL;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-  return z ^ (z >> 31);
-}
-
 std::uint64_t stream_seed(std::uint64_t seed, std::uint64_t stream) {
   // Mix the seed first so that (seed, stream) pairs do not collide by simple arithmetic.
   return splitmix64(splitmix64(seed) ^ splitmix64(~stream));

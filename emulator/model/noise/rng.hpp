@@ -9,10 +9,10 @@
 #include <cstdint>
 #include <random>
 
+#include "emulator/model/noise/splitmix.hpp"
+
 namespace gpsemu::noise {
 
-/// One SplitMix64 output for `state` (Steele, Lea & Flood 2014): a bijective 64-bit mixer.
-[[nodiscard]] std::uint64_t splitmix64(std::uint64_t state);
 
 /// The engine seed of stream `stream` under the user's `seed` (SplitMix64 of both, so nearby
 /// seeds and streams give unrelated engines).

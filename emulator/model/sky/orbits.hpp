@@ -94,7 +94,7 @@ struct AzEl {
 
 /// RTKLIB's dops(): GDOP, PDOP, HDOP, VDOP with ONE receiver clock (all systems share it),
 /// satellites below `mask_deg` ignored; all zero with fewer than 4. For checking our own
-/// multi-clock DOP (sky_geometry.hpp) on one system.
+/// multi-clock DOP (sky/dop.hpp) on one system.
 struct RtklibDops {
   double gdop = 0.0, pdop = 0.0, hdop = 0.0, vdop = 0.0;
 };

@@ -39,10 +39,8 @@ struct ReceiverProfile {
 };
 
 /// The shipped profile of `model` (generic: as an M8N): M8N GPS+GLONASS+QZSS+SBAS, 72 channels;
-/// M9N GPS+GLONASS+Galileo+BeiDou+QZSS+SBAS, 92 channels; F9P the same systems on L1 and L2,
-/// 184 channels.
+/// M9N GPS+GLONASS+Galileo+BeiDou+QZSS+SBAS, 92 channels; M10 the M9N's systems
+/// with 72 channels (its lower-power platform); F9P the same systems on L1 and L2, 184 channels.
 [[nodiscard]] ReceiverProfile profile_of(ubx::ReceiverModel model);
-
-
 
 }  // namespace gpsemu::sky
