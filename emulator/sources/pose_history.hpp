@@ -78,6 +78,8 @@ class PoseHistory {
   [[nodiscard]] std::size_t size() const { return size_; }
   [[nodiscard]] bool empty() const { return size_ == 0; }
   [[nodiscard]] const TimedPose& newest() const { return at(size_ - 1); }
+  /// The oldest pose held; only when !empty().
+  [[nodiscard]] const TimedPose& oldest() const { return at(0); }
   void clear() { size_ = 0; }
   [[nodiscard]] const PoseHistoryOptions& options() const { return options_; }
 

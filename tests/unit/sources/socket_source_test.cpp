@@ -129,6 +129,20 @@ TEST_F(SocketSourceTest, BadInputIsCountedPerReasonAndTheLastGoodPoseStays) {
       << sink_->text;
 }
 
+TEST_F(SocketSourceTest, AnEpochBeforeTheFirstPoseHeldIsLoggedAsNoneYetNotANegativeSilence) {
+  // The first pose holds at 2.03 s; epoch 2.00 comes after the source had one (it was fresh at 1.0
+  // from an earlier sender's pose), then the history restarts ahead of the epoch.
+  send(0.0, R"({"t": 100.0, "x": 1, "y": 2})");
+  source_->service();
+  EXPECT_TRUE(source_->truth_at(at_s(0.0)));
+  send(2.03, R"({"t": 0.5, "x": 1, "y": 2})");  // t went back 99.5 s: a restarted simulator
+  source_->service();
+  EXPECT_FALSE(source_->truth_at(at_s(2.0)));
+  EXPECT_NE(sink_->text.find("no pose yet at epoch"), std::string::npos) << sink_->text;
+  EXPECT_NE(sink_->text.find("begin 0.03 s after it"), std::string::npos) << sink_->text;
+  EXPECT_EQ(sink_->text.find(" -0."), std::string::npos) << sink_->text;
+}
+
 TEST_F(SocketSourceTest, StaleAfterTheTimeoutAndBackWhenPosesResumeLoggedOnceEach) {
   send(0.0, R"({"x": 1, "y": 2})");
   source_->service();
