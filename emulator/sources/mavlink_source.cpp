@@ -87,9 +87,12 @@ std::string MavlinkPoseSource::counts_text() const {
     if (f.*k.count != 0) bad += fmt::format(", {} {}", k.name, f.*k.count);
   }
   return fmt::format("{} states used{}, {} dropped{}, {} superseded; frames: {} of these messages, {} of others{}; "
-                     "{} sender changes, {} restarts, {} connections, {} lost{}",
+                     "{} sender changes, {} restarts, {} connections, {} lost{}{}",
                      stats_.accepted, used, dropped_total, dropped, stats_.superseded, f.frames, f.unknown_message, bad,
                      stats_.sender_changes, stats_.restarts, stats_.connections, stats_.disconnections,
+                     stats_.datagrams_lost == 0
+                         ? std::string()
+                         : fmt::format("; {} datagrams dropped by the kernel (receive buffer full)", stats_.datagrams_lost),
                      stats_.stream_requests + stats_.failed_requests == 0
                          ? std::string()
                          : fmt::format("; states asked for on {} connections{}", stats_.stream_requests,
@@ -125,7 +128,7 @@ void MavlinkPoseSource::handle(const transport::ReceivedMessage& m) {
       }
       return;
     }
-    case Kind::kernel_dropped: return reject(PoseReject::kernel_overflow, m, m.count);
+    case Kind::kernel_dropped: return lost_datagrams(m);
     case Kind::too_large: return reject(PoseReject::too_large, m);
     case Kind::connected:
       ++stats_.connections;
@@ -174,6 +177,16 @@ void MavlinkPoseSource::reject(PoseReject reason, const transport::ReceivedMessa
                unreported_[i] == 1 ? "a MAVLink state" : fmt::format("{} MAVLink states", unreported_[i]),
                m.sender_name.empty() ? "?" : m.sender_name, to_string(reason), stats_.rejected[i]);
   unreported_[i] = 0;
+}
+
+void MavlinkPoseSource::lost_datagrams(const transport::ReceivedMessage& m) {
+  stats_.datagrams_lost += m.count;
+  unreported_lost_ += m.count;
+  if (!lost_log_.admit(log_time(m.arrival))) return;
+  (void)lost_log_.take_suppressed();
+  spdlog::warn("mavlink: the kernel dropped {} datagram(s) (receive buffer full; what they held is unknown), {} in all",
+               unreported_lost_, stats_.datagrams_lost);
+  unreported_lost_ = 0;
 }
 
 void MavlinkPoseSource::report_frames(UtcNs now) {

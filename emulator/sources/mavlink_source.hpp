@@ -63,6 +63,9 @@ struct MavlinkSourceStats {
   std::uint64_t disconnections = 0;  ///< TCP connections lost
   std::uint64_t stream_requests = 0;  ///< TCP: connections the states were asked for on
   std::uint64_t failed_requests = 0;  ///< TCP: requests that could not be written whole
+  /// UDP datagrams the kernel dropped (receive buffer full): what they held is unknown (a state, a
+  /// heartbeat, anything), so they are counted apart from the states dropped.
+  std::uint64_t datagrams_lost = 0;
 };
 
 class MavlinkPoseSource final : public PoseSource {
@@ -86,6 +89,8 @@ class MavlinkPoseSource final : public PoseSource {
   void drain(const transport::ReceivedMessage& m);
   void use(const mavlink::Frame& frame, const transport::ReceivedMessage& m);
   void reject(PoseReject reason, const transport::ReceivedMessage& m, std::uint64_t count = 1);
+  /// UDP datagrams the kernel dropped: counted (stats_.datagrams_lost), a line a second at most.
+  void lost_datagrams(const transport::ReceivedMessage& m);
   /// Frame-level problems since the last call, logged at most once a second per kind.
   void report_frames(UtcNs now);
 
@@ -117,6 +122,8 @@ class MavlinkPoseSource final : public PoseSource {
   static constexpr std::chrono::milliseconds kAttitudeFreshness{100};
   std::array<transport::LogLimit, kPoseRejectCount> reject_log_;
   std::array<std::uint64_t, kPoseRejectCount> unreported_{};
+  transport::LogLimit lost_log_{1};
+  std::uint64_t unreported_lost_ = 0;
   static constexpr std::size_t kFrameKinds = 6;  ///< bad_crc .. partial_frame, garbage
   std::array<transport::LogLimit, kFrameKinds> frame_log_;
   std::array<std::uint64_t, kFrameKinds> frame_reported_{};

@@ -24,6 +24,7 @@ struct Scripted {
   UtcNs arrival;
   std::uint64_t sender;
   std::string name;
+  std::uint64_t count = 1;  ///< kernel_dropped: how many datagrams
 };
 
 class FakeSocket final : public transport::PoseSocket {
@@ -39,6 +40,7 @@ class FakeSocket final : public transport::PoseSocket {
     m.arrival = current_.arrival;
     m.sender = current_.sender;
     m.sender_name = current_.name;
+    m.count = current_.count;
     return m;
   }
   int poll_fd() const override { return -1; }

@@ -185,6 +185,21 @@ TEST_F(MavlinkSourceTest, BadFramesAreCountedLoggedAndTheStreamGoesOn) {
   EXPECT_NE(summary.find("bad_crc 1, garbage_bytes 4"), std::string::npos) << summary;
 }
 
+TEST_F(MavlinkSourceTest, DatagramsTheKernelDroppedAreCountedApartFromStates) {
+  make(true);
+  send(0.00, text_of(mavlink::encode_state(state(mavlink::kSimStateId, 0.0, 0.0))));
+  queue_.push_back({Kind::kernel_dropped, "", at_s(0.05), 0, "", 5});  // a heartbeat or a state: unknown
+  send(0.10, text_of(mavlink::encode_state(state(mavlink::kSimStateId, 0.0, 0.1))));
+  source_->service();
+  EXPECT_EQ(source_->stats().accepted, 2u);
+  EXPECT_EQ(source_->stats().datagrams_lost, 5u);
+  EXPECT_EQ(dropped(PoseReject::kernel_overflow), 0u) << "not counted as states dropped";
+  EXPECT_NE(sink_->text.find("the kernel dropped 5 datagram(s)"), std::string::npos) << sink_->text;
+  const std::string summary = source_->counts_text();
+  EXPECT_NE(summary.find("2 states used (SIM_STATE 2), 0 dropped"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("5 datagrams dropped by the kernel"), std::string::npos) << summary;
+}
+
 TEST_F(MavlinkSourceTest, TcpFramesSpanReadsAndADroppedConnectionCountsItsCutFrame) {
   make(false);
   const std::string a = text_of(mavlink::encode_state(state(mavlink::kSimStateId, 0.0, 0.0)));
