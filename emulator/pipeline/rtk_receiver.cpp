@@ -13,7 +13,6 @@
 namespace gpsemu {
 namespace {
 
-constexpr std::size_t kMaxStreams = 8;
 constexpr int kReadsPerService = 64;
 
 int rank(nmea::FixQuality q) {
@@ -43,6 +42,9 @@ RtkReceiver::RtkReceiver(const rtk::RtkTimeline& timeline, const std::optional<t
     spdlog::info("RTK: reading RTCM3 corrections on {}", socket_->describe());
   }
 }
+
+RtkReceiver::RtkReceiver(const rtk::RtkTimeline& timeline, std::unique_ptr<transport::RtcmSocket> socket)
+    : state_(timeline), socket_(std::move(socket)) {}
 
 void RtkReceiver::received(const rtk::Rtcm3Message& m) {
   ++counts_.messages;

@@ -42,6 +42,10 @@ class RtkReceiver {
  public:
   /// Opens the --rtcm socket when given (throws std::runtime_error naming it when it cannot).
   RtkReceiver(const rtk::RtkTimeline& timeline, const std::optional<transport::RtcmInputSpec>& rtcm);
+  /// The same over a socket already made (a fuzz target's scripted one).
+  RtkReceiver(const rtk::RtkTimeline& timeline, std::unique_ptr<transport::RtcmSocket> socket);
+  /// Streams assembled at once (the oldest is forgotten beyond this).
+  static constexpr std::size_t kMaxStreams = 8;
   RtkReceiver(const RtkReceiver&) = delete;
   RtkReceiver& operator=(const RtkReceiver&) = delete;
 
