@@ -80,6 +80,7 @@ bool TcpOutput::send_pending(std::size_t slot) {
 WriteStatus TcpOutput::write_bytes(std::string_view bytes, std::string& error_text) {
   failed_.clear();
   slow_.clear();
+  if (server_.client_count() == 0) ++tcp_stats_.epochs_to_nobody;
   for (std::size_t slot = 0; slot < server_.slots(); ++slot) {
     if (!server_.occupied(slot)) continue;
     std::string& pending = pending_[slot];
@@ -174,8 +175,9 @@ void TcpOutput::handle(const posix::TcpServerEvent& event) {
 std::string TcpOutput::clients_summary() const {
   const TcpStats& t = tcp_stats_;
   return fmt::format("; clients: {} connected, {} refused (every slot taken), {} closed for a newcomer (most behind), "
-                     "{} dropped too slow, {} closed", t.clients_accepted, t.clients_refused, t.clients_replaced,
-                     t.clients_dropped_slow, t.clients_closed);
+                     "{} dropped too slow, {} closed; {} of the epochs written had no client to go to",
+                     t.clients_accepted, t.clients_refused, t.clients_replaced, t.clients_dropped_slow, t.clients_closed,
+                     t.epochs_to_nobody);
 }
 
 void TcpOutput::report_drops() {

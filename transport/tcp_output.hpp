@@ -39,6 +39,7 @@ struct TcpStats {
   std::uint64_t clients_dropped_slow = 0;  ///< disconnected because their buffer was full
   std::uint64_t clients_closed = 0;        ///< closed by the client (or reset)
   std::uint64_t input_bytes_discarded = 0;
+  std::uint64_t epochs_to_nobody = 0;      ///< epochs written while no client was connected (sent to no one)
 };
 
 class TcpOutput final : public Output {

@@ -34,6 +34,7 @@ WriteStatus UdpOutput::write_bytes(std::string_view bytes, std::string& error_te
     // the next send on a connected socket, which then sends nothing: send again, so a listener
     // that has just started gets this epoch. A missing listener is never an error (UDP).
     if (n < 0 && errno == ECONNREFUSED) {
+      ++unreachable_;  // an earlier datagram found nobody listening
       if (++refused < 2) continue;
       return WriteStatus::ok;
     }
@@ -45,6 +46,11 @@ WriteStatus UdpOutput::write_bytes(std::string_view bytes, std::string& error_te
                        : fmt::format("sent only {} of {} bytes", n, bytes.size());
     return WriteStatus::error;
   }
+}
+
+std::string UdpOutput::clients_summary() const {
+  if (unreachable_ == 0) return {};
+  return fmt::format("; {} datagrams reported unreachable (nobody was listening on the port then)", unreachable_);
 }
 
 }  // namespace gpsemu::transport

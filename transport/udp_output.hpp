@@ -19,6 +19,11 @@ class UdpOutput final : public Output {
 
   /// "udp:127.0.0.1:10110".
   [[nodiscard]] std::string describe() const override { return description_; }
+  /// "; N datagrams reported unreachable (...)" when the destination said nobody was listening.
+  [[nodiscard]] std::string clients_summary() const override;
+  /// Datagrams the destination reported unreachable (ICMP port unreachable, seen as ECONNREFUSED
+  /// on the next send): written, but nobody was listening.
+  [[nodiscard]] std::uint64_t unreachable() const { return unreachable_; }
 
  protected:
   WriteStatus write_bytes(std::string_view bytes, std::string& error_text) override;
@@ -26,6 +31,7 @@ class UdpOutput final : public Output {
  private:
   std::string description_;
   posix::UniqueFd fd_;
+  std::uint64_t unreachable_ = 0;
 };
 
 }  // namespace gpsemu::transport

@@ -164,6 +164,19 @@ TEST(TcpOutputTest, ClientInputIsReadAndDiscarded) {
   ::close(client);
 }
 
+TEST(TcpOutputTest, EpochsWrittenWithNoClientAreCountedInTheSummary) {
+  TcpOutput out("127.0.0.1", 0);
+  for (int i = 0; i < 3; ++i) ASSERT_EQ(out.write_epoch(epoch(i)), WriteStatus::ok);
+  const int client = connect_client(out.port());
+  ASSERT_TRUE(service_until(out, [&] { return out.client_count() == 1; }));
+  ASSERT_EQ(out.write_epoch(epoch(3)), WriteStatus::ok);
+  EXPECT_EQ(read_exactly(client, epoch(3).size()), epoch(3));
+  EXPECT_EQ(out.tcp_stats().epochs_to_nobody, 3u);
+  EXPECT_NE(out.clients_summary().find("3 of the epochs written had no client to go to"), std::string::npos)
+      << out.clients_summary();
+  ::close(client);
+}
+
 TEST(TcpOutputTest, ClientsBeyondTheLimitAreRefused) {
   TcpOutputOptions options;
   options.max_clients = 1;

@@ -58,6 +58,19 @@ TEST(UdpOutputTest, NobodyListeningIsNotAnError) {
   UdpOutput out("127.0.0.1", port);
   for (int i = 0; i < 20; ++i) EXPECT_EQ(out.write_epoch("$GPGGA,x*00\r\n"), WriteStatus::ok) << i;
   EXPECT_EQ(out.stats().epochs_failed, 0u);
+  // Written, but the summary says nobody was there (the kernel reports each refusal at the next send).
+  EXPECT_GE(out.unreachable(), 10u);
+  EXPECT_NE(out.clients_summary().find("datagrams reported unreachable (nobody was listening"), std::string::npos)
+      << out.clients_summary();
+}
+
+TEST(UdpOutputTest, AListenerLeavesNoUnreachableInTheSummary) {
+  auto [fd, port] = bind_receiver();
+  UdpOutput out("127.0.0.1", port);
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(out.write_epoch("$GPGGA,x*00\r\n"), WriteStatus::ok) << i;
+  EXPECT_EQ(out.unreachable(), 0u);
+  EXPECT_TRUE(out.clients_summary().empty()) << out.clients_summary();
+  ::close(fd);
 }
 
 TEST(UdpOutputTest, SpecsParseAndErrorsNameTheHost) {
