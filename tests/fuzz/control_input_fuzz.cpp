@@ -58,7 +58,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const UtcNs start{};
   faults::FaultTimeline a({{}, ""}, start), b({{}, ""}, start);
   faults::FaultControl control({&a, &b});
-  RfState rf;
   std::string_view input(reinterpret_cast<const char*>(data), size);
   int epoch = 0;
   while (!input.empty() && epoch < 200) {
@@ -71,9 +70,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     ++epoch;
     for (faults::FaultTimeline* t : {&a, &b}) {
       const UtcNs now = start + std::chrono::milliseconds(100 * epoch);
-      nmea::Fix fix = a_fix(frame, now);
+      ReceiverEpoch built = epoch_of(a_fix(frame, now));
       const Enu truth{50.0 * epoch, 0.0, 0.0};
-      (void)t->apply(now, fix, truth, frame, &rf);
+      (void)t->apply(now, built, truth, frame);
+      const nmea::Fix& fix = built.fix;
       for (const faults::AppliedEvent& e : t->applied_events()) {
         try {
           (void)faults::faults_from_tee(faults::tee_event_line(e));
