@@ -11,7 +11,7 @@
 #include "emulator/rtk/rtcm3_messages.hpp"
 #include "emulator/rtk/rtcm3_msm.hpp"
 #include "emulator/rtk/rtcm3_reader.hpp"
-#include "emulator/ubx/nav.hpp"
+#include "emulator/model/gps_time.hpp"
 
 namespace gpsemu::heading {
 namespace {
@@ -62,7 +62,7 @@ std::string type4072_0(const nmea::Fix& fix, std::uint16_t station) {
   w.u(4072, 12);
   w.u(0, 12);  // sub-type 0: reference station PVT
   w.u(station, 12);
-  w.u(ubx::gps_time(fix).tow_ms, 30);
+  w.u(gps_time(fix).tow_ms, 30);
   const sky::Ecef e = sky::to_ecef(fix.lat_deg, fix.lon_deg, fix.alt_msl_m + fix.geoid_sep_m);
   for (const double c : {e.x_m, e.y_m, e.z_m}) w.s(std::llround(c * 1e4), 38);
   return rtk::rtcm3_frame_bytes(w.bytes());

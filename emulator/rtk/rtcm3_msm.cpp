@@ -9,7 +9,7 @@
 
 #include <fmt/format.h>
 
-#include "emulator/ubx/nav.hpp"
+#include "emulator/model/gps_time.hpp"
 
 namespace gpsemu::rtk {
 namespace {
@@ -58,7 +58,7 @@ std::vector<int> msm_signal_ids(Gnss gnss, bool dual_band) {
 }
 
 std::uint32_t msm_epoch_time(Gnss gnss, nmea::UtcTime utc, int gps_minus_utc_s) {
-  const std::uint32_t gps_tow_ms = ubx::gps_time(utc, gps_minus_utc_s).tow_ms;
+  const std::uint32_t gps_tow_ms = gps_time(utc, gps_minus_utc_s).tow_ms;
   if (gnss == Gnss::beidou) return (gps_tow_ms + kWeekMs - 14000u) % kWeekMs;
   if (gnss == Gnss::glonass) {
     using namespace std::chrono;

@@ -20,21 +20,17 @@
 #include "emulator/ubx/nav_sat.hpp"
 #include "emulator/ubx/receiver_state.hpp"
 #include "emulator/ubx/relposned.hpp"
+#include "emulator/model/gps_time.hpp"
 #include "nmea/fix.hpp"
 
 namespace gpsemu::ubx {
 
 /// GPS time minus UTC since 2017-01-01 (seconds); u-blox's default until a new leap second.
-inline constexpr int gps_leap_seconds = 18;
+inline constexpr int gps_leap_seconds = kGpsMinusUtcDefaultS;
 
-/// GPS week and time of week of a UTC time (nav_time.cpp).
-struct GpsTime {
-  int week = 0;               ///< weeks since 1980-01-06
-  std::uint32_t tow_ms = 0;   ///< milliseconds into the week (NAV messages' iTOW)
-};
-[[nodiscard]] GpsTime gps_time(nmea::UtcTime utc, int gps_minus_utc_s = gps_leap_seconds);
-/// GPS week and time of week of a fix's time, with the leap seconds it reports (fix.leap).
-[[nodiscard]] inline GpsTime gps_time(const nmea::Fix& fix) { return gps_time(fix.time_utc, fix.leap.gps_minus_utc_s); }
+/// GPS week and time of week (iTOW): the model's (emulator/model/gps_time.hpp).
+using gpsemu::GpsTime;
+using gpsemu::gps_time;
 
 /// Receiver values the NAV messages carry beside the fix.
 struct NavExtras {

@@ -1,4 +1,4 @@
-// GPS time and NAV-TIMELS (see nav.hpp). Layout: u-blox's interface descriptions (M8 protocol 18, F9 HPG 1.32).
+// NAV-TIMELS (see nav.hpp; GPS time itself: model/gps_time.hpp). Layout: u-blox's interface descriptions (M8 protocol 18, F9 HPG 1.32).
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
@@ -15,15 +15,6 @@ constexpr std::uint32_t kLastLeapSecondWeek = 1929;  // the leap second at the e
 constexpr std::uint32_t kLastLeapSecondDay = 7;      // day of week, Sunday 1
 
 }  // namespace
-
-GpsTime gps_time(nmea::UtcTime utc, int gps_minus_utc_s) {
-  using namespace std::chrono;
-  constexpr sys_days gps_epoch{year{1980} / January / 6};
-  const milliseconds since = utc - time_point_cast<milliseconds>(gps_epoch) + seconds{gps_minus_utc_s};
-  constexpr milliseconds week = duration_cast<milliseconds>(weeks{1});
-  const auto w = since / week;
-  return {static_cast<int>(w), static_cast<std::uint32_t>((since - w * week).count())};
-}
 
 std::string nav_timels(const nmea::Fix& fix, const NavExtras& extras) {
   using namespace std::chrono;
