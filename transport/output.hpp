@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -17,6 +18,8 @@
 #include "transport/posix/fd.hpp"
 
 namespace gpsemu::transport {
+
+class SerialOutput;  // serial_output.hpp
 
 /// What one service() call of an output reads from a client and hands to its ClientInput at
 /// most: 64 KiB, and no read started after 2 ms. The rest waits in the kernel for the next turn
@@ -104,6 +107,15 @@ class Output {
   [[nodiscard]] virtual std::string describe() const = 0;
   /// What the exit summary adds about this output's clients ("; clients: 3 connected, ..."), if it has any.
   [[nodiscard]] virtual std::string clients_summary() const { return {}; }
+  /// Clients connected now (a TCP server's connections, the descriptors open on a pty when its
+  /// watch can tell); empty: not known, or not an output clients connect to.
+  [[nodiscard]] virtual std::optional<std::uint64_t> clients_connected() const { return std::nullopt; }
+  /// The serial line this output writes (its baud, its modem lines), or null: asked, not cast to.
+  [[nodiscard]] virtual SerialOutput* serial_line() { return nullptr; }
+  [[nodiscard]] virtual const SerialOutput* serial_line() const { return nullptr; }
+  /// A line of commentary about the run (a live fault applied): a recording output (the tee)
+  /// writes it as a comment line; every other output ignores it.
+  virtual void note(std::string_view /*line*/) {}
 
   /// Flushes buffered bytes (files). Called at shutdown.
   virtual void flush() {}

@@ -67,6 +67,7 @@ class PtyOutput final : public Output {
   [[nodiscard]] std::optional<std::uint64_t> clients_open() const {
     return opens_ && opens_->valid() ? std::optional<std::uint64_t>(opens_->open_count()) : std::nullopt;
   }
+  [[nodiscard]] std::optional<std::uint64_t> clients_connected() const override { return clients_open(); }
 
  protected:
   WriteStatus write_bytes(std::string_view bytes, std::string& error_text) override;

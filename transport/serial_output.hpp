@@ -75,6 +75,8 @@ class SerialOutput final : public Output {
   [[nodiscard]] bool is_open() const { return fd_ >= 0; }
   /// The device node currently (or last) open: "/dev/ttyUSB1", "/dev/pts/4".
   [[nodiscard]] const std::string& device() const { return device_; }
+  [[nodiscard]] SerialOutput* serial_line() override { return this; }
+  [[nodiscard]] const SerialOutput* serial_line() const override { return this; }
   [[nodiscard]] const SerialStats& serial_stats() const { return serial_stats_; }
   [[nodiscard]] int baud_bps() const { return options_.baud_bps; }
 

@@ -58,6 +58,7 @@ class TcpOutput final : public Output {
   [[nodiscard]] std::string clients_summary() const override;
   [[nodiscard]] std::uint16_t port() const { return server_.port(); }
   [[nodiscard]] std::size_t client_count() const { return server_.client_count(); }
+  [[nodiscard]] std::optional<std::uint64_t> clients_connected() const override { return client_count(); }
   [[nodiscard]] const TcpStats& tcp_stats() const { return tcp_stats_; }
 
  protected:

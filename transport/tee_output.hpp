@@ -46,7 +46,7 @@ class TeeOutput final : public Output {
 
   /// A comment line of the emulator's (a live fault applied: "# fault ..."), written before the
   /// next epoch's "# sent" line, or at flush() when no epoch follows. `line` without its '\n'.
-  void note(std::string_view line);
+  void note(std::string_view line) override;
 
   /// "# sent 2024-05-01T12:00:00.050123Z\n" for `time` (microseconds, truncated).
   [[nodiscard]] static std::string sent_line(std::chrono::system_clock::time_point time);

@@ -60,10 +60,9 @@ namespace {
 /// The live events applied at this epoch, into the receiver's --tee file (a session to replay).
 void record_events(const std::vector<faults::AppliedEvent>& events,
                    const std::vector<std::unique_ptr<transport::Output>>& outputs) {
-  for (const auto& out : outputs) {
-    auto* tee = dynamic_cast<transport::TeeOutput*>(out.get());
-    if (!tee) continue;
-    for (const faults::AppliedEvent& e : events) tee->note(faults::tee_event_line(e));
+  for (const faults::AppliedEvent& e : events) {
+    const std::string line = faults::tee_event_line(e);
+    for (const auto& out : outputs) out->note(line);  // the tee writes it; other outputs ignore it
   }
 }
 

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <utility>
 #include <variant>
 
 #include <spdlog/spdlog.h>
@@ -31,7 +32,7 @@ void check_line(const Channel& channel, const ReceiverSchedule& schedule, Receiv
 void change_baud(const std::vector<std::unique_ptr<transport::Output>>& outputs, ReceiverLine& line, int baud_bps,
                  const std::string& origin, const std::string& who) {
   for (const auto& out : outputs) {
-    auto* serial = dynamic_cast<transport::SerialOutput*>(out.get());
+    auto* serial = out->serial_line();
     if (!serial) continue;
     std::string error_text;
     if (!serial->set_baud(baud_bps, error_text)) {
@@ -64,7 +65,7 @@ std::size_t widest_epoch_bytes(const Channel& channel) {
 ReceiverLine line_of(const std::vector<std::unique_ptr<transport::Output>>& outputs) {
   ReceiverLine line;
   for (const auto& out : outputs) {
-    const auto* serial = dynamic_cast<const transport::SerialOutput*>(out.get());
+    const transport::SerialOutput* serial = std::as_const(*out).serial_line();
     if (!serial) continue;
     const auto baud = static_cast<std::uint32_t>(serial->baud_bps());
     if (line.baud == 0 || baud < line.baud) line.baud = baud;

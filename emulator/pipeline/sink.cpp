@@ -95,7 +95,7 @@ void Sink::list_inputs(std::vector<int>& fds, std::vector<transport::Output*>& o
 transport::SerialOutput* Sink::first_serial() const {
   for (const auto& outputs : receivers_) {
     for (const auto& out : outputs) {
-      if (auto* serial = dynamic_cast<transport::SerialOutput*>(out.get())) return serial;
+      if (auto* serial = out->serial_line()) return serial;
     }
   }
   return nullptr;

@@ -141,10 +141,7 @@ std::string Hub::status_extra(std::size_t i) const {
   if (r.outputs) {
     for (const auto& o : *r.outputs) {
       json entry{{"name", o->describe()}, {"bytes_written", o->stats().bytes_written}, {"clients", nullptr}};
-      if (const auto* tcp = dynamic_cast<const transport::TcpOutput*>(o.get())) entry["clients"] = tcp->client_count();
-      if (const auto* pty = dynamic_cast<const transport::PtyOutput*>(o.get()); pty && pty->clients_open()) {
-        entry["clients"] = *pty->clients_open();
-      }
+      if (const auto clients = o->clients_connected()) entry["clients"] = *clients;
       outputs.push_back(std::move(entry));
     }
   }

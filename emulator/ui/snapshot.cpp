@@ -122,10 +122,7 @@ json link_json(const EpochView& v, const SnapshotContext& c) {
                  {"epochs_written", o->stats().epochs_written},
                  {"epochs_dropped", o->stats().epochs_dropped},
                  {"clients", nullptr}};
-      if (const auto* tcp = dynamic_cast<const transport::TcpOutput*>(o.get())) entry["clients"] = tcp->client_count();
-      if (const auto* pty = dynamic_cast<const transport::PtyOutput*>(o.get()); pty && pty->clients_open()) {
-        entry["clients"] = *pty->clients_open();
-      }
+      if (const auto clients = o->clients_connected()) entry["clients"] = *clients;
       outputs.push_back(std::move(entry));
     }
   }
