@@ -11,7 +11,7 @@
 #include <fmt/format.h>
 
 #include "emulator/model/sky/orbits.hpp"
-#include "emulator/model/sky/profile.hpp"
+#include "emulator/model/receiver_models.hpp"
 #include "emulator/rtk/rtcm3_msm.hpp"
 #include "emulator/rtk/rtcm3_reader.hpp"
 
@@ -38,8 +38,8 @@ double distance_m(const sky::Ecef& a, const sky::Ecef& b) { return std::hypot(a.
 SkyOptions sky_options(const BaseSettings& s) {
   SkyOptions o;
   o.orbits = s.orbits;
-  o.profile = sky::profile_of(ubx::ReceiverModel::ublox_f9p);
-  if (s.elevation_mask_deg) o.profile.elevation_mask_deg = *s.elevation_mask_deg;
+  o.tracking = facts_of(ReceiverModel::ublox_f9p).tracking;
+  if (s.elevation_mask_deg) o.tracking.elevation_mask_deg = *s.elevation_mask_deg;
   o.seed = s.seed;
   return o;
 }

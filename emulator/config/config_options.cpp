@@ -314,7 +314,7 @@ std::vector<OptionDef> make_option_table() {
       "(default generic)",
       [](ConfigDraft& d, V v) {
         const std::string m = parse_choice("receiver", v.back(), {"ublox-m8n", "ublox-m9n", "ublox-f9p", "ublox-m10", "generic"});
-        d.receiver.settings.ublox_model = *ubx::receiver_model_from_name(m);
+        d.receiver.settings.receiver_model = *receiver_model_from_name(m);
       });
   add("receiver-state", "FILE", "a u-blox's stored configuration (BBR and flash layers: CFG-VALSET to them, "
       "CFG-CFG save) read at start when FILE exists and written whenever it changes, so a saved configuration "

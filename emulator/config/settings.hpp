@@ -21,7 +21,7 @@
 #include "emulator/rtk/rtk_state.hpp"
 #include "emulator/sources/sim.hpp"
 #include "emulator/sources/source_spec.hpp"
-#include "emulator/ubx/model.hpp"
+#include "emulator/model/receiver_models.hpp"
 #include "nmea/fix.hpp"
 #include "transport/input/rtcm_socket.hpp"
 #include "transport/output_spec.hpp"
@@ -79,7 +79,7 @@ struct ReceiverSettings {
   Protocol protocol = Protocol::nmea;          ///< --protocol
   bool protocol_given = false;                 ///< --protocol was given (else a u-blox model starts in its factory state)
   std::optional<std::string> receiver_state;   ///< --receiver-state: a u-blox's BBR and flash kept across runs
-  ubx::ReceiverModel ublox_model = ubx::ReceiverModel::generic;  ///< --receiver (MON-VER, configuration interface)
+  ReceiverModel receiver_model = ReceiverModel::generic;  ///< --receiver (MON-VER, configuration interface)
   std::vector<transport::OutputSpec> outputs;  ///< where NMEA goes (parsed --output specs)
   bool outputs_given = false;                  ///< --output was given (else the default; `gpsemu base` has its own)
   std::optional<std::string> tee;              ///< file copying everything sent, with send times (default none)

@@ -6,9 +6,7 @@
 #include <fmt/format.h>
 
 #include "emulator/model/sky/orbits.hpp"
-#include "emulator/model/sky/profile.hpp"
-#include "emulator/ubx/model.hpp"
-#include "emulator/ubx/settings.hpp"
+#include "emulator/model/receiver_models.hpp"
 
 #include "emulator/config/config_options.hpp"
 
@@ -81,7 +79,7 @@ void resolve_timeline(ConfigDraft& draft) {
 }
 
 bool factory_state(const ReceiverSettings& receiver) {
-  return !receiver.protocol_given && receiver.ublox_model != ubx::ReceiverModel::generic;
+  return !receiver.protocol_given && receiver.receiver_model != ReceiverModel::generic;
 }
 
 bool has_ubx_port(const ReceiverSettings& receiver) {
@@ -112,17 +110,20 @@ ReceiverSettings resolve_receiver(const ReceiverDraft& draft, const TimelineSett
   if (draft.cgrw_north) r.noise.cgrw.north = *draft.cgrw_north;
   if (draft.cgrw_up) r.noise.cgrw.up = *draft.cgrw_up;
   // The sky of the receiver model (docs/sky.md); a multi-system model's NMEA talker is GN.
-  r.model.profile = sky::profile_of(r.ublox_model);
-  if (!r.talker_given && r.model.profile.systems.count() > 1) r.format.talker = "GN";
-  r.format.gsv_second_signal = r.model.profile.dual_band;
+  r.model.tracking = facts_of(r.receiver_model).tracking;
+  if (!r.talker_given && r.model.tracking.systems.count() > 1) r.format.talker = "GN";
+  r.format.gsv_second_signal = r.model.tracking.dual_band;
   // An M9N's SPG firmware uses RTCM3 corrections for DGNSS only: no RTK float or fixed (docs/rtk.md).
-  if (ubx::dgnss_only(r.ublox_model)) r.rtk.best = nmea::FixQuality::dgps;
-  // A u-blox port writes u-blox's NMEA messages only: a sentence it lacks would be dropped silently.
+  if ((facts_of(r.receiver_model).corrections == Corrections::dgnss)) r.rtk.best = nmea::FixQuality::dgps;
+  // A u-blox port writes its model's NMEA messages only: a sentence it lacks would be dropped silently.
   for (const nmea::SentenceType type : nmea::all_sentence_types) {
-    if (!has_ubx_port(r) || !r.format.sentences.contains(type) || ubx::nmea_message(type)) continue;
+    if (!has_ubx_port(r) || !r.format.sentences.contains(type) ||
+        facts_of(r.receiver_model).nmea_written.contains(type)) {
+      continue;
+    }
     throw ConfigError(fmt::format("sentences: a u-blox {} does not write {} (not a u-blox NMEA message; a moving-base "
                                   "rover's heading is in NAV-RELPOSNED): leave {} out, or give --protocol nmea for "
-                                  "an NMEA receiver that writes it", ubx::model_info(r.ublox_model).name,
+                                  "an NMEA receiver that writes it", facts_of(r.receiver_model).name,
                                   nmea::sentence_name(type), nmea::sentence_name(type)));
   }
   // The orbits are read here, with the configuration: the embedded sky's take 50-90 ms to parse,

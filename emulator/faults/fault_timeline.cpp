@@ -7,9 +7,10 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "emulator/model/accuracy.hpp"
 #include "emulator/faults/sky_faults.hpp"
 #include "emulator/model/receiver.hpp"
-#include "emulator/model/sky/profile.hpp"
+#include "emulator/model/receiver_models.hpp"
 
 namespace gpsemu::faults {
 namespace {

@@ -1,6 +1,7 @@
 #include "emulator/model/accuracy.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace gpsemu::sky {
 
@@ -20,5 +21,7 @@ void apply_accuracy_floor(nmea::Fix& fix) {
   fix.sigma_alt_m = std::max(fix.sigma_alt_m, f.vertical_m);
   fix.range_rms_m = std::max(fix.range_rms_m, f.axis_m);
 }
+
+double horizontal_accuracy_m(const nmea::Fix& fix) { return std::hypot(fix.sigma_lat_m, fix.sigma_lon_m); }
 
 }  // namespace gpsemu::sky

@@ -20,6 +20,9 @@ struct AccuracyFloor {
 /// The fix's sigmas (GST: lat, lon, alt, range RMS) raised to its quality's floor: the one place
 /// the floor is applied (the model, the RTK state and a fault that changes the quality call it).
 void apply_accuracy_floor(nmea::Fix& fix);
+/// The horizontal accuracy the fix states (metres, 1 sigma): the root sum of its two axes' sigmas,
+/// as u-blox hAcc and the bench view report it.
+[[nodiscard]] double horizontal_accuracy_m(const nmea::Fix& fix);
 /// accuracy_floor(quality).axis_m.
 [[nodiscard]] inline double accuracy_floor_m(nmea::FixQuality quality) { return accuracy_floor(quality).axis_m; }
 

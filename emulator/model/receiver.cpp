@@ -1,3 +1,4 @@
+#include "emulator/model/accuracy.hpp"
 #include "emulator/model/receiver.hpp"
 
 #include <algorithm>
@@ -16,8 +17,8 @@ constexpr std::uint64_t kHeadingNoiseStream = 0x48444E47;
 SkyOptions sky_options(const ReceiverOptions& o) {
   SkyOptions s;
   s.orbits = o.orbits;
-  s.profile = o.profile;
-  if (o.elevation_mask_deg) s.profile.elevation_mask_deg = *o.elevation_mask_deg;
+  s.tracking = o.tracking;
+  if (o.elevation_mask_deg) s.tracking.elevation_mask_deg = *o.elevation_mask_deg;
   s.obstruction = o.sky_mask;
   s.max_used = o.satellites_used;
   s.seed = o.sky_seed;
@@ -47,13 +48,13 @@ double noise_scale(nmea::FixQuality quality, nmea::FixQuality noise_quality) {
 
 Geometry resolve_geometry(const ReceiverOptions& options) {
   using S = nmea::GnssSystem;
-  const sky::SystemSet& sys = options.profile.systems;
+  const sky::SystemSet& sys = options.tracking.systems;
   Geometry g;
   int n = 0;
   for (const auto& [system, most] : {std::pair{S::gps, 14}, std::pair{S::glonass, 12}, std::pair{S::galileo, 12},
                                     std::pair{S::beidou, 18}, std::pair{S::qzss, 5}, std::pair{S::sbas, 4}}) {
     if (!sys.contains(system)) continue;
-    const int in_view = options.profile.dual_band ? 2 * most : most;
+    const int in_view = options.tracking.dual_band ? 2 * most : most;
     g.in_view_by_system.push_back({system, in_view});
     n += in_view;
   }
@@ -95,7 +96,7 @@ Receiver::Receiver(const LocalFrame& frame, const ReceiverOptions& options,
       first_epoch_(first_epoch),
       sky_(sky_options(options), ellipsoidal(frame.origin(), geoid_at(frame, options))),
       geoid_sep_m_(geoid_at(frame, options)),
-      uere_m_(options.uere_m.value_or(options.profile.uere_m)),
+      uere_m_(options.uere_m.value_or(options.tracking.uere_m)),
       configured_cold_start_s_(options.cold_start_s),
       heading_rng_(options.sky_seed, kHeadingNoiseStream),
       hold_(options.hold) {

@@ -17,7 +17,7 @@
 //   sigma_v = VDOP x UERE x scale. GST's RMS of the ranges is UERE x scale.
 // where scale = noise_scale(quality) / noise_scale(noise_quality) (the noise parameters describe the
 // receiver at noise_quality: a calibrated RTK rover's are centimetres at rtk-fixed) and UERE the
-// model's (sky::profile_of) unless uere_m is set (calibrate writes it: the log's sigma / its median HDOP).
+// model's (the receiver table's tracking) unless uere_m is set (calibrate writes it: the log's sigma / its median HDOP).
 #pragma once
 
 #include <cstdint>
@@ -32,7 +32,7 @@
 #include "emulator/model/noise/noise_model.hpp"
 #include "emulator/model/noise/rng.hpp"
 #include "emulator/model/sky.hpp"
-#include "emulator/model/sky/profile.hpp"
+#include "emulator/model/receiver_models.hpp"
 #include "emulator/model/static_hold.hpp"
 #include "emulator/sources/pose_source.hpp"
 #include "emulator/model/time.hpp"
@@ -90,8 +90,8 @@ struct ReceiverOptions {
   double heading_sigma_deg = 0.2;
   /// Kept for the pipeline's settings; the sky is always computed (its counts and DOPs are needed).
   bool satellite_details = true;
-  /// The receiver model's sky: systems, channels, mask, C/N0 threshold, UERE (sky::profile_of).
-  sky::ReceiverProfile profile = sky::profile_of(ubx::ReceiverModel::generic);
+  /// The receiver model's sky: systems, channels, mask, C/N0 threshold, UERE (the receiver table's, facts_of(model).tracking).
+  sky::Tracking tracking = facts_of(ReceiverModel::generic).tracking;
   std::optional<double> elevation_mask_deg;  ///< --elevation-mask; empty: the model's
   std::vector<SkyMaskSector> sky_mask;       ///< --sky-mask
   std::optional<double> uere_m;              ///< UERE of an autonomous fix (metres); empty: the model's

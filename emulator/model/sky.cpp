@@ -119,7 +119,7 @@ Sky::Sky(const SkyOptions& options, const Geodetic& receiver)
   for (std::size_t i = 0; i < sats.size(); ++i) {
     cn0_offset_db_[i] = static_cast<float>(-2.0 + 4.0 * rng.uniform());
     acquisition_rank_[i] = static_cast<float>(rng.uniform());
-    if (options.profile.systems.contains(sats[i].system)) tracked_.push_back(i);
+    if (options.tracking.systems.contains(sats[i].system)) tracked_.push_back(i);
   }
   // Listed in NMEA order: by system, then number.
   std::stable_sort(tracked_.begin(), tracked_.end(), [&](std::size_t a, std::size_t b) {
@@ -292,7 +292,7 @@ SkyState Sky::fill(UtcNs t, const Tracking& tracking, nmea::Fix& fix) {
     tracking_ = tracking;
     // Listed: above the horizon, not obstructed, acquired; within the channels (highest first).
     const auto& sats = orbits_->satellites();
-    const sky::ReceiverProfile& p = options_.profile;
+    const sky::Tracking& p = options_.tracking;
     entries_.clear();
     for (std::size_t k = 0; k < tracked_.size(); ++k) {
       const Look& look = look0_[k];

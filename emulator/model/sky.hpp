@@ -18,7 +18,7 @@
 #include "emulator/model/geo.hpp"
 #include "emulator/model/sky/dop.hpp"
 #include "emulator/model/sky/orbits.hpp"
-#include "emulator/model/sky/profile.hpp"
+#include "emulator/model/sky/tracking.hpp"
 #include "emulator/model/time.hpp"
 #include "nmea/fix.hpp"
 
@@ -38,7 +38,7 @@ struct SkyMaskSector {
 
 struct SkyOptions {
   std::shared_ptr<const sky::Orbits> orbits;  ///< empty: the embedded default sky
-  sky::ReceiverProfile profile;               ///< systems, channels, mask, C/N0 threshold
+  sky::Tracking tracking;               ///< systems, channels, mask, C/N0 threshold
   std::vector<SkyMaskSector> obstruction;     ///< --sky-mask
   std::optional<int> max_used;                ///< --satellites: at most this many used
   std::uint64_t seed = 1;

@@ -7,8 +7,9 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "emulator/model/accuracy.hpp"
 #include "emulator/model/receiver.hpp"
-#include "emulator/model/sky/profile.hpp"
+#include "emulator/model/receiver_models.hpp"
 
 namespace gpsemu {
 namespace {

@@ -121,6 +121,11 @@ class ReceiverProtocol {
   [[nodiscard]] virtual std::string client_input_summary(std::string_view /*extra*/) const { return {}; }
   /// One line of what the configuration did not carry out (empty when nothing to say).
   [[nodiscard]] virtual std::string configuration_summary() const { return {}; }
+
+  // The bench view.
+  /// What its clients configured, as a JSON object's text (u-blox: frames read, ACKs and NAKs, the
+  /// solution rate, the port's baud, the messages on); empty: nothing a client configures.
+  [[nodiscard]] virtual std::string configuration_json() const { return {}; }
 };
 
 /// What a channel's protocol is made from: a receiver's choice (registry.hpp).

@@ -22,7 +22,7 @@ ubx::SessionSettings ublox_settings(const ReceiverSettings& receiver, const Rece
                                     const TimelineSettings& timeline) {
   const bool factory = factory_state(receiver);
   ubx::SessionSettings s;
-  s.start.model = receiver.ublox_model;
+  s.start.model = receiver.receiver_model;
   s.start.measurement_period = std::chrono::milliseconds{std::llround(1000.0 / timeline.rate_hz)};
   s.start.sentences = receiver.protocol == Protocol::ubx && !receiver.sentences_given ? nmea::SentenceSet{}
                                                                                      : receiver.format.sentences;
@@ -33,7 +33,7 @@ ubx::SessionSettings ublox_settings(const ReceiverSettings& receiver, const Rece
       s.start.baud = static_cast<std::uint32_t>(spec.baud_bps != 0 ? spec.baud_bps : fallback);
     }
   }
-  if (receiver.receiver_state) s.stored = read_receiver_state(*receiver.receiver_state, receiver.ublox_model);
+  if (receiver.receiver_state) s.stored = read_receiver_state(*receiver.receiver_state, receiver.receiver_model);
   s.format = receiver.format;
   s.speed_sigma_mps = 0.1 * std::hypot(options.noise_sigma_m.east_m, options.noise_sigma_m.north_m);
   s.seed = receiver.seed;
@@ -49,7 +49,7 @@ std::shared_ptr<const ProtocolSpec> protocol_for(const ReceiverSettings& receive
 }
 
 int factory_baud(const ReceiverSettings& receiver) {
-  return factory_state(receiver) ? static_cast<int>(ubx::model_info(receiver.ublox_model).default_baud) : 0;
+  return factory_state(receiver) ? static_cast<int>(facts_of(receiver.receiver_model).default_baud) : 0;
 }
 
 }  // namespace gpsemu::protocol

@@ -1,7 +1,7 @@
 // NAV-RELPOSNED of an RTK rover whose base is a fixed station (docs/rtk.md "NAV-RELPOSNED"): an
 // F9P rover fed a base's RTCM3 reports where it is relative to the base's antenna reference point
 // (1005/1006). Pure: the RTK state, the base position and the rover's reported fix in, the
-// relative position out (model/epoch.hpp; ubx/relposned.hpp encodes it).
+// relative position out (model/epoch.hpp; the u-blox encoder writes it as NAV-RELPOSNED).
 //
 //   relPos N/E/D  rover - base, in the local north/east/down frame at the base (metres)
 //   length        |relPos| (3-D)

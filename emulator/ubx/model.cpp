@@ -8,40 +8,54 @@
 namespace gpsemu::ubx {
 namespace {
 
-const std::array<ModelInfo, 5>& models() {
-  static const std::array<ModelInfo, 5> all = {
-      ModelInfo{"generic", 1800, false, true, true, 9600, "ROM CORE 3.01 (107888)", "00080000",
-                {"FWVER=SPG 3.01", "PROTVER=18.00", "GPS;GLO;GAL;BDS", "SBAS;IMES;QZSS"}},
-      ModelInfo{"ublox-m8n", 1800, false, true, true, 9600, "ROM CORE 3.01 (107888)", "00080000",
-                {"FWVER=SPG 3.01", "PROTVER=18.00", "MOD=NEO-M8N-0", "GPS;GLO;GAL;BDS", "SBAS;IMES;QZSS"}},
-      ModelInfo{"ublox-m9n", 3201, true, true, true, 38400, "ROM SPG 4.04 (7f89f7)", "00190000",
-                {"ROM BASE 0x118B2060", "FWVER=SPG 4.04", "PROTVER=32.01", "MOD=NEO-M9N-00B", "GPS;GLO;GAL;BDS",
-                 "SBAS;QZSS"}},
-      ModelInfo{"ublox-f9p", 2731, true, true, true, 38400, "EXT CORE 1.00 (61ce84)", "00190000",
-                {"ROM BASE 0x118B2060", "FWVER=HPG 1.32", "PROTVER=27.31", "MOD=ZED-F9P", "GPS;GLO;GAL;BDS",
-                 "SBAS;QZSS"}},
+/// The u-blox identity of each row of the receiver table, in its order: protocol version, key/value
+/// and legacy configuration, MON-VER's swVersion, hwVersion and extensions.
+struct Identity {
+  int protocol_version_x100;
+  bool key_value_config;
+  bool legacy_config;
+  std::string_view sw_version;
+  std::string_view hw_version;
+  std::vector<std::string_view> extensions;
+};
+
+const std::array<Identity, kReceiverModels>& identities() {
+  static const std::array<Identity, kReceiverModels> all = {
+      Identity{1800, false, true, "ROM CORE 3.01 (107888)", "00080000",
+               {"FWVER=SPG 3.01", "PROTVER=18.00", "GPS;GLO;GAL;BDS", "SBAS;IMES;QZSS"}},
+      Identity{1800, false, true, "ROM CORE 3.01 (107888)", "00080000",
+               {"FWVER=SPG 3.01", "PROTVER=18.00", "MOD=NEO-M8N-0", "GPS;GLO;GAL;BDS", "SBAS;IMES;QZSS"}},
+      Identity{3201, true, true, "ROM SPG 4.04 (7f89f7)", "00190000",
+               {"ROM BASE 0x118B2060", "FWVER=SPG 4.04", "PROTVER=32.01", "MOD=NEO-M9N-00B", "GPS;GLO;GAL;BDS",
+                "SBAS;QZSS"}},
+      Identity{2731, true, true, "EXT CORE 1.00 (61ce84)", "00190000",
+               {"ROM BASE 0x118B2060", "FWVER=HPG 1.32", "PROTVER=27.31", "MOD=ZED-F9P", "GPS;GLO;GAL;BDS",
+                "SBAS;QZSS"}},
       // As a MAX-M10S (SPG 5.10) reports itself; PX4 and ArduPilot detect an M10 by hwVersion 000A0000.
-      ModelInfo{"ublox-m10", 3410, true, false, false, 9600, "ROM SPG 5.10 (7b202e)", "000A0000",
-                {"ROM BASE 0x118B2060", "FWVER=SPG 5.10", "PROTVER=34.10", "MOD=MAX-M10S", "GPS;GLO;GAL;BDS",
-                 "SBAS;QZSS"}},
+      Identity{3410, true, false, "ROM SPG 5.10 (7b202e)", "000A0000",
+               {"ROM BASE 0x118B2060", "FWVER=SPG 5.10", "PROTVER=34.10", "MOD=MAX-M10S", "GPS;GLO;GAL;BDS",
+                "SBAS;QZSS"}},
   };
   return all;
 }
 
-}  // namespace
-
-const ModelInfo& model_info(ReceiverModel model) { return models()[static_cast<std::size_t>(model)]; }
-
-std::optional<ReceiverModel> receiver_model_from_name(std::string_view name) {
-  for (std::size_t i = 0; i < models().size(); ++i) {
-    if (models()[i].name == name) return static_cast<ReceiverModel>(i);
+std::array<ModelInfo, kReceiverModels> join() {
+  std::array<ModelInfo, kReceiverModels> out{};
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const ReceiverFacts& f = receiver_table()[i];
+    const Identity& id = identities()[i];
+    out[i] = ModelInfo{f.name, id.protocol_version_x100, id.key_value_config, id.legacy_config,
+                       f.corrections != Corrections::none, f.default_baud, id.sw_version, id.hw_version, id.extensions};
   }
-  return std::nullopt;
+  return out;
 }
 
-bool dual_band(ReceiverModel model) { return model == ReceiverModel::ublox_f9p; }
+}  // namespace
 
-bool dgnss_only(ReceiverModel model) { return model == ReceiverModel::ublox_m9n; }
+const ModelInfo& model_info(ReceiverModel model) {
+  static const std::array<ModelInfo, kReceiverModels> all = join();
+  return all[static_cast<std::size_t>(model)];
+}
 
 bool model_has_key_group(ReceiverModel model, std::uint32_t key) {
   constexpr std::uint32_t group_tmode = 0x03;

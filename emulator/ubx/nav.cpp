@@ -67,10 +67,7 @@ Sigmas sigmas_of(const nmea::Fix& fix, double speed_sigma_mps) {
   return {fix.sigma_lat_m, fix.sigma_lon_m, fix.sigma_alt_m,
           std::max(speed_sigma_mps, sky::accuracy_floor(fix.quality).speed_mps)};
 }
-double h_acc_m(const nmea::Fix& fix) {
-  const NedAccuracy a = position_accuracy(fix);
-  return std::hypot(a.north_m, a.east_m);
-}
+double h_acc_m(const nmea::Fix& fix) { return sky::horizontal_accuracy_m(fix); }
 double v_acc_m(const nmea::Fix& fix) { return position_accuracy(fix).down_m; }
 double speed_sigma_mps(const nmea::Fix& fix, const NavExtras& extras) {
   return sigmas_of(fix, extras.speed_sigma_mps).speed_mps;

@@ -27,15 +27,7 @@ nanoseconds since_week_start(SolutionTime t, std::uint16_t time_ref) {
 }  // namespace
 
 std::chrono::milliseconds fastest_solution_period(ReceiverModel model) {
-  using std::chrono::milliseconds;
-  switch (model) {
-    case ReceiverModel::ublox_m8n: return milliseconds{100};
-    case ReceiverModel::ublox_m9n: return milliseconds{40};
-    case ReceiverModel::ublox_f9p: return milliseconds{50};
-    case ReceiverModel::ublox_m10: return milliseconds{100};  // 10 Hz with its four concurrent systems
-    case ReceiverModel::generic: break;
-  }
-  return milliseconds{min_meas_period_ms};
+  return facts_of(model).fastest_solution_period;
 }
 
 std::chrono::milliseconds solution_period(const Settings& s, ReceiverModel model) {

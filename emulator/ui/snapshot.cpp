@@ -6,8 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "emulator/pipeline/rtk_receiver.hpp"
-#include "emulator/protocol/ublox/ublox_protocol.hpp"
-#include "emulator/ubx/nav.hpp"
+#include "emulator/model/accuracy.hpp"
 #include "transport/pty_output.hpp"
 #include "transport/tcp_output.hpp"
 
@@ -39,7 +38,6 @@ json fix_json(const nmea::Fix& fix) {
            {"time_valid", fix.time_valid},
            {"diff_age_s", optional_json(fix.diff_age_s, 1)}};
   if (!fix.has_fix()) return out;
-  const ubx::NedAccuracy accuracy = ubx::position_accuracy(fix);
   out.update(json{{"lat_deg", rounded(fix.lat_deg, 8)},
                   {"lon_deg", rounded(fix.lon_deg, 8)},
                   {"alt_msl_m", rounded(fix.alt_msl_m, 3)},
@@ -50,8 +48,8 @@ json fix_json(const nmea::Fix& fix) {
                   {"pdop", rounded(fix.pdop, 2)},
                   {"tdop", rounded(fix.tdop, 2)},
                   {"gdop", rounded(fix.gdop, 2)},
-                  {"h_acc_m", rounded(std::hypot(accuracy.north_m, accuracy.east_m), 3)},
-                  {"v_acc_m", rounded(accuracy.down_m, 3)},
+                  {"h_acc_m", rounded(sky::horizontal_accuracy_m(fix), 3)},
+                  {"v_acc_m", rounded(fix.sigma_alt_m, 3)},
                   {"gst_sigma_lat_m", rounded(fix.sigma_lat_m, 3)},
                   {"gst_sigma_lon_m", rounded(fix.sigma_lon_m, 3)},
                   {"gst_sigma_alt_m", rounded(fix.sigma_alt_m, 3)}});
@@ -92,7 +90,7 @@ json sky_json(const Channel& ch) {
       for (json& s : sectors_json(sky_mask->mask, "fault")) mask.push_back(std::move(s));
     }
   }
-  return {{"elevation_mask_deg", r.elevation_mask_deg.value_or(r.profile.elevation_mask_deg)}, {"sky_mask", mask}};
+  return {{"elevation_mask_deg", r.elevation_mask_deg.value_or(r.tracking.elevation_mask_deg)}, {"sky_mask", mask}};
 }
 
 json faults_json(const faults::FaultTimeline& t) {
@@ -136,53 +134,14 @@ json link_json(const EpochView& v, const SnapshotContext& c) {
           {"watch_clients", c.watch_clients}};
 }
 
-/// "NAV-PVT" for the messages a driver turns on most, "0x01 0x22" for the others.
-std::string message_name(ubx::MessageId id) {
-  struct Named {
-    std::uint8_t msg_class, msg_id;
-    const char* name;
-  };
-  static constexpr Named kNames[] = {
-      {0x01, 0x01, "NAV-POSECEF"}, {0x01, 0x02, "NAV-POSLLH"}, {0x01, 0x03, "NAV-STATUS"}, {0x01, 0x04, "NAV-DOP"},
-      {0x01, 0x06, "NAV-SOL"},     {0x01, 0x07, "NAV-PVT"},    {0x01, 0x11, "NAV-VELECEF"}, {0x01, 0x12, "NAV-VELNED"},
-      {0x01, 0x13, "NAV-HPPOSECEF"}, {0x01, 0x14, "NAV-HPPOSLLH"}, {0x01, 0x20, "NAV-TIMEGPS"}, {0x01, 0x21, "NAV-TIMEUTC"},
-      {0x01, 0x26, "NAV-TIMELS"},  {0x01, 0x30, "NAV-SVINFO"}, {0x01, 0x35, "NAV-SAT"},    {0x01, 0x3C, "NAV-RELPOSNED"},
-      {0x01, 0x43, "NAV-SIG"},     {0x01, 0x61, "NAV-EOE"},    {0x02, 0x15, "RXM-RAWX"},   {0x02, 0x32, "RXM-RTCM"},
-      {0x0A, 0x09, "MON-HW"},      {0x0A, 0x38, "MON-RF"},     {0x0D, 0x01, "TIM-TP"},     {0xF0, 0x00, "GGA"},
-      {0xF0, 0x01, "GLL"},         {0xF0, 0x02, "GSA"},        {0xF0, 0x03, "GSV"},        {0xF0, 0x04, "RMC"},
-      {0xF0, 0x05, "VTG"},         {0xF0, 0x07, "GST"},        {0xF0, 0x08, "ZDA"}};
-  for (const Named& n : kNames) {
-    if (n.msg_class == id.msg_class && n.msg_id == id.msg_id) return n.name;
-  }
-  return fmt::format("0x{:02X} 0x{:02X}", id.msg_class, id.msg_id);
-}
-
-/// What a u-blox driver configured: its answers, the rate, the baud, the messages on.
-json ubx_json(const Channel& ch, const ReceiverLine& line) {
-  const protocol::UbloxProtocol* ubx = protocol::as_ublox(ch.protocol());
-  if (!ubx) return nullptr;
-  const ubx::ConfigMachine& m = ubx->session().machine();
-  const ubx::Settings& s = m.settings();
-  const auto port = static_cast<std::size_t>(m.port());
-  json enabled = json::array();
-  for (const auto& [id, rates] : s.rates) {
-    if (rates[port] != 0) enabled.push_back({{"message", message_name(id)}, {"rate", rates[port]}});
-  }
-  const ubx::MachineStats& st = m.stats();
-  const ubx::FrameStats& in = ubx->session().reader_stats();
-  return {{"frames_received", in.frames_ok},
-          {"sentences_received", in.sentences_ok},
-          {"bad_frames", in.bad_checksum + in.too_long + in.bad_sentences},
-          {"acks", st.acks},
-          {"naks", st.naks},
-          {"ignored", st.ignored},
-          {"resets", st.resets},
-          {"meas_period_ms", s.meas_period_ms},
-          {"nav_rate_cycles", s.nav_rate_cycles},
-          {"solution_hz", rounded(1000.0 / std::max(1, s.meas_period_ms * s.nav_rate_cycles), 3)},
-          {"port_baud", s.ports[port].baud},
-          {"line_baud", line.baud == 0 ? json(nullptr) : json(line.baud)},
-          {"enabled", enabled}};
+/// What a client configured (the protocol's own panel: a u-blox's rate, baud, messages), with the
+/// line's baud beside it; null for a protocol nobody configures.
+json protocol_json(const Channel& ch, const ReceiverLine& line) {
+  const std::string text = ch.protocol().configuration_json();
+  if (text.empty()) return nullptr;
+  json out = json::parse(text);
+  out["line_baud"] = line.baud == 0 ? json(nullptr) : json(line.baud);
+  return out;
 }
 
 }  // namespace
@@ -238,7 +197,7 @@ std::string epoch_json(const EpochView& v, const EpochError& error, const Snapsh
            {"faults", faults_json(ch.faults())},
            {"silent", ch.faults().last_epoch().silent},
            {"link", link_json(v, c)},
-           {"ubx", ubx_json(ch, v.line)}};
+           {"ubx", protocol_json(ch, v.line)}};
   return out.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 

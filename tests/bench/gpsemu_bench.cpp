@@ -149,7 +149,7 @@ BENCHMARK_CAPTURE(whole_epoch, default_set_stationary_to_file, "stationary", gps
 /// new GPS second, the used set and DOPs, the interpolated entries written into the fix).
 void sky_fill(benchmark::State& state) {
   gpsemu::SkyOptions options;
-  options.profile = gpsemu::sky::profile_of(gpsemu::ubx::ReceiverModel::generic);  // an M8N
+  options.tracking = gpsemu::facts_of(gpsemu::ReceiverModel::generic).tracking;  // an M8N
   gpsemu::Sky sky(options, {kOrigin.lat_deg, kOrigin.lon_deg, kOrigin.alt_m - 34.0});
   gpsemu::UtcNs t{seconds(1714564800)};
   gpsemu::nmea::Fix fix;

@@ -379,7 +379,7 @@ TEST(UbxGpsd, UbxtoolThroughGpsdPollsMonVerCfgRateAndCfgNav5) {
   EXPECT_NE(rate.find("measRate 200 navRate 1"), std::string::npos) << rate;
 
   ubx::StartSettings f9p;
-  f9p.model = ubx::ReceiverModel::ublox_f9p;
+  f9p.model = ReceiverModel::ublox_f9p;
   const std::string start_nav5 = ubx::start_settings(f9p).nav5;
   const std::pair<int, int> expected{static_cast<std::uint8_t>(start_nav5[2]), static_cast<std::uint8_t>(start_nav5[3])};
   const std::string nav5 = run.ubxtool_acked({"-p", "CFG-NAV5", "-P", "27.31", "-w", "1"}, "x24 (NAV5)");

@@ -94,7 +94,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   GPSEMU_FUZZ_CHECK(by_type == frames);
 
   ubx::SessionSettings settings;
-  settings.start.model = ubx::ReceiverModel::ublox_f9p;
+  settings.start.model = ReceiverModel::ublox_f9p;
   ubx::Session session(settings);
   session.client_wrote(ubx::frame_bytes(ubx::msg::cfg_msg, std::string("\x02\x32\x01", 3)));
   check_whole_ubx_frames(session.take_reply());

@@ -15,7 +15,7 @@ namespace gpsemu::protocol {
 /// A state file is a few kilobytes; anything far larger is not one.
 constexpr std::uintmax_t kMaxStateBytes = 1 << 20;
 
-ubx::StoredLayers read_receiver_state(const std::string& path, ubx::ReceiverModel model) {
+ubx::StoredLayers read_receiver_state(const std::string& path, ReceiverModel model) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) return {};
   const auto size = std::filesystem::file_size(path, ec);
@@ -34,7 +34,7 @@ ubx::StoredLayers read_receiver_state(const std::string& path, ubx::ReceiverMode
   }
 }
 
-bool write_receiver_state(const std::string& path, const ubx::StoredLayers& layers, ubx::ReceiverModel model,
+bool write_receiver_state(const std::string& path, const ubx::StoredLayers& layers, ReceiverModel model,
                           std::string& error) {
   return posix::replace_file(path, ubx::to_text(layers, model), error);
 }

@@ -14,10 +14,10 @@ namespace gpsemu::protocol {
 /// The layers `path` holds for `model`; empty layers when the file does not exist. Throws
 /// std::invalid_argument naming the file and line when it cannot be read or is not a state of
 /// `model`.
-[[nodiscard]] ubx::StoredLayers read_receiver_state(const std::string& path, ubx::ReceiverModel model);
+[[nodiscard]] ubx::StoredLayers read_receiver_state(const std::string& path, ReceiverModel model);
 
 /// Writes `layers` to `path`; false with `error` set when it cannot.
 [[nodiscard]] bool write_receiver_state(const std::string& path, const ubx::StoredLayers& layers,
-                                        ubx::ReceiverModel model, std::string& error);
+                                        ReceiverModel model, std::string& error);
 
 }  // namespace gpsemu::protocol

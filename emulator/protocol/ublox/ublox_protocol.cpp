@@ -4,9 +4,11 @@
 #include <variant>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
 #include "emulator/protocol/ublox/state_file.hpp"
+#include "emulator/ubx/messages.hpp"
 #include "emulator/ubx/output.hpp"
 #include "emulator/ubx/solution_grid.hpp"
 #include "emulator/ubx/tx_budget.hpp"
@@ -114,7 +116,7 @@ std::string UbloxProtocol::client_input_summary(std::string_view extra) const {
   const ubx::MachineStats& answered = session_.machine().stats();
   const ubx::SessionStats& folded = session_.stats();
   // Why they were ignored: a model without RTCM3 input (the M10), or the port's input protocols.
-  const ubx::ReceiverModel model = session_.machine().model();
+  const ReceiverModel model = session_.machine().model();
   const std::string why = ubx::model_info(model).rtcm_input
                               ? std::string{"the port's input protocols exclude RTCM3"}
                               : fmt::format("{} takes no RTCM3", ubx::model_info(model).name);
@@ -129,6 +131,43 @@ std::string UbloxProtocol::client_input_summary(std::string_view extra) const {
                      answered.last_nak.empty() ? std::string{} : fmt::format("; last NAK {}", answered.last_nak));
 }
 
+namespace {
+
+/// "NAV-PVT"; an NMEA message by its sentence ("GGA").
+std::string panel_name(ubx::MessageId id) {
+  constexpr std::string_view kNmea = "NMEA-";
+  std::string name = ubx::message_name(id);
+  return name.rfind(kNmea, 0) == 0 ? name.substr(kNmea.size()) : name;
+}
+
+}  // namespace
+
+std::string UbloxProtocol::configuration_json() const {
+  const ubx::ConfigMachine& m = session_.machine();
+  const ubx::Settings& s = m.settings();
+  const auto port = static_cast<std::size_t>(m.port());
+  nlohmann::json enabled = nlohmann::json::array();
+  for (const auto& [id, rates] : s.rates) {
+    if (rates[port] != 0) enabled.push_back({{"message", panel_name(id)}, {"rate", rates[port]}});
+  }
+  const ubx::MachineStats& st = m.stats();
+  const ubx::FrameStats& in = session_.reader_stats();
+  const int period_ms = std::max(1, s.meas_period_ms * s.nav_rate_cycles);
+  return nlohmann::json{{"frames_received", in.frames_ok},
+                        {"sentences_received", in.sentences_ok},
+                        {"bad_frames", in.bad_checksum + in.too_long + in.bad_sentences},
+                        {"acks", st.acks},
+                        {"naks", st.naks},
+                        {"ignored", st.ignored},
+                        {"resets", st.resets},
+                        {"meas_period_ms", s.meas_period_ms},
+                        {"nav_rate_cycles", s.nav_rate_cycles},
+                        {"solution_hz", std::round(1000.0 / period_ms * 1000.0) / 1000.0},
+                        {"port_baud", s.ports[port].baud},
+                        {"enabled", enabled}}
+      .dump();
+}
+
 std::string UbloxProtocol::configuration_summary() const {
   const ubx::MachineStats& s = session_.machine().stats();
   if (s.unsent_answers == 0 && s.transactions_discarded == 0 && s.resets == 0) return {};
@@ -138,7 +177,7 @@ std::string UbloxProtocol::configuration_summary() const {
 }
 
 std::size_t widest_ublox_epoch_bytes(const nmea::FormatOptions& format, const ubx::Settings& settings, ubx::Port port,
-                                     ubx::ReceiverModel model, const Geometry& sky) {
+                                     ReceiverModel model, const Geometry& sky) {
   nmea::FormatOptions nmea_part = format;
   nmea_part.sentences = {};
   for (const nmea::SentenceType type : nmea::all_sentence_types) {

@@ -52,6 +52,7 @@ class UbloxProtocol final : public ReceiverProtocol {
 
   [[nodiscard]] std::string client_input_summary(std::string_view extra) const override;
   [[nodiscard]] std::string configuration_summary() const override;
+  [[nodiscard]] std::string configuration_json() const override;
 
   /// The port itself (the bench view shows its configuration; tests read it).
   [[nodiscard]] const ubx::Session& session() const { return session_; }
@@ -78,7 +79,7 @@ class UbloxProtocol final : public ReceiverProtocol {
 /// The widest epoch of a u-blox port with `settings`: the NMEA sentences on for `port` (written as
 /// `format` says, for the satellites of `sky`), then the UBX messages on.
 [[nodiscard]] std::size_t widest_ublox_epoch_bytes(const nmea::FormatOptions& format, const ubx::Settings& settings,
-                                                   ubx::Port port, ubx::ReceiverModel model, const Geometry& sky);
+                                                   ubx::Port port, ReceiverModel model, const Geometry& sky);
 
 /// The u-blox port of `settings` (its stored layers written to `state_file`, when given).
 [[nodiscard]] std::shared_ptr<const ProtocolSpec> ublox_protocol(ubx::SessionSettings settings,

@@ -40,7 +40,7 @@ ChannelSettings pair_member(heading::Role role, std::uint64_t seed) {
   s.moving_base.base_antenna = {-0.45, 0.1, -0.05};
   if (role == heading::Role::rover) {
     ubx::SessionSettings u;
-    u.start.model = ubx::ReceiverModel::ublox_f9p;
+    u.start.model = ReceiverModel::ublox_f9p;
     u.start.measurement_period = 100ms;
     u.start.sentences = {};
     s.protocol = protocol::ublox_protocol(u);

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "emulator/rtk/rtcm3_reader.hpp"
-#include "emulator/model/sky/profile.hpp"
+#include "emulator/model/receiver_models.hpp"
 #include "emulator/pipeline/channel.hpp"
 #include "emulator/sources/sim.hpp"
 #include "tests/support/process.hpp"
@@ -33,7 +33,7 @@ BaseRun run_base() {
   const UtcNs t0 = parse_iso8601_utc("2024-05-01T12:00:00Z");
   ChannelSettings s;
   s.origin = {43.0725, -89.4125, 260.0};
-  s.receiver.profile = sky::profile_of(ubx::ReceiverModel::ublox_f9p);  // GPS, GLONASS, Galileo, BeiDou
+  s.receiver.tracking = facts_of(ReceiverModel::ublox_f9p).tracking;  // GPS, GLONASS, Galileo, BeiDou
   s.receiver.quality = nmea::FixQuality::rtk_fixed;
   s.format.sentences = {};  // the RTCM3 alone
   s.moving_base.role = heading::Role::moving_base;

@@ -346,7 +346,7 @@ TEST_P(EpochConsistency, EveryEpochAgreesAcrossSentencesAndMessages) {
   if (ublox) {
     // The u-blox port as a driver leaves it: the NAV messages the rules compare, every epoch.
     ubx::SessionSettings s;
-    s.start.model = config.receiver().ublox_model;
+    s.start.model = config.receiver().receiver_model;
     s.start.measurement_period = std::chrono::milliseconds(1000);
     s.start.sentences = settings.format.sentences;
     s.start.ubx_messages = {ubx::msg::nav_pvt, ubx::msg::nav_dop, ubx::msg::nav_sat, ubx::msg::nav_sol, ubx::msg::nav_cov};

@@ -67,7 +67,7 @@ class Px4PtyTest : public ::testing::Test {
  protected:
   /// `own`: the u-blox is the channel's protocol, as gpsemu's --receiver makes it (its summary lines
   /// then read it); otherwise it is added beside the channel's NMEA protocol, whose epochs write.
-  Px4PtyTest(ubx::ReceiverModel model, std::chrono::milliseconds period, const std::string& file, bool own = false)
+  Px4PtyTest(ReceiverModel model, std::chrono::milliseconds period, const std::string& file, bool own = false)
       : channel(channel_settings(ubx_settings(model, period), own), t0),
         frames(recorded_frames(std::string(GPSEMU_SOURCE_DIR) + "/tests/data/px4/" + file)) {
     if (!own) channel.add_protocol(std::make_unique<protocol::UbloxProtocol>(ubx_settings(model, period)));
@@ -81,7 +81,7 @@ class Px4PtyTest : public ::testing::Test {
   ~Px4PtyTest() override {
     if (client >= 0) ::close(client);
   }
-  static ubx::SessionSettings ubx_settings(ubx::ReceiverModel model, std::chrono::milliseconds period) {
+  static ubx::SessionSettings ubx_settings(ReceiverModel model, std::chrono::milliseconds period) {
     ubx::SessionSettings settings;  // NAV-PVT every solution, no NMEA from the u-blox part
     settings.start.model = model;
     settings.start.sentences = {};
@@ -139,13 +139,13 @@ class Px4PtyTest : public ::testing::Test {
 /// `gpsemu --receiver ublox-m8n --protocol ubx --rate 5`.
 class Px4ConfigurePty : public Px4PtyTest {
  protected:
-  Px4ConfigurePty() : Px4PtyTest(ubx::ReceiverModel::ublox_m8n, 200ms, "neo_m8n_configure.txt") {}
+  Px4ConfigurePty() : Px4PtyTest(ReceiverModel::ublox_m8n, 200ms, "neo_m8n_configure.txt") {}
 };
 
 /// `gpsemu --receiver ublox-m10 --protocol ubx --rate 10`.
 class Px4ConfiguresAnM10Pty : public Px4PtyTest {
  protected:
-  Px4ConfiguresAnM10Pty() : Px4PtyTest(ubx::ReceiverModel::ublox_m10, 100ms, "max_m10s_configure.txt", true) {}
+  Px4ConfiguresAnM10Pty() : Px4PtyTest(ReceiverModel::ublox_m10, 100ms, "max_m10s_configure.txt", true) {}
 };
 
 TEST_F(Px4ConfigurePty, EveryFramePx4WaitsForIsAnsweredThoughTheLoopChecksThePtyBeforeItReads) {

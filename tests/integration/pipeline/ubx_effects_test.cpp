@@ -32,7 +32,7 @@ ChannelSettings ublox_channel() {
   ChannelSettings settings;
   settings.origin = {43.0725, -89.4125, 260.0};
   ubx::SessionSettings ubx;
-  ubx.start.model = ubx::ReceiverModel::ublox_m8n;
+  ubx.start.model = ReceiverModel::ublox_m8n;
   ubx.start.sentences = {};
   ubx.start.ubx_messages = {ubx::msg::nav_pvt};
   ubx.start.baud = 9600;

@@ -34,7 +34,7 @@ TEST(UbxReply, PollAndAckComeBackThroughThePtyBeforeAnyEpoch) {
   const UtcNs t0 = parse_iso8601_utc("2024-05-01T12:00:00Z");
   Channel channel(settings, t0);
   ubx::SessionSettings ubx_settings;
-  ubx_settings.start.model = ubx::ReceiverModel::ublox_m8n;
+  ubx_settings.start.model = ReceiverModel::ublox_m8n;
   ubx_settings.start.sentences = {};  // the channel's NMEA protocol writes the sentences in this test
   ubx_settings.start.measurement_period = 100ms;
   channel.add_protocol(std::make_unique<protocol::UbloxProtocol>(ubx_settings));

@@ -15,6 +15,7 @@
 #include <GeographicLib/Geocentric.hpp>
 
 #include "emulator/base/base_station.hpp"
+#include "emulator/model/receiver_models.hpp"
 #include "emulator/model/sky/orbits.hpp"
 #include "emulator/rtk/rtcm3_messages.hpp"
 #include "emulator/rtk/rtcm3_reader.hpp"
@@ -134,7 +135,7 @@ TEST(BaseStation, RangesAreTheOrbitsDistances) {
   for (auto& x : range_km) x += static_cast<double>(r.u(10)) / 1024.0 * 299.792458;
   // The same satellites' elevations, from the emulator's sky at the same place and time.
   SkyOptions o;
-  o.profile = sky::profile_of(ubx::ReceiverModel::ublox_f9p);
+  o.tracking = gpsemu::facts_of(gpsemu::ReceiverModel::ublox_f9p).tracking;
   Sky sky(o, {43.0725, -89.4125, 260.0 + sky::geoid_separation_m(43.0725, -89.4125)});
   nmea::Fix fix;
   fix.time_utc = std::chrono::floor<std::chrono::milliseconds>(kT0);

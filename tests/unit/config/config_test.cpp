@@ -92,23 +92,23 @@ TEST(Config, FlagErrorsNameTheFlagAndTheAcceptedValues) {
 TEST(Config, ProtocolAndUbloxReceiverFromFlagsAndFileAndPerReceiverTable) {
   const Config d = build_config(std::nullopt, {});
   EXPECT_EQ(d.receiver().protocol, Protocol::nmea);
-  EXPECT_EQ(d.receiver().ublox_model, ubx::ReceiverModel::generic);
+  EXPECT_EQ(d.receiver().receiver_model, ReceiverModel::generic);
   EXPECT_FALSE(d.receiver().sentences_given);
   const Config c = build_config(std::nullopt, {{"protocol", {"nmea+ubx"}}, {"receiver", {"ublox-f9p"}}, {"sentences", {"GGA"}}});
   EXPECT_EQ(c.receiver().protocol, Protocol::nmea_ubx);
-  EXPECT_EQ(c.receiver().ublox_model, ubx::ReceiverModel::ublox_f9p);
+  EXPECT_EQ(c.receiver().receiver_model, ReceiverModel::ublox_f9p);
   EXPECT_TRUE(c.receiver().sentences_given);
   // In a file `receiver` is the model (a string) or the [[receiver]] tables (TOML allows one of
   // them: with tables, each names its model); `protocol` may differ per receiver.
   const auto single = write_temp("ubx1.toml", "receiver = \"ublox-m9n\"\nprotocol = \"ubx\"\n");
-  EXPECT_EQ(build_config(single, {}).receiver().ublox_model, ubx::ReceiverModel::ublox_m9n);
+  EXPECT_EQ(build_config(single, {}).receiver().receiver_model, ReceiverModel::ublox_m9n);
   const auto file = write_temp("ubx.toml", "protocol = \"ubx\"\n"
                                            "[[receiver]]\noutput = \"stdout\"\nreceiver = \"ublox-m9n\"\n"
                                            "[[receiver]]\noutput = \"file:/tmp/b\"\nprotocol = \"nmea\"\n");
   const Config f = build_config(file, {});
   ASSERT_EQ(f.receivers.size(), 2u);
   EXPECT_EQ(f.receivers[0].protocol, Protocol::ubx);
-  EXPECT_EQ(f.receivers[0].ublox_model, ubx::ReceiverModel::ublox_m9n);
+  EXPECT_EQ(f.receivers[0].receiver_model, ReceiverModel::ublox_m9n);
   EXPECT_EQ(f.receivers[1].protocol, Protocol::nmea);
   EXPECT_NE(error_of(std::nullopt, {{"protocol", {"rtcm"}}}).find("--protocol: protocol must be one of nmea, ubx, nmea+ubx"),
             std::string::npos);

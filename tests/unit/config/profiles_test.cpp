@@ -49,12 +49,12 @@ TEST(Profiles, EachProfileLoadsAndSetsItsRateNoiseAndReceiverModel) {
     const Config c = build_config(std::nullopt, {{"profile", {std::string(p.name)}}});
     EXPECT_DOUBLE_EQ(c.timeline.rate_hz, s.rate_hz) << p.name;
     EXPECT_EQ(noise::to_string(c.receiver().noise.model), s.noise) << p.name;
-    EXPECT_EQ(ubx::model_info(c.receiver().ublox_model).name, s.model.empty() ? "generic" : s.model) << p.name;
+    EXPECT_EQ(ubx::model_info(c.receiver().receiver_model).name, s.model.empty() ? "generic" : s.model) << p.name;
     // A profile is a receiver, not a place: the origin stays the default.
     EXPECT_DOUBLE_EQ(c.receiver().origin.lat_deg, 43.0725) << p.name;
   }
   const Config f9p = build_config(std::nullopt, {{"profile", {"ublox-zed-f9p"}}});
-  EXPECT_EQ(f9p.receiver().ublox_model, ubx::ReceiverModel::ublox_f9p);
+  EXPECT_EQ(f9p.receiver().receiver_model, ReceiverModel::ublox_f9p);
   EXPECT_EQ(f9p.process.profile, std::optional<std::string>("ublox-zed-f9p"));
   EXPECT_FALSE(build_config(std::nullopt, {}).process.profile.has_value());
 }
@@ -65,7 +65,7 @@ TEST(Profiles, AProfilesTextLoadsAsAConfigFileWithItsDescriptionSkipped) {
   const Config by_name = build_config(std::nullopt, {{"profile", {"ublox-zed-f9p"}}});
   const Config by_file = build_config(write_temp("f9p.toml", std::string(p.text)), {});
   EXPECT_EQ(by_file.receiver().noise.model, by_name.receiver().noise.model);
-  EXPECT_EQ(by_file.receiver().ublox_model, by_name.receiver().ublox_model);
+  EXPECT_EQ(by_file.receiver().receiver_model, by_name.receiver().receiver_model);
   EXPECT_EQ(by_file.receiver().format.minute_decimals, by_name.receiver().format.minute_decimals);
   EXPECT_DOUBLE_EQ(by_file.receiver().noise.composite.axes[0].jitter_sigma_m,
                    by_name.receiver().noise.composite.axes[0].jitter_sigma_m);
@@ -77,7 +77,7 @@ TEST(Profiles, TheConfigFileAndTheCommandLineOverrideTheProfile) {
                                                    {"receiver", {"generic"}}});
   EXPECT_DOUBLE_EQ(flags.timeline.rate_hz, 5.0);
   EXPECT_EQ(flags.receiver().noise.model, noise::Model::gaussian);
-  EXPECT_EQ(flags.receiver().ublox_model, ubx::ReceiverModel::generic);
+  EXPECT_EQ(flags.receiver().receiver_model, ReceiverModel::generic);
 
   const auto file = write_temp("with-profile.toml", "profile = \"telit-he910\"\nrate = 2\n");
   const Config from_file = build_config(file, {});
@@ -85,7 +85,7 @@ TEST(Profiles, TheConfigFileAndTheCommandLineOverrideTheProfile) {
   EXPECT_EQ(noise::to_string(from_file.receiver().noise.model), profiles::summary(profiles::get("telit-he910")).noise);
   // --profile on the command line replaces the file's profile; the file's own keys still apply.
   const Config both = build_config(file, {{"profile", {"ublox-zed-f9p"}}});
-  EXPECT_EQ(both.receiver().ublox_model, ubx::ReceiverModel::ublox_f9p);
+  EXPECT_EQ(both.receiver().receiver_model, ReceiverModel::ublox_f9p);
   EXPECT_DOUBLE_EQ(both.timeline.rate_hz, 2.0);
 }
 

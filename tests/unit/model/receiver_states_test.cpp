@@ -9,8 +9,9 @@
 #include <set>
 
 #include "emulator/config/config.hpp"
+#include "emulator/model/accuracy.hpp"
 #include "emulator/model/receiver.hpp"
-#include "emulator/model/sky/profile.hpp"
+#include "emulator/model/receiver_models.hpp"
 #include "emulator/config/receiver_config.hpp"
 #include "emulator/sources/sim.hpp"
 #include "nmea/parse.hpp"
@@ -47,7 +48,7 @@ int used_flags(const nmea::Fix& fix) {
 TEST(ReceiverGeometry, WorstCaseCountsFollowTheModelsSystems) {
   ReceiverOptions o;  // generic = M8N: GPS 14 + GLONASS 12 + QZSS 5 + SBAS 4
   EXPECT_EQ(resolve_geometry(o).satellites_in_view, 35);
-  o.profile = sky::profile_of(ubx::ReceiverModel::ublox_f9p);  // six systems, two signals: capped
+  o.tracking = facts_of(ReceiverModel::ublox_f9p).tracking;  // six systems, two signals: capped
   EXPECT_EQ(resolve_geometry(o).satellites_in_view, static_cast<int>(nmea::max_satellites));
   o.satellites_used = 10;
   EXPECT_EQ(resolve_geometry(o).satellites_used, 10);
@@ -172,7 +173,7 @@ TEST(ReceiverStates, FixQualityShrinksTheNoiseAndGstSaysSo) {
     EXPECT_DOUBLE_EQ(fix.sigma_lat_m, std::max(floor_m, 2.0 * c.scale));
     EXPECT_DOUBLE_EQ(fix.sigma_lon_m, fix.sigma_lat_m);
     EXPECT_DOUBLE_EQ(fix.sigma_alt_m, std::max(1.5 * floor_m, 2.0 * c.scale));
-    EXPECT_DOUBLE_EQ(fix.range_rms_m, std::max(floor_m, o.profile.uere_m * c.scale));
+    EXPECT_DOUBLE_EQ(fix.range_rms_m, std::max(floor_m, o.tracking.uere_m * c.scale));
     EXPECT_GT(fix.sigma_lat_m, 0.0);
     EXPECT_GT(fix.hdop, 0.3);
     EXPECT_LT(fix.hdop, 2.0);
@@ -184,8 +185,8 @@ TEST(ReceiverStates, WithoutNoiseTheAccuracyIsDopTimesUere) {
   Receiver rx(kFrame, o, noise_model(noise::Model::none), kStart);
   const nmea::Fix fix = rx.fix_at(at(1.0), kAtOrigin);
   ASSERT_TRUE(fix.has_fix());
-  EXPECT_DOUBLE_EQ(fix.sigma_lat_m, std::max(sky::accuracy_floor_m(o.quality), fix.hdop * o.profile.uere_m / std::sqrt(2.0)));
-  EXPECT_DOUBLE_EQ(fix.sigma_alt_m, std::max(1.5 * sky::accuracy_floor_m(o.quality), fix.vdop * o.profile.uere_m));
+  EXPECT_DOUBLE_EQ(fix.sigma_lat_m, std::max(sky::accuracy_floor_m(o.quality), fix.hdop * o.tracking.uere_m / std::sqrt(2.0)));
+  EXPECT_DOUBLE_EQ(fix.sigma_alt_m, std::max(1.5 * sky::accuracy_floor_m(o.quality), fix.vdop * o.tracking.uere_m));
 }
 
 TEST(ReceiverStates, AccuracyIsNeverZeroEvenWithoutNoise) {

@@ -21,7 +21,7 @@
 #include "emulator/model/sky.hpp"
 #include "emulator/model/sky/embedded_data.hpp"
 #include "emulator/model/sky/orbits.hpp"
-#include "emulator/model/sky/profile.hpp"
+#include "emulator/model/receiver_models.hpp"
 #include "tests/unit/model/sky_kepler.hpp"
 
 namespace gpsemu {
@@ -73,7 +73,7 @@ std::vector<std::pair<int, Kepler>> embedded_gps_records() {
 // hand computation sees it, within the half degree of NMEA's integer degrees (+0.05).
 TEST(SkyOrbits, SkyAzimuthElevationMatchesAHandComputationOfTheRealRecords) {
   SkyOptions o;
-  o.profile = sky::profile_of(ubx::ReceiverModel::ublox_m8n);
+  o.tracking = facts_of(ReceiverModel::ublox_m8n).tracking;
   int checked = 0;
   for (const auto& [prn, k] : embedded_gps_records()) {
     const double toe_gps_s = k.week * 604800.0 + k.toe;

@@ -24,7 +24,7 @@
 #include "emulator/model/sky/dop.hpp"
 #include "emulator/model/sky/embedded_data.hpp"
 #include "emulator/model/sky/orbits.hpp"
-#include "emulator/model/sky/profile.hpp"
+#include "emulator/model/receiver_models.hpp"
 #include "tests/unit/model/sky_kepler.hpp"
 
 namespace gpsemu {
@@ -209,7 +209,7 @@ TEST(SkyOrbits, EmbeddedBeidouGeostationarySatellitesStayPut) {
 // and Australia).
 TEST(SkyOrbits, EmbeddedSkyGivesAnF9pTodaysGalileoEverywhereAndBeidouOverAsia) {
   SkyOptions o;
-  o.profile = sky::profile_of(ubx::ReceiverModel::ublox_f9p);
+  o.tracking = facts_of(ReceiverModel::ublox_f9p).tracking;
   const Geodetic tokyo{35.68, 139.77, 40.0}, sydney{-33.87, 151.21, 50.0};
   const auto median_above_mask = [&](const Geodetic& where, nmea::GnssSystem system) {
     std::vector<int> counts;
@@ -221,7 +221,7 @@ TEST(SkyOrbits, EmbeddedSkyGivesAnF9pTodaysGalileoEverywhereAndBeidouOverAsia) {
       int n = 0;
       for (int i = 0; i < fix.satellites_in_view; ++i) {
         const auto& s = fix.satellites[static_cast<std::size_t>(i)];
-        if (s.system == system && s.elevation_deg >= o.profile.elevation_mask_deg) ++n;
+        if (s.system == system && s.elevation_deg >= o.tracking.elevation_mask_deg) ++n;
       }
       counts.push_back(n);
     }
@@ -337,14 +337,14 @@ nmea::Fix sky_fix(const SkyOptions& o, const char* when = "2024-05-01T12:00:00Z"
 
 TEST(SkyModels, EachModelListsTheSystemsItTracks) {
   SkyOptions m8;
-  m8.profile = sky::profile_of(ubx::ReceiverModel::ublox_m8n);
+  m8.tracking = facts_of(ReceiverModel::ublox_m8n).tracking;
   const auto a = listed_by_system(sky_fix(m8));
   EXPECT_GE(a.at(nmea::GnssSystem::gps), 6);
   EXPECT_GE(a.at(nmea::GnssSystem::glonass), 4);
   EXPECT_EQ(a.count(nmea::GnssSystem::galileo), 0u);
   EXPECT_EQ(a.count(nmea::GnssSystem::beidou), 0u);
   SkyOptions f9;
-  f9.profile = sky::profile_of(ubx::ReceiverModel::ublox_f9p);
+  f9.tracking = facts_of(ReceiverModel::ublox_f9p).tracking;
   const auto b = listed_by_system(sky_fix(f9));
   EXPECT_GE(b.at(nmea::GnssSystem::galileo), 4);
   EXPECT_GE(b.at(nmea::GnssSystem::beidou), 4);  // BeiDou's medium orbits reach North America too
@@ -353,7 +353,7 @@ TEST(SkyModels, EachModelListsTheSystemsItTracks) {
 
 TEST(SkyModels, MaskObstructionAndChannelsDecideWhatIsUsed) {
   SkyOptions o;
-  o.profile = sky::profile_of(ubx::ReceiverModel::ublox_f9p);
+  o.tracking = facts_of(ReceiverModel::ublox_f9p).tracking;
   Sky open(o, kMadison);
   nmea::Fix fix;
   const SkyState all = open.fill(parse_iso8601_utc("2024-05-01T12:00:00Z"), {}, fix);
@@ -377,14 +377,14 @@ TEST(SkyModels, MaskObstructionAndChannelsDecideWhatIsUsed) {
   ASSERT_GT(nl * nh, 0);
   EXPECT_GT(high / nh, low / nl + 8.0);
 
-  o.profile.elevation_mask_deg = 30.0;
+  o.tracking.elevation_mask_deg = 30.0;
   Sky masked(o, kMadison);
   const SkyState m = masked.fill(parse_iso8601_utc("2024-05-01T12:00:00Z"), {}, fix);
   EXPECT_LT(m.used, all.used);
   EXPECT_GT(m.dops.hdop, all.dops.hdop);
   EXPECT_EQ(m.listed, all.listed) << "below the mask: tracked, not used";
 
-  o.profile.elevation_mask_deg = 5.0;
+  o.tracking.elevation_mask_deg = 5.0;
   o.obstruction = parse_sky_mask("urban-canyon");
   Sky canyon(o, kMadison);
   const SkyState c = canyon.fill(parse_iso8601_utc("2024-05-01T12:00:00Z"), {}, fix);
@@ -399,7 +399,7 @@ TEST(SkyModels, MaskObstructionAndChannelsDecideWhatIsUsed) {
   }
 
   o.obstruction.clear();
-  o.profile.channels = 20;  // dual band: 10 satellites
+  o.tracking.channels = 20;  // dual band: 10 satellites
   Sky few(o, kMadison);
   const SkyState f = few.fill(parse_iso8601_utc("2024-05-01T12:00:00Z"), {}, fix);
   EXPECT_EQ(f.listed, 10);

@@ -32,7 +32,7 @@ TEST(ChannelReset, SilentThenColdWithTheConfigurationLostUntilTheClientConfigure
   ChannelSettings settings;
   settings.origin = {43.0725, -89.4125, 260.0};
   ubx::SessionSettings ubx_settings;
-  ubx_settings.start.model = ubx::ReceiverModel::ublox_m8n;
+  ubx_settings.start.model = ReceiverModel::ublox_m8n;
   settings.protocol = protocol::ublox_protocol(ubx_settings);
   settings.faults.faults.push_back(faults::make_fault(
       {{"kind", std::string("reset")}, {"at", 2.0}, {"silent_s", 2.0}, {"ttff_s", 3.0}}));

@@ -38,7 +38,7 @@ std::unique_ptr<Channel> channel(bool ublox) {
   s.origin = {43.0725, -89.4125, 260.0};
   if (ublox) {
     ubx::SessionSettings u;
-    u.start.model = ubx::ReceiverModel::ublox_m8n;
+    u.start.model = ReceiverModel::ublox_m8n;
     u.start.sentences = {};
     u.start.ubx_messages = {ubx::msg::nav_pvt};
     s.protocol = protocol::ublox_protocol(u);

@@ -28,7 +28,7 @@ TEST(ChannelUbxFaults, SkyMaskSpoofAndRolloverShowInTheNavMessages) {
   ChannelSettings settings;
   settings.origin = {43.0725, -89.4125, 260.0};
   ubx::SessionSettings ubx_settings;
-  ubx_settings.start.model = ubx::ReceiverModel::ublox_m8n;
+  ubx_settings.start.model = ReceiverModel::ublox_m8n;
   ubx_settings.start.sentences = {};
   ubx_settings.start.ubx_messages = {ubx::msg::nav_pvt, ubx::msg::nav_status, ubx::msg::nav_sat, ubx::msg::nav_timegps};
   settings.protocol = protocol::ublox_protocol(ubx_settings);

@@ -24,7 +24,7 @@ const UtcNs kT0 = parse_iso8601_utc("2024-05-01T00:00:00Z");
 ChannelSettings m8n_at(const Geodetic& origin) {
   ChannelSettings s;
   s.origin = origin;
-  s.receiver.profile = sky::profile_of(ubx::ReceiverModel::ublox_m8n);  // GPS, GLONASS, QZSS, SBAS
+  s.receiver.tracking = facts_of(ReceiverModel::ublox_m8n).tracking;  // GPS, GLONASS, QZSS, SBAS
   s.format.talker = "GN";  // as validate.cpp sets it for a multi-system model
   return s;
 }
@@ -65,7 +65,7 @@ TEST(WorstCaseEpochBytes, AnM8nIsSizedOnEachSystemsOwnGsvGroupsAndGsa) {
 
 TEST(WorstCaseEpochBytes, AnF9psSecondSignalsAreInIt) {
   ChannelSettings s = m8n_at({43.0725, -89.4125, 260.0});
-  s.receiver.profile = sky::profile_of(ubx::ReceiverModel::ublox_f9p);
+  s.receiver.tracking = facts_of(ReceiverModel::ublox_f9p).tracking;
   s.format.gsv_second_signal = true;  // as validate.cpp sets it for a dual-band model
   const Geometry g = resolve_geometry(s.receiver);
   const std::size_t by_system = worst_case_epoch_bytes(s.format, g.in_view_by_system, g.satellites_used);

@@ -10,6 +10,8 @@
 #include "emulator/ubx/machine.hpp"
 #include "emulator/rtk/rtcm3_messages.hpp"
 #include "emulator/ubx/messages.hpp"
+#include "emulator/ubx/model.hpp"
+#include "emulator/ubx/settings.hpp"
 #include "emulator/ubx/session.hpp"
 #include "tests/support/ubx_frames.hpp"
 
@@ -42,6 +44,28 @@ TEST(UbxM10, MonVerAnswersAsAMaxM10s) {
   EXPECT_NE(p.find("MOD=MAX-M10S"), std::string::npos);
   EXPECT_EQ(receiver_model_from_name("ublox-m10"), ReceiverModel::ublox_m10);
   EXPECT_EQ(model_info(ReceiverModel::ublox_m10).default_baud, 9600u);
+}
+
+// The u-blox identity beside the receiver table agrees with its rows: MON-VER names the row's
+// module and firmware, the NMEA the table says a model writes is exactly the u-blox NMEA messages
+// (class 0xF0) gpsemu encodes, and a model takes RTCM3 when its corrections are not none.
+TEST(UbxModels, TheIdentityOfEachModelAgreesWithItsRowOfTheReceiverTable) {
+  for (std::size_t i = 0; i < kReceiverModels; ++i) {
+    const auto model = static_cast<ReceiverModel>(i);
+    const ReceiverFacts& f = facts_of(model);
+    const ModelInfo& info = model_info(model);
+    EXPECT_EQ(info.name, f.name);
+    EXPECT_EQ(info.default_baud, f.default_baud);
+    EXPECT_EQ(info.rtcm_input, f.corrections != Corrections::none) << f.name;
+    const std::string ver = mon_ver_payload(model);
+    EXPECT_NE(ver.find("FWVER=" + std::string(f.firmware)), std::string::npos) << f.name;
+    if (model != ReceiverModel::generic) {
+      EXPECT_NE(ver.find("MOD=" + std::string(f.module)), std::string::npos) << f.name;
+    }
+    for (const nmea::SentenceType t : nmea::all_sentence_types) {
+      EXPECT_EQ(f.nmea_written.contains(t), nmea_message(t).has_value()) << f.name << " " << nmea::sentence_name(t);
+    }
+  }
 }
 
 TEST(UbxM10, LegacyCfgMessagesAreNakedAndValsetConfigures) {

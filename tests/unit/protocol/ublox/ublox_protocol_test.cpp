@@ -35,7 +35,7 @@ TEST(UbloxProtocol, PollIsAnsweredOnTheOutputBeforeAnyEpoch) {
   settings.origin = {43.0725, -89.4125, 260.0};
   Channel channel(settings, kT0);
   ubx::SessionSettings ubx_settings;
-  ubx_settings.start.model = ubx::ReceiverModel::ublox_m8n;
+  ubx_settings.start.model = ReceiverModel::ublox_m8n;
   ubx_settings.start.sentences = {};  // the channel's NMEA protocol writes the sentences here
   channel.add_protocol(std::make_unique<protocol::UbloxProtocol>(ubx_settings));
 
@@ -71,7 +71,7 @@ TEST(UbloxProtocol, PollIsAnsweredOnTheOutputBeforeAnyEpoch) {
 
 TEST(UbloxProtocol, BadFramesFromTheClientAreCountedAndNotAnswered) {
   ubx::SessionSettings settings;
-  settings.start.model = ubx::ReceiverModel::ublox_f9p;
+  settings.start.model = ReceiverModel::ublox_f9p;
   protocol::UbloxProtocol encoder(settings);
   std::string bad = ubx::frame_bytes(ubx::msg::mon_ver, "");
   bad.back() = static_cast<char>(bad.back() ^ 0x55);
@@ -91,7 +91,7 @@ std::string cfg_rate(std::uint16_t meas_ms) {
 
 ubx::SessionSettings m8n_at(std::chrono::milliseconds period) {
   ubx::SessionSettings s;
-  s.start.model = ubx::ReceiverModel::ublox_m8n;
+  s.start.model = ReceiverModel::ublox_m8n;
   s.start.measurement_period = period;
   return s;
 }
@@ -125,7 +125,7 @@ TEST(UbloxProtocol, CfgRateIsASolutionGridOrTheRunGridAgainAtTheStartPeriod) {
 
 TEST(UbloxProtocol, BaudAndColdStartNameTheirMessage) {
   ubx::SessionSettings f9p = m8n_at(std::chrono::milliseconds{1000});
-  f9p.start.model = ubx::ReceiverModel::ublox_f9p;
+  f9p.start.model = ReceiverModel::ublox_f9p;
   protocol::UbloxProtocol port(f9p);
   port.client_wrote(ubx::frame_bytes(ubx::msg::cfg_valset, ubx::test::valset({{ubx::key::uart1_baudrate, 115200}})) +
                         ubx::frame_bytes(ubx::msg::cfg_rst, std::string("\xff\xff\x02\x00", 4)),

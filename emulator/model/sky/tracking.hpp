@@ -1,13 +1,12 @@
-// What a receiver model tracks (docs/sky.md): its systems and signals, channel count, elevation
-// mask, the C/N0 a signal needs to be used, and the user equivalent range error (UERE) that turns
-// a DOP into the accuracy it reports. Pure values, keyed by the u-blox model (--receiver).
+// What a receiver tracks (docs/sky.md): its systems and signals, channel count, elevation mask, the
+// C/N0 a signal needs to be used, and the user equivalent range error (UERE) that turns a DOP into
+// the accuracy it reports. Pure values; each receiver model's are a column of the receiver table
+// (emulator/model/receiver_models.hpp).
 #pragma once
 
 #include <cstdint>
 #include <initializer_list>
 
-#include "emulator/ubx/model.hpp"
-#include "emulator/model/accuracy.hpp"
 #include "nmea/fix.hpp"
 
 namespace gpsemu::sky {
@@ -28,7 +27,8 @@ class SystemSet {
   std::uint8_t bits_ = 0;
 };
 
-struct ReceiverProfile {
+/// How a receiver model tracks the sky.
+struct Tracking {
   SystemSet systems;             ///< systems tracked as shipped
   bool dual_band = false;        ///< a second signal per satellite (F9P: L2C, L2OF, E5b, B2I)
   int channels = 72;             ///< tracking channels; a dual-band satellite takes two
@@ -37,10 +37,5 @@ struct ReceiverProfile {
   /// Autonomous UERE (metres, 1 sigma): HDOP x UERE is the horizontal accuracy reported.
   double uere_m = 1.5;
 };
-
-/// The shipped profile of `model` (generic: as an M8N): M8N GPS+GLONASS+QZSS+SBAS, 72 channels;
-/// M9N GPS+GLONASS+Galileo+BeiDou+QZSS+SBAS, 92 channels; M10 the M9N's systems
-/// with 72 channels (its lower-power platform); F9P the same systems on L1 and L2, 184 channels.
-[[nodiscard]] ReceiverProfile profile_of(ubx::ReceiverModel model);
 
 }  // namespace gpsemu::sky
