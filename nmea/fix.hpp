@@ -90,6 +90,7 @@ struct Fix {
   double sigma_lon_m = 0.0;  ///< 1-sigma longitude error estimate (metres), for GST
   double sigma_alt_m = 0.0;  ///< 1-sigma altitude error estimate (metres), for GST
   double range_rms_m = 0.0;  ///< RMS of the pseudorange residuals (metres), GST field 2
+  double sigma_speed_mps = 0.0;  ///< 1-sigma horizontal speed error estimate (metres per second): UBX sAcc
   /// Satellites in view; the first `satellites_in_view` entries are valid (GSV, GSA).
   std::array<SatelliteInView, max_satellites> satellites{};
   int satellites_in_view = 0;  ///< valid entries of `satellites`, 0..max_satellites

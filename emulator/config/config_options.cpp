@@ -261,6 +261,29 @@ std::vector<OptionDef> make_option_table() {
       [](ConfigDraft& d, V v) { d.receiver.settings.model.hold.radius_m = parse_number("hold-radius", v.back(), 0.0, 100.0); });
   add("hold-speed", "MPS", "static hold: speed over ground below which the position is held, 0..10 m/s (default 0.3)",
       [](ConfigDraft& d, V v) { d.receiver.settings.model.hold.max_speed_mps = parse_number("hold-speed", v.back(), 0.0, 10.0); });
+  add("velocity-noise", "MPS", "white part of the reported velocity's error, 1 sigma per horizontal axis, 0..10 m/s "
+      "(Doppler jitter, apart from the position's wander; default 0.03, 0 with --noise none; calibrate fits it from "
+      "the speed a log reports at rest)",
+      [](ConfigDraft& d, V v) { d.receiver.velocity_white_mps = parse_number("velocity-noise", v.back(), 0.0, 10.0); });
+  add("velocity-wander", "MPS", "slow correlated part of the velocity's error (first-order Gauss-Markov), stationary 1 "
+      "sigma per horizontal axis, 0..10 m/s (default 0.02, 0 with --noise none)",
+      [](ConfigDraft& d, V v) { d.receiver.velocity_wander_mps = parse_number("velocity-wander", v.back(), 0.0, 10.0); });
+  add("velocity-wander-tau", "S", "correlation time of --velocity-wander, 0.1..86400 seconds (default 10)",
+      [](ConfigDraft& d, V v) {
+        d.receiver.settings.model.velocity.wander_tau_s = parse_number("velocity-wander-tau", v.back(), 0.1, 86400.0);
+      });
+  add("velocity-static-clamp", "MPS", "report a speed below this as 0 (no course), as Quectel and SkyTraq chipsets do "
+      "standing still, 0..1 m/s (default 0 = never)",
+      [](ConfigDraft& d, V v) {
+        d.receiver.settings.model.velocity.static_clamp_mps = parse_number("velocity-static-clamp", v.back(), 0.0, 1.0);
+      });
+  add("course-at-rest", "MODE", "the course reported while slower than --course-min-speed: empty (u-blox) | held (the "
+      "last one: SiRF, SkyTraq, Quectel) | measured (from the noisy velocity at any speed) (default empty)",
+      [](ConfigDraft& d, V v) { d.receiver.settings.model.course_at_rest = parse_course_at_rest(v.back()); });
+  add("course-min-speed", "MPS", "speed over ground below which the course is --course-at-rest's, 0..10 m/s (default 0.4)",
+      [](ConfigDraft& d, V v) {
+        d.receiver.settings.model.course_min_speed_mps = parse_number("course-min-speed", v.back(), 0.0, 10.0);
+      });
   add("uere", "M", "user equivalent range error of an autonomous fix, metres, 0.05..50: GST's range RMS and, with "
       "--noise none, the reported accuracy = DOP x UERE x the fix quality's scale (default: the model's; "
       "calibrate writes it)",

@@ -44,6 +44,8 @@ struct ReceiverDraft {
   std::optional<double> cgrw_rate_hz;        ///< rate the explicit axes were measured at (Hz)
   /// The composite's own cgrw smooth axes (composite-cgrw-*): all three or none.
   std::array<std::optional<noise::CgrwAxis>, 3> composite_cgrw;
+  /// --velocity-noise, --velocity-wander as given (else the defaults; 0 with --noise none).
+  std::optional<double> velocity_white_mps, velocity_wander_mps;
 };
 
 /// Every option's raw value while a configuration loads.

@@ -109,6 +109,11 @@ ReceiverSettings resolve_receiver(const ReceiverDraft& draft, const TimelineSett
   if (draft.cgrw_east) r.noise.cgrw.east = *draft.cgrw_east;
   if (draft.cgrw_north) r.noise.cgrw.north = *draft.cgrw_north;
   if (draft.cgrw_up) r.noise.cgrw.up = *draft.cgrw_up;
+  // The velocity's error: its own flags, else the defaults, none with --noise none.
+  noise::VelocityNoiseParams& velocity = r.model.velocity;
+  const bool no_noise = r.noise.model == noise::Model::none;
+  velocity.white_sigma_mps = draft.velocity_white_mps.value_or(no_noise ? 0.0 : velocity.white_sigma_mps);
+  velocity.wander_sigma_mps = draft.velocity_wander_mps.value_or(no_noise ? 0.0 : velocity.wander_sigma_mps);
   // The sky of the receiver model (docs/sky.md); a multi-system model's NMEA talker is GN.
   r.model.tracking = facts_of(r.receiver_model).tracking;
   if (!r.talker_given && r.model.tracking.systems.count() > 1) r.format.talker = "GN";

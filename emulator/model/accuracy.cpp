@@ -20,6 +20,7 @@ void apply_accuracy_floor(nmea::Fix& fix) {
   fix.sigma_lon_m = std::max(fix.sigma_lon_m, f.axis_m);
   fix.sigma_alt_m = std::max(fix.sigma_alt_m, f.vertical_m);
   fix.range_rms_m = std::max(fix.range_rms_m, f.axis_m);
+  fix.sigma_speed_mps = std::max(fix.sigma_speed_mps, f.speed_mps);
 }
 
 double horizontal_accuracy_m(const nmea::Fix& fix) { return std::hypot(fix.sigma_lat_m, fix.sigma_lon_m); }

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 namespace gpsemu {
 namespace {
@@ -99,7 +100,8 @@ Receiver::Receiver(const LocalFrame& frame, const ReceiverOptions& options,
       uere_m_(options.uere_m.value_or(options.tracking.uere_m)),
       configured_cold_start_s_(options.cold_start_s),
       heading_rng_(options.sky_seed, kHeadingNoiseStream),
-      hold_(options.hold) {
+      hold_(options.hold),
+      velocity_noise_(options.velocity, options.sky_seed) {
   nmea::Fix scratch;
   const SkyState s = sky_.fill(first_epoch, {}, scratch);
   geometry_.satellites_in_view = s.listed;
@@ -110,6 +112,13 @@ Receiver::Receiver(const LocalFrame& frame, const ReceiverOptions& options,
   // The widest epoch is sized on the model's worst case by system, not on this first sky: the
   // satellites that rise later are in it.
   geometry_.in_view_by_system = resolve_geometry(options).in_view_by_system;
+}
+
+CourseAtRest parse_course_at_rest(const std::string& text) {
+  if (text == "empty") return CourseAtRest::empty;
+  if (text == "held") return CourseAtRest::held;
+  if (text == "measured") return CourseAtRest::measured;
+  throw std::invalid_argument("expected empty, held or measured, got '" + text + "'");
 }
 
 ReceiverEpoch Receiver::epoch_at(UtcNs t, const std::optional<sources::Truth>& truth) {
@@ -164,13 +173,24 @@ ReceiverEpoch Receiver::epoch_at(UtcNs t, const std::optional<sources::Truth>& t
   }
   const Enu error{h_scale * raw_error.east_m, h_scale * raw_error.north_m, v_scale * raw_error.up_m};
 
-  // Static hold: the last reported position repeats while slow and within the radius.
-  const double ve = truth->velocity_mps.east_m;
-  const double vn = truth->velocity_mps.north_m;
-  const double speed_mps = std::sqrt(ve * ve + vn * vn);  // std::hypot's care for overflow costs 20 ns an epoch
-  // Held only while slow in 3-D: a copter climbing in place is not standing still.
-  const double vu = truth->velocity_mps.up_m;
+  // The velocity, measured apart from the position (Doppler): the truth's plus its own error;
+  // a chipset that clamps reports 0 below its threshold.
+  double ve = truth->velocity_mps.east_m;
+  double vn = truth->velocity_mps.north_m;
+  double vu = truth->velocity_mps.up_m;
+  const noise::VelocityNoiseParams& vp = options_.velocity;
+  if (!vp.off()) {
+    const Enu v_error = velocity_noise_.error_at(since);
+    ve += v_error.east_m;
+    vn += v_error.north_m;
+    vu += v_error.up_m;
+  }
+  double speed_mps = std::sqrt(ve * ve + vn * vn);  // std::hypot's care for overflow costs 20 ns an epoch
+  if (speed_mps < vp.static_clamp_mps) ve = vn = vu = speed_mps = 0.0;
+  // Static hold: the last reported position repeats while slow and within the radius (slow in
+  // 3-D, as the receiver measures it: a copter climbing in place is not standing still).
   const Enu reported_m = hold_.apply(truth->position_m + error, std::sqrt(speed_mps * speed_mps + vu * vu));
+  if (hold_.holding()) ve = vn = vu = speed_mps = 0.0;  // holding, it reports no motion
   const Geodetic position = near_.to_geodetic(frame_, reported_m);
   fix.quality = options_.quality;
   fix.dimension = two_d ? nmea::FixDimension::two_d : nmea::FixDimension::three_d;
@@ -179,13 +199,14 @@ ReceiverEpoch Receiver::epoch_at(UtcNs t, const std::optional<sources::Truth>& t
   fix.alt_msl_m = position.alt_m;
   fix.geoid_sep_m = geoid_sep_m_;
   fix.speed_mps = speed_mps;
-  fix.vel_up_mps = vu;  // like the horizontal velocity, the truth's
-  if (fix.speed_mps >= options_.course_min_speed_mps) {
+  fix.vel_up_mps = vu;
+  const bool moving = fix.speed_mps >= options_.course_min_speed_mps;
+  if (moving || (options_.course_at_rest == CourseAtRest::measured && fix.speed_mps > 0.0)) {
     double course = std::atan2(ve, vn) * 180.0 / std::numbers::pi;
     if (course < 0.0) course += 360.0;
     last_course_deg_ = course;
   }
-  fix.course_deg_true = last_course_deg_;
+  if (moving || options_.course_at_rest != CourseAtRest::empty) fix.course_deg_true = last_course_deg_;
   if (truth->yaw_deg) {
     const double heading = *truth->yaw_deg + options_.heading_sigma_deg * heading_rng_.normal();
     fix.heading_deg_true = heading - 360.0 * std::floor(heading / 360.0);
@@ -210,6 +231,9 @@ ReceiverEpoch Receiver::epoch_at(UtcNs t, const std::optional<sources::Truth>& t
     fix.sigma_alt_m = vdop * uere_m_ * scale;
   }
   fix.range_rms_m = uere_m_ * scale;
+  // The speed's accuracy: the velocity error's, over both horizontal axes (as hAcc is over both
+  // position axes), times the receiver's own ratio; its floor below.
+  fix.sigma_speed_mps = k * std::numbers::sqrt2 * vp.horizontal_sigma_mps();
   sky::apply_accuracy_floor(fix);
   return epoch;
 }

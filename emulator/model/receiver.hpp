@@ -21,6 +21,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -31,6 +32,7 @@
 #include "emulator/model/geo_near.hpp"
 #include "emulator/model/noise/noise_model.hpp"
 #include "emulator/model/noise/rng.hpp"
+#include "emulator/model/noise/velocity_noise.hpp"
 #include "emulator/model/sky.hpp"
 #include "emulator/model/receiver_models.hpp"
 #include "emulator/model/static_hold.hpp"
@@ -64,6 +66,15 @@ struct Outage {
   double duration_s = 0.0;  ///< length (seconds), > 0
 };
 
+/// What a receiver reports as its course over ground while slower than course_min_speed_mps.
+enum class CourseAtRest {
+  empty,     ///< none (RMC/VTG course empty, NAV-PVT headMot frozen): u-blox, below 0.4 m/s in its logs
+  held,      ///< the last course (SiRF, SkyTraq, Quectel: with the speed clamped to 0)
+  measured,  ///< the course of the measured velocity, whatever its speed (an RTK receiver's raw NMEA)
+};
+/// "empty", "held", "measured"; throws std::invalid_argument listing them.
+[[nodiscard]] CourseAtRest parse_course_at_rest(const std::string& text);
+
 struct ReceiverOptions {
   /// Geoid separation written in GGA (metres); empty: the EGM96 geoid at the origin (RTKLIB
   /// geoidh). Altitudes are MSL either way.
@@ -84,7 +95,8 @@ struct ReceiverOptions {
   double cold_start_2d_s = 0.0;  ///< then a 2-D fix for this long (seconds)
   std::vector<Outage> outages;   ///< no satellites, no fix, during each
   std::uint64_t sky_seed = 1;    ///< seed of the satellite sky (the run's --seed)
-  double course_min_speed_mps = 0.05;  ///< below this speed the last course is held
+  double course_min_speed_mps = 0.4;  ///< below this speed the course is course_at_rest's
+  CourseAtRest course_at_rest = CourseAtRest::empty;  ///< --course-at-rest
   /// 1-sigma white noise on the reported heading (degrees, --heading-noise), 0..180: a dual-antenna
   /// receiver's heading (HDT, THS) from the truth's yaw_deg.
   double heading_sigma_deg = 0.2;
@@ -98,6 +110,9 @@ struct ReceiverOptions {
   bool noise_scales_with_dop = false;        ///< --noise-scales-with-dop
   std::shared_ptr<const sky::Orbits> orbits; ///< --ephemeris; empty: the embedded default sky
   StaticHoldOptions hold;                    ///< --hold-radius, --hold-speed (static_hold.hpp); off by default
+  /// The reported velocity's error (--velocity-noise, --velocity-wander, --velocity-wander-tau,
+  /// --velocity-static-clamp; noise/velocity_noise.hpp); both sigmas 0: the truth's velocity.
+  noise::VelocityNoiseParams velocity;
 };
 
 /// The most satellites a receiver lists and uses (the line budget's worst case) and a typical DOP.
@@ -149,6 +164,7 @@ class Receiver {
     options_.cold_start_s = cold_start_s;
     last_course_deg_.reset();
     hold_.reset();
+    velocity_noise_.reset();
   }
 
   /// The geometry at the first epoch: satellites listed and used, DOPs.
@@ -167,6 +183,7 @@ class Receiver {
   double configured_cold_start_s_ = 0.0;  ///< the options' (--cold-start)
   noise::Rng heading_rng_;  ///< the heading's noise, its own stream of the run's seed
   StaticHold hold_;
+  noise::VelocityNoise velocity_noise_;  ///< the velocity's error, its own stream of the run's seed
   NearGeodetic near_;  ///< the reported positions about the last one converted exactly
 };
 

@@ -29,22 +29,32 @@ class StaticHold {
   /// The position to report for the receiver's own position `position_m` (local ENU metres) at
   /// `speed_mps`: the held one while the hold lasts, else `position_m` (which is then held).
   [[nodiscard]] Enu apply(const Enu& position_m, double speed_mps) {
+    holding_ = false;
     if (!options_.enabled()) return position_m;
     if (held_ && speed_mps < options_.max_speed_mps &&
-        std::hypot(position_m.east_m - held_->east_m, position_m.north_m - held_->north_m) <= options_.radius_m)
+        std::hypot(position_m.east_m - held_->east_m, position_m.north_m - held_->north_m) <= options_.radius_m) {
+      holding_ = true;
       return *held_;
+    }
     held_ = position_m;
     return position_m;
   }
 
+  /// Whether the last apply() returned the held position (a receiver holding also reports no motion).
+  [[nodiscard]] bool holding() const { return holding_; }
+
   /// Forgets the held position (no fix, a restart): the next position is reported as it is.
-  void reset() { held_.reset(); }
+  void reset() {
+    held_.reset();
+    holding_ = false;
+  }
 
   [[nodiscard]] const StaticHoldOptions& options() const { return options_; }
 
  private:
   StaticHoldOptions options_;
   std::optional<Enu> held_;
+  bool holding_ = false;
 };
 
 }  // namespace gpsemu

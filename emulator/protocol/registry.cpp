@@ -16,9 +16,8 @@ namespace {
 
 // The u-blox port's start settings (--protocol ubx / nmea+ubx): --receiver's model, the period of
 // --rate, the sentences of --sentences (ubx: none unless given), NAV-PVT every epoch, the baud of
-// a serial output, and as sAcc a tenth of the horizontal noise sigma a second (the speed itself
-// is the truth's).
-ubx::SessionSettings ublox_settings(const ReceiverSettings& receiver, const ReceiverOptions& options,
+// a serial output (the accuracies, sAcc included, are the epoch's).
+ubx::SessionSettings ublox_settings(const ReceiverSettings& receiver, const ReceiverOptions& /*options*/,
                                     const TimelineSettings& timeline) {
   const bool factory = factory_state(receiver);
   ubx::SessionSettings s;
@@ -35,7 +34,6 @@ ubx::SessionSettings ublox_settings(const ReceiverSettings& receiver, const Rece
   }
   if (receiver.receiver_state) s.stored = read_receiver_state(*receiver.receiver_state, receiver.receiver_model);
   s.format = receiver.format;
-  s.speed_sigma_mps = 0.1 * std::hypot(options.noise_sigma_m.east_m, options.noise_sigma_m.north_m);
   s.seed = receiver.seed;
   return s;
 }

@@ -63,24 +63,18 @@ Solution solution_of(const nmea::Fix& fix) {
 struct Sigmas {
   double north_m = 0.0, east_m = 0.0, down_m = 0.0, speed_mps = 0.0;
 };
-Sigmas sigmas_of(const nmea::Fix& fix, double speed_sigma_mps) {
-  return {fix.sigma_lat_m, fix.sigma_lon_m, fix.sigma_alt_m,
-          std::max(speed_sigma_mps, sky::accuracy_floor(fix.quality).speed_mps)};
-}
+Sigmas sigmas_of(const nmea::Fix& fix) { return {fix.sigma_lat_m, fix.sigma_lon_m, fix.sigma_alt_m, fix.sigma_speed_mps}; }
 double h_acc_m(const nmea::Fix& fix) { return sky::horizontal_accuracy_m(fix); }
 double v_acc_m(const nmea::Fix& fix) { return position_accuracy(fix).down_m; }
-double speed_sigma_mps(const nmea::Fix& fix, const NavExtras& extras) {
-  return sigmas_of(fix, extras.speed_sigma_mps).speed_mps;
-}
 std::uint32_t h_acc_mm(const nmea::Fix& fix) { return fix.has_fix() ? round_u32(h_acc_m(fix) * 1000.0) : no_fix_accuracy_mm; }
 std::uint32_t v_acc_mm(const nmea::Fix& fix) { return fix.has_fix() ? round_u32(v_acc_m(fix) * 1000.0) : no_fix_accuracy_mm; }
-std::uint32_t s_acc_mm_s(const nmea::Fix& fix, const NavExtras& extras) {
-  return fix.has_fix() ? round_u32(speed_sigma_mps(fix, extras) * 1000.0) : no_fix_speed_accuracy_mm_s;
+std::uint32_t s_acc_mm_s(const nmea::Fix& fix) {
+  return fix.has_fix() ? round_u32(fix.sigma_speed_mps * 1000.0) : no_fix_speed_accuracy_mm_s;
 }
 /// Heading accuracy (degrees): the angle the speed error subtends, 180 when standing still;
 /// never below 1e-5 degrees (its unit).
-double head_acc_deg(const nmea::Fix& fix, const NavExtras& extras) {
-  const double sigma_mps = speed_sigma_mps(fix, extras);
+double head_acc_deg(const nmea::Fix& fix) {
+  const double sigma_mps = fix.sigma_speed_mps;
   if (!fix.has_fix() || fix.speed_mps <= sigma_mps) return 180.0;
   return std::clamp(std::atan2(sigma_mps, fix.speed_mps) / kDegToRad, 1e-5, 180.0);
 }
@@ -156,7 +150,7 @@ Ecef ecef_of(const nmea::Fix& fix) {
 }  // namespace
 
 NedAccuracy position_accuracy(const nmea::Fix& fix) {
-  const Sigmas s = sigmas_of(fix, 0.0);
+  const Sigmas s = sigmas_of(fix);
   return {s.north_m, s.east_m, s.down_m};
 }
 
@@ -181,8 +175,8 @@ std::string nav_pvt(const nmea::Fix& fix, const NavExtras& extras) {
   w.set<"velD">(round_i32(v.down_mps * 1000.0));
   w.set<"gSpeed">(fix.has_fix() ? round_i32(fix.speed_mps * 1000.0) : 0);
   w.set<"headMot">(fix.has_fix() ? round_i32(fix.course_deg_true.value_or(0.0) * 1e5) : 0);
-  w.set<"sAcc">(s_acc_mm_s(fix, extras));
-  w.set<"headAcc">(round_u32(head_acc_deg(fix, extras) * 1e5));
+  w.set<"sAcc">(s_acc_mm_s(fix));
+  w.set<"headAcc">(round_u32(head_acc_deg(fix) * 1e5));
   w.set<"pDOP">(fix.has_fix() ? round_u16(fix.pdop * 100.0) : 9999);
   // flags3: invalidLlh, lastCorrectionAge; headVeh 0 (headVehValid is not set), magDec, magAcc 0
   w.set<"flags3">((fix.has_fix() ? 0u : 1u) | (rtk::last_correction_age_code(fix.diff_age_s) << 1));
@@ -196,7 +190,7 @@ std::string nav_posllh(const nmea::Fix& fix) {
   return std::move(w).bytes();
 }
 
-std::string nav_velned(const nmea::Fix& fix, const NavExtras& extras) {
+std::string nav_velned(const nmea::Fix& fix, const NavExtras& /*extras*/) {
   const VelocityNed v = velocity_of(fix);
   const double speed_mps = fix.has_fix() ? fix.speed_mps : 0.0;
   PayloadWriter<layout::nav_velned> w;
@@ -207,8 +201,8 @@ std::string nav_velned(const nmea::Fix& fix, const NavExtras& extras) {
   w.set<"speed">(round_u32(std::hypot(speed_mps, v.down_mps) * 100.0));
   w.set<"gSpeed">(round_u32(speed_mps * 100.0));
   w.set<"heading">(fix.has_fix() ? round_i32(fix.course_deg_true.value_or(0.0) * 1e5) : 0);
-  w.set<"sAcc">((s_acc_mm_s(fix, extras) + 5) / 10);
-  w.set<"cAcc">(round_u32(head_acc_deg(fix, extras) * 1e5));
+  w.set<"sAcc">((s_acc_mm_s(fix) + 5) / 10);
+  w.set<"cAcc">(round_u32(head_acc_deg(fix) * 1e5));
   return std::move(w).bytes();
 }
 
@@ -242,7 +236,7 @@ void set_ecef_position(Writer& w, const nmea::Fix& fix) {
 /// The ECEF velocity (cm/s, rotated from NED) and the speed accuracy (cm/s): NAV-SOL's and
 /// NAV-VELECEF's fields.
 template <class Writer>
-void set_ecef_velocity(Writer& w, const nmea::Fix& fix, const NavExtras& extras) {
+void set_ecef_velocity(Writer& w, const nmea::Fix& fix, const NavExtras& /*extras*/) {
   const VelocityNed v = velocity_of(fix);
   const double lat = fix.lat_deg * kDegToRad;
   const double lon = fix.lon_deg * kDegToRad;
@@ -254,7 +248,7 @@ void set_ecef_velocity(Writer& w, const nmea::Fix& fix, const NavExtras& extras)
   w.template set<"ecefVX">(round_i32(vx * 100.0));
   w.template set<"ecefVY">(round_i32(vy * 100.0));
   w.template set<"ecefVZ">(round_i32(vz * 100.0));
-  w.template set<"sAcc">((s_acc_mm_s(fix, extras) + 5) / 10);
+  w.template set<"sAcc">((s_acc_mm_s(fix) + 5) / 10);
 }
 
 }  // namespace
@@ -332,10 +326,10 @@ std::string nav_timegps(const nmea::Fix& fix, const NavExtras& extras) {
   return std::move(w).bytes();
 }
 
-std::string nav_cov(const nmea::Fix& fix, const NavExtras& extras) {
+std::string nav_cov(const nmea::Fix& fix, const NavExtras& /*extras*/) {
   const bool ok = fix.has_fix();
   const auto sq = [ok](double v) { return ok ? static_cast<float>(v * v) : 0.0f; };
-  const Sigmas sigma = sigmas_of(fix, extras.speed_sigma_mps);
+  const Sigmas sigma = sigmas_of(fix);
   PayloadWriter<layout::nav_cov> w;
   w.set<"iTOW">(tow_ms(fix));
   w.set<"version">(0);

@@ -4,8 +4,8 @@
 // AP_GPS_UBLOX.h. Pure: a fix and a few receiver values in, payload bytes out.
 //
 // Where the fix is silent: accuracies come from its GST sigmas (hAcc = hypot(sigma_lat,
-// sigma_lon), vAcc = sigma_alt, floored once by the model: sky::accuracy_floor) and
-// NavExtras::speed_sigma_mps (at least the quality's speed floor); velD is -vel_up_mps; time is UTC +
+// sigma_lon), vAcc = sigma_alt, sAcc = sigma_speed_mps, floored once by the model:
+// sky::accuracy_floor); velD is -vel_up_mps; time is UTC +
 // gps_leap_seconds, its validity flags NavExtras::time's; TDOP and GDOP the fix's, or when it has
 // none (0) TDOP = 0.6 PDOP and GDOP = hypot(PDOP, TDOP); NDOP = EDOP = HDOP/sqrt 2.
 #pragma once
@@ -34,7 +34,6 @@ using gpsemu::gps_time;
 
 /// Receiver values the NAV messages carry beside the fix.
 struct NavExtras {
-  double speed_sigma_mps = 0.0;                  ///< 1-sigma speed error (sAcc), metres per second
   std::chrono::milliseconds since_start{0};      ///< since the receiver started (NAV-STATUS msss)
   std::chrono::milliseconds time_to_first_fix{0};  ///< NAV-STATUS ttff; 0 before the first fix
   ReceiverModel model = ReceiverModel::generic;  ///< what NAV-SIG lists (bands) and MON-RF's blocks

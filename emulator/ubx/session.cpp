@@ -155,7 +155,6 @@ void Session::append_solution(const ReceiverEpoch& epoch, std::string& out) {
   if (!on_solution_grid(fix.time_utc)) return;
   const ReceiverState::AtSolution now = state_.at(fix);
   NavExtras extras;
-  extras.speed_sigma_mps = settings_.speed_sigma_mps;
   extras.since_start = now.since_start;
   extras.time_to_first_fix = now.time_to_first_fix;
   extras.model = machine_.model();

@@ -39,7 +39,6 @@ namespace gpsemu::ubx {
 struct SessionSettings {
   StartSettings start;           ///< model, port, start rate, NMEA sentences and UBX messages on
   nmea::FormatOptions format;    ///< how the NMEA part is written (its sentence set is ignored)
-  double speed_sigma_mps = 0.0;  ///< 1-sigma speed error reported as sAcc (metres per second)
   std::uint64_t seed = 1;        ///< seed of the receiver clock (NAV-CLOCK): the run's --seed
   StoredLayers stored;           ///< BBR and flash at power-up (--receiver-state); RAM is built from them
 };

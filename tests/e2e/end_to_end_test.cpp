@@ -78,7 +78,7 @@ TEST_P(StationaryWidth, CgrwWandersOverTheConfiguredWidthSmoothly) {
   for (const auto& e : epochs) {
     east.push_back(e.position_m.east_m);
     north.push_back(e.position_m.north_m);
-    EXPECT_LT(e.speed_mps, 1e-9);
+    EXPECT_LT(e.speed_mps, 0.3);  // the velocity's own error (Doppler), not the wander's derivative
   }
   for (const auto* axis : {&east, &north}) {
     const double w5 = mean_window_width(*axis, 300);

@@ -195,7 +195,7 @@ void fuzz_nav(std::string_view input) {
     if (take<std::uint8_t>(input) % 2 == 0) sat.snr_dbhz = take<std::uint8_t>(input);
   }
   NavExtras extras;
-  extras.speed_sigma_mps = take<double>(input);
+  fix.sigma_speed_mps = take<double>(input);
   const std::pair<MessageId, std::size_t> sizes[] = {{msg::nav_pvt, 92},    {msg::nav_posllh, 28}, {msg::nav_velned, 36},
                                                      {msg::nav_status, 16}, {msg::nav_sol, 52},    {msg::nav_dop, 18},
                                                      {msg::nav_timeutc, 20}, {msg::nav_timegps, 16}, {msg::nav_cov, 64},

@@ -117,8 +117,13 @@ def test_receiver_position_is_truth_plus_noise():
     assert out["nmea"].count(b"GGA,") == 50  # talker GN: the default receiver tracks several systems
 
 
+# The truth's velocity passed through: the velocity's own error off.
+EXACT_VELOCITY = {"velocity-noise": 0, "velocity-wander": 0}
+
+
 def test_geodetic_truth_equals_enu_truth():
-    a, b = gpsemu.Receiver(KEYS), gpsemu.Receiver(KEYS)
+    keys = {**KEYS, **EXACT_VELOCITY}
+    a, b = gpsemu.Receiver(keys), gpsemu.Receiver(keys)
     lat, lon, alt = a.origin
     assert (lat, lon, alt) == (43.07, -89.41, 260.0)
     g = a.to_geodetic(10.0, -5.0, 1.0)
@@ -131,9 +136,13 @@ def test_geodetic_truth_equals_enu_truth():
 
 
 def test_vertical_velocity_is_reported():
-    rx = gpsemu.Receiver(KEYS)
+    rx = gpsemu.Receiver({**KEYS, **EXACT_VELOCITY})
     e = rx.step_enu((0.0, 0.0, 0.0), (1.0, 0.0, 2.5))
     assert e.has_fix and abs(e.vel_up_mps - 2.5) < 1e-9 and abs(e.speed_mps - 1.0) < 1e-9
+    # With its error (the default) the velocity is the truth's within a few of its sigmas, not exact.
+    noisy = gpsemu.Receiver(KEYS).step_enu((0.0, 0.0, 0.0), (1.0, 0.0, 2.5))
+    assert abs(noisy.speed_mps - 1.0) < 0.3 and noisy.speed_mps != 1.0
+    assert abs(noisy.vel_up_mps - 2.5) < 0.5 and noisy.vel_up_mps != 2.5
 
 
 def test_no_truth_is_no_fix():

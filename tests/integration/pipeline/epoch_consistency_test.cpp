@@ -352,7 +352,6 @@ TEST_P(EpochConsistency, EveryEpochAgreesAcrossSentencesAndMessages) {
     s.start.ubx_messages = {ubx::msg::nav_pvt, ubx::msg::nav_dop, ubx::msg::nav_sat, ubx::msg::nav_sol, ubx::msg::nav_cov};
     s.start.baud = 921600;
     s.format = settings.format;
-    s.speed_sigma_mps = 0.1;
     s.seed = settings.seed;
     settings.protocol = protocol::ublox_protocol(s);
   }

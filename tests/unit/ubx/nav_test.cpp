@@ -28,6 +28,7 @@ nmea::Fix fixed_fix() {
   nmea::Fix f;
   f.time_utc = sys_days{year{2026} / November / 24} + hours{12} + minutes{34} + seconds{56} + milliseconds{200};
   f.quality = nmea::FixQuality::gps;
+  f.sigma_speed_mps = 0.3;
   f.dimension = nmea::FixDimension::three_d;
   f.lat_deg = 47.3977419;
   f.lon_deg = 8.5455938;
@@ -52,7 +53,6 @@ nmea::Fix fixed_fix() {
 
 NavExtras fixed_extras() {
   NavExtras x;
-  x.speed_sigma_mps = 0.3;
   x.since_start = milliseconds{60000};
   x.time_to_first_fix = milliseconds{28000};
   return x;
@@ -203,14 +203,13 @@ TEST(UbxNav, AccuracyIsTheFixsOwnFlooredOnceByTheModel) {
   // --noise none at the autonomous floor the model applied (0.3 m an axis, 0.45 m vertical):
   // hAcc, vAcc and GST say the same; no second floor here.
   nmea::Fix f = fixed_fix();
-  f.sigma_lat_m = f.sigma_lon_m = f.sigma_alt_m = 0.0;
+  f.sigma_lat_m = f.sigma_lon_m = f.sigma_alt_m = f.sigma_speed_mps = 0.0;
   sky::apply_accuracy_floor(f);
   NavExtras x = fixed_extras();
-  x.speed_sigma_mps = 0.0;
   const std::string p = nav_pvt(f, x);
   EXPECT_EQ(get_u4(p, 40), 424u);      // hAcc: hypot(0.3, 0.3) m
   EXPECT_EQ(get_u4(p, 44), 450u);      // vAcc 0.45 m
-  EXPECT_EQ(get_u4(p, 68), 50u);       // sAcc: the speed floor 0.05 m/s (not in the fix yet)
+  EXPECT_EQ(get_u4(p, 68), 50u);       // sAcc: the speed floor 0.05 m/s, the fix's
   EXPECT_EQ(get_u4(p, 72), 57294u);    // headAcc: atan(0.05 / 5) = 0.57294 deg
   f.sigma_lat_m = 0.8;                 // what the fix says is written, whatever it is
   f.sigma_lon_m = 0.6;

@@ -34,7 +34,6 @@ SessionSettings f9p_nmea_only() {
   SessionSettings s;
   s.start.model = ReceiverModel::ublox_f9p;
   s.start.measurement_period = milliseconds{100};
-  s.speed_sigma_mps = 0.05;
   return s;
 }
 
