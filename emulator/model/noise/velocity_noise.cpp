@@ -47,10 +47,15 @@ void VelocityNoise::reset() {
 Enu VelocityNoise::error_at(std::chrono::nanoseconds since_start) {
   const double s = params_.wander_sigma_mps;
   if (last_ && s > 0.0) {
-    const double dt_s = std::chrono::duration<double>(since_start - *last_).count();
-    if (dt_s > 0.0) {
-      const double a = std::exp(-dt_s / params_.wander_tau_s);
-      const double b = std::sqrt(1.0 - a * a) * s;
+    const std::chrono::nanoseconds dt = since_start - *last_;
+    if (dt > std::chrono::nanoseconds::zero()) {
+      if (dt != step_dt_) {
+        const double dt_s = std::chrono::duration<double>(dt).count();
+        step_a_ = std::exp(-dt_s / params_.wander_tau_s);
+        step_b_ = std::sqrt(1.0 - step_a_ * step_a_) * s;
+        step_dt_ = dt;
+      }
+      const double a = step_a_, b = step_b_;
       wander_.east_m = a * wander_.east_m + b * rng_.normal();
       wander_.north_m = a * wander_.north_m + b * rng_.normal();
       wander_.up_m = a * wander_.up_m + params_.vertical_ratio * b * rng_.normal();

@@ -50,6 +50,9 @@ class VelocityNoise {
   Rng rng_;
   Enu wander_{};
   std::optional<std::chrono::nanoseconds> last_;
+  // The step's coefficients for the last interval (an epoch grid repeats it: exp and sqrt once).
+  std::chrono::nanoseconds step_dt_{-1};
+  double step_a_ = 0.0, step_b_ = 0.0;
 };
 
 }  // namespace gpsemu::noise
