@@ -7,8 +7,8 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "emulator/model/accuracy.hpp"
 #include "emulator/faults/sky_faults.hpp"
+#include "emulator/model/accuracy.hpp"
 #include "emulator/model/receiver.hpp"
 #include "emulator/model/receiver_models.hpp"
 

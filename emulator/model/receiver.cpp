@@ -1,4 +1,3 @@
-#include "emulator/model/accuracy.hpp"
 #include "emulator/model/receiver.hpp"
 
 #include <algorithm>
@@ -6,6 +5,8 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+
+#include "emulator/model/accuracy.hpp"
 
 namespace gpsemu {
 namespace {

@@ -33,6 +33,7 @@ void validate(const VelocityNoiseParams& p) {
 
 VelocityNoise::VelocityNoise(const VelocityNoiseParams& params, std::uint64_t seed)
     : params_(params), rng_(seed, kVelocityStream) {
+  validate(params_);  // a library caller's options are checked as the flags are
   reset();
 }
 

@@ -37,6 +37,7 @@ void validate(const VelocityNoiseParams& params);
 
 class VelocityNoise {
  public:
+  /// Throws std::invalid_argument (validate) for parameters out of range.
   VelocityNoise(const VelocityNoiseParams& params, std::uint64_t seed);
   /// The error at `since_start` (non-decreasing; the correlated part steps by the time since
   /// the last call, exactly discretised, so any epoch rate gives the same statistics).
