@@ -320,7 +320,7 @@ TEST(MavlinkEndToEnd, TcpClientReadsFramesSplitOverWritesAndReconnectsWhenTheSim
   const Output out = read_output(gpsemu.stdout_text());
   EXPECT_EQ(out.gga.size(), 50u);
   int before = 0, after = 0;
-  double worst_h_m = 0.0;
+  std::vector<double> error_h_m;
   for (const nmea::GgaData& gga : out.gga) {
     const double t = epoch_s(*gga.time_of_day, first_s);
     const bool in_before = t > first_s + 0.1 && t < drop_s;
@@ -329,20 +329,28 @@ TEST(MavlinkEndToEnd, TcpClientReadsFramesSplitOverWritesAndReconnectsWhenTheSim
     ASSERT_TRUE(gga.lat_deg && gga.lon_deg) << "no fix at " << t;
     const Enu got = frame.to_enu({*gga.lat_deg, *gga.lon_deg, gga.alt_msl_m.value_or(0.0)});
     const Enu truth = climb.position(t);
-    worst_h_m = std::max(worst_h_m, std::hypot(got.east_m - truth.east_m, got.north_m - truth.north_m));
+    error_h_m.push_back(std::hypot(got.east_m - truth.east_m, got.north_m - truth.north_m));
     (in_before ? before : after) += 1;
   }
   EXPECT_GE(before, 15);
   EXPECT_GE(after, 10);
   // Over TCP a state holds at its read time (no kernel stamp) and each frame's second half comes
-  // 1 ms late: at 5 m/s a few milliseconds of scheduling are centimetres (measured: up to 25 mm).
-  EXPECT_LT(worst_h_m, 0.06);
+  // 1 ms late: at 5 m/s a few milliseconds of scheduling are centimetres (measured alone: median
+  // 8 mm, worst 16-25 mm). A state one frame stale would be 100 mm on every epoch, so the median
+  // is held tight; the worst only bounds a scheduling stall on a loaded machine (60 ms = 300 mm),
+  // as a sanitizer build running six tests at once can show.
+  ASSERT_FALSE(error_h_m.empty());
+  std::sort(error_h_m.begin(), error_h_m.end());
+  const double median_h_m = error_h_m[error_h_m.size() / 2];
+  const double worst_h_m = error_h_m.back();
+  EXPECT_LT(median_h_m, 0.04);
+  EXPECT_LT(worst_h_m, 0.3);
   const std::string log = gpsemu.stderr_text();
   EXPECT_TRUE(test::contains(log, "closed by the peer; reconnecting every 1000 ms")) << log;
   EXPECT_TRUE(test::contains(log, "2 connections, 1 lost; states asked for on 2 connections")) << log;
   EXPECT_FALSE(test::contains(log, "partial_frame")) << log;
-  std::printf("[ info ] mavlink tcp: %d epochs before the drop, %d after (reconnected %.2f s later), worst horizontal %.1f mm\n",
-              before, after, back_s - drop_s, worst_h_m * 1000);
+  std::printf("[ info ] mavlink tcp: %d epochs before the drop, %d after (reconnected %.2f s later), median horizontal %.1f mm, worst %.1f mm\n",
+              before, after, back_s - drop_s, median_h_m * 1000, worst_h_m * 1000);
 }
 
 // ---- a real stream -------------------------------------------------------------------------
