@@ -16,6 +16,7 @@
 #include "emulator/calibration/calibrate.hpp"
 #include "tests/support/calibration_logs.hpp"
 #include "tests/support/process.hpp"
+#include "tests/support/scratch.hpp"
 
 namespace gpsemu::calibration {
 namespace {
@@ -27,7 +28,7 @@ std::string emulate(std::vector<std::string> args) {
   return r.out;
 }
 
-std::string temp_path(const std::string& name) { return ::testing::TempDir() + "gpsemu_" + name; }
+std::string temp_path(const std::string& name) { return (test::scratch_root() / ("gpsemu_" + name)).string(); }
 
 void write_file(const std::string& path, const std::string& text) {
   std::ofstream f(path);

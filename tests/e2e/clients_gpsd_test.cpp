@@ -29,6 +29,7 @@
 #include "nmea/parse.hpp"
 #include "tests/support/gpsd.hpp"
 #include "tests/support/process.hpp"
+#include "tests/support/scratch.hpp"
 
 namespace gpsemu {
 namespace {
@@ -64,7 +65,7 @@ struct GpsdRun {
 GpsdRun run_with_gpsd(const std::string& name, std::vector<std::string> args, double duration_s,
                       double clock_scale = 1.0) {
   GpsdRun run;
-  const fs::path dir = fs::temp_directory_path() / fmt::format("gpsemu_gpsd_{}_{}", ::getpid(), name);
+  const fs::path dir = test::scratch_root() / fmt::format("gpsemu_gpsd_{}_{}", ::getpid(), name);
   fs::create_directories(dir);
   const fs::path link = dir / "gps", file = dir / "out.nmea";
   std::vector<std::string> argv{GPSEMU_BINARY, "--output", "pty:" + link.string(), "--output", "file:" + file.string(),
@@ -293,7 +294,7 @@ TEST(Gpsd, ColdStartShowsNoFixThen2DThen3DWithNmea23) {
 // A scenario (docs/faults.md): an outage and a jam are no fix to gpsd at exactly their epochs; a
 // degrade keeps the 3-D fix with gpsd's error estimate (eph, from HDOP) three times larger.
 TEST(Gpsd, ScenarioFaultsChangeTpvModeAndEphAtTheirEpochs) {
-  const fs::path scenario = fs::temp_directory_path() / fmt::format("gpsemu_gpsd_scenario_{}.toml", ::getpid());
+  const fs::path scenario = test::scratch_root() / fmt::format("gpsemu_gpsd_scenario_{}.toml", ::getpid());
   std::ofstream(scenario) << "[[fault]]\nkind = \"outage\"\nat = 2\nduration = 1.4\n"
                              "[[fault]]\nkind = \"jam\"\nat = 4.6\nduration = 1.4\ndb = 40\n"
                              "[[fault]]\nkind = \"degrade\"\nat = 7\nduration = 1.4\ndop_k = 3\n";

@@ -35,7 +35,7 @@ using nlohmann::json;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 fs::path temp_dir(const std::string& name) {
-  const auto d = fs::temp_directory_path() / fmt::format("gpsemu_clients_{}_{}", ::getpid(), name);
+  const auto d = test::scratch_root() / fmt::format("gpsemu_clients_{}_{}", ::getpid(), name);
   fs::create_directories(d);
   return d;
 }

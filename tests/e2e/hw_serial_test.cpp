@@ -18,6 +18,7 @@
 #include "tests/support/nmea_check.hpp"
 #include "tests/support/process.hpp"
 #include "tests/support/read_deadline.hpp"
+#include "tests/support/scratch.hpp"
 #include "tests/support/socat_pair.hpp"
 
 namespace gpsemu {
@@ -32,7 +33,7 @@ class SerialEndToEndTest : public ::testing::Test {
  protected:
   void SetUp() override {
     ASSERT_FALSE(test::socat_path().empty()) << "socat is needed: tools/setup --with-test-deps installs it";
-    std::string templ = (fs::path(::testing::TempDir()) / "gpsemu_serial_e2e_XXXXXX").string();
+    std::string templ = (test::scratch_root() / "gpsemu_serial_e2e_XXXXXX").string();
     ASSERT_NE(::mkdtemp(templ.data()), nullptr);
     dir_ = templ;
   }

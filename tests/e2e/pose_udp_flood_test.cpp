@@ -117,7 +117,7 @@ class EpochReader {
 };
 
 TEST(PoseUdpFloodTest, HundredThousandMalformedDatagramsLeaveEveryEpochWithTheSentPosition) {
-  const fs::path dir = fs::temp_directory_path() / ("gpsemu_flood_" + std::to_string(::getpid()));
+  const fs::path dir = test::scratch_root() / ("gpsemu_flood_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const fs::path link = dir / "gps";
   test::Process gpsemu({GPSEMU_BINARY, "--source", "udp:127.0.0.1:0", "--rate", "10", "--noise", "none",

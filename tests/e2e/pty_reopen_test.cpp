@@ -26,6 +26,7 @@
 #include "tests/support/nmea_check.hpp"
 #include "tests/support/process.hpp"
 #include "tests/support/read_deadline.hpp"
+#include "tests/support/scratch.hpp"
 
 namespace gpsemu {
 namespace {
@@ -112,7 +113,7 @@ Visit visit(const fs::path& link) {
 }
 
 TEST(PtyReopenTest, HundredReopensEachGetOneFreshWholeEpochAndLeakNothing) {
-  const fs::path dir = fs::temp_directory_path() / ("gpsemu_reopen_" + std::to_string(::getpid()));
+  const fs::path dir = test::scratch_root() / ("gpsemu_reopen_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const fs::path link = dir / "gps";
   test::Process gpsemu({GPSEMU_BINARY, "--rate", "10", "--output", "pty:" + link.string(), "--sentences",

@@ -20,7 +20,7 @@ namespace replay_cli_test {
 namespace fs = std::filesystem;
 
 fs::path write(const std::string& name, const std::string& text) {
-  auto d = fs::temp_directory_path() / fmt::format("gpsemu_replay_cli_{}", ::getpid());
+  auto d = test::scratch_root() / fmt::format("gpsemu_replay_cli_{}", ::getpid());
   fs::create_directories(d);
   return test::write_file(d / name, text);
 }

@@ -33,6 +33,7 @@
 #include "emulator/ubx/frame.hpp"
 #include "tests/support/process.hpp"
 #include "tests/support/rtk_rover.hpp"
+#include "tests/support/scratch.hpp"
 #include "tests/support/ubx_frames.hpp"
 
 namespace gpsemu {
@@ -79,7 +80,7 @@ std::vector<Epoch> gga_epochs(const fs::path& file) {
 }
 
 TEST(RtkCorrections, UdpStreamDrivesTheTimelineThatGpsdReports) {
-  const fs::path dir = fs::temp_directory_path() / fmt::format("gpsemu_rtk_{}", ::getpid());
+  const fs::path dir = test::scratch_root() / fmt::format("gpsemu_rtk_{}", ::getpid());
   fs::create_directories(dir);
   const fs::path link = dir / "gps", file = dir / "out.nmea";
   const int rtcm_port = test::free_tcp_port();  // free for UDP too, almost always

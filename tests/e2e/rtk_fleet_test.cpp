@@ -24,6 +24,7 @@
 #include "tests/support/process.hpp"
 #include "tests/support/gpsd.hpp"
 #include "tests/support/rtk_rover.hpp"
+#include "tests/support/scratch.hpp"
 
 namespace gpsemu {
 namespace {
@@ -46,7 +47,7 @@ std::set<int> gga_qualities(const fs::path& file) {
 }
 
 TEST(RtkFleet, EachReceiverHasItsOwnCorrectionsPort) {
-  const fs::path dir = fs::temp_directory_path() / fmt::format("gpsemu_rtk_fleet_{}", ::getpid());
+  const fs::path dir = test::scratch_root() / fmt::format("gpsemu_rtk_fleet_{}", ::getpid());
   fs::create_directories(dir);
   const int port = test::free_tcp_port();  // port and port + 1: free for UDP too, almost always
   test::Process gpsemu({GPSEMU_BINARY, "--receivers", "2", "--output", "file:" + (dir / "out{i}.nmea").string(),

@@ -70,7 +70,7 @@ std::vector<double> epoch_times(const std::string& nmea) {
 class TimingToolTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("gpsemu-timing-test-" + std::to_string(::getpid()));
+    dir_ = test::scratch_root() / ("gpsemu-timing-test-" + std::to_string(::getpid()));
     fs::create_directories(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }

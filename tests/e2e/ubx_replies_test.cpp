@@ -105,7 +105,7 @@ void read_into(int fd, Heard& heard, std::chrono::milliseconds how_long) {
 }
 
 fs::path scratch_link(const std::string& name) {
-  return fs::temp_directory_path() / ("gpsemu_" + name + "_" + std::to_string(::getpid()));
+  return test::scratch_root() / name;
 }
 
 /// gpsemu as a u-blox M8N at 5 Hz on `output`, once it says so ("UBX on ...": the line returned).

@@ -10,12 +10,13 @@
 #include <string>
 
 #include "emulator/config/config.hpp"
+#include "tests/support/scratch.hpp"
 
 namespace gpsemu::test {
 
-/// Writes `text` to a file named `prefix` + the process id + `name` in the temporary directory.
+/// Writes `text` to a file named `prefix` + `name` in this test process's scratch directory.
 inline std::string write_temp(const std::string& prefix, const std::string& name, const std::string& text) {
-  const auto path = std::filesystem::temp_directory_path() / (prefix + std::to_string(::getpid()) + name);
+  const auto path = scratch_root() / (prefix + name);
   std::ofstream(path) << text;
   return path.string();
 }

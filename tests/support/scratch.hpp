@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -15,10 +16,32 @@
 
 namespace gpsemu::test {
 
-/// An empty directory under the temporary directory, unique to this process: gpsemu_PREFIX_PID_NAME.
+/// This process's directory under the temporary directory, gpsemu_PID: made on first use and removed
+/// with everything in it when the test process exits (set GPSEMU_KEEP_SCRATCH=1 to keep it and look).
+inline const std::filesystem::path& scratch_root() {
+  struct Root {
+    std::filesystem::path path;
+    pid_t owner;
+    Root()
+        : path(std::filesystem::temp_directory_path() / ("gpsemu_" + std::to_string(::getpid()))),
+          owner(::getpid()) {
+      std::filesystem::remove_all(path);
+      std::filesystem::create_directories(path);
+    }
+    ~Root() {
+      // A forked child that exits normally must not take its parent's files with it.
+      if (::getpid() != owner || std::getenv("GPSEMU_KEEP_SCRATCH") != nullptr) return;
+      std::error_code ignored;
+      std::filesystem::remove_all(path, ignored);
+    }
+  };
+  static const Root root;
+  return root.path;
+}
+
+/// An empty directory in this process's scratch root: PREFIX_NAME.
 inline std::filesystem::path scratch_dir(const std::string& prefix, const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("gpsemu_" + prefix + "_" + std::to_string(::getpid()) + "_" + name);
+  const auto dir = scratch_root() / (prefix + "_" + name);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;

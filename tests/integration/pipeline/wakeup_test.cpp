@@ -18,6 +18,7 @@
 #include "emulator/pipeline/clock.hpp"
 #include "emulator/config/config.hpp"
 #include "emulator/pipeline/runner.hpp"
+#include "tests/support/scratch.hpp"
 #include "transport/pty_output.hpp"
 #include "transport/recording_output.hpp"
 
@@ -49,7 +50,7 @@ TEST(Wakeup, OneAnEpochWithNothingToService) {
 }
 
 TEST(Wakeup, OneAnEpochOnAPtyWithoutClient) {
-  const auto link = std::filesystem::temp_directory_path() / ("gpsemu_wakeup_" + std::to_string(::getpid()));
+  const auto link = test::scratch_root() / ("gpsemu_wakeup_" + std::to_string(::getpid()));
   const Config config = config_for({{"rate", {"10"}}, {"duration", {"1"}}});
   RunnerIo io;
   io.outputs.push_back(std::make_unique<transport::PtyOutput>(link));

@@ -16,6 +16,7 @@
 #include "emulator/rtk/rtcm3_messages.hpp"
 #include "emulator/rtk/rtcm3_reader.hpp"
 #include "tests/support/process.hpp"
+#include "tests/support/scratch.hpp"
 
 namespace gpsemu::rtk {
 namespace {
@@ -26,7 +27,7 @@ constexpr const char* kConvbin = "/usr/bin/convbin";
 
 TEST(RtklibReadsEncoder, ConvbinDecodesEveryEpochAndSatellite) {
   ASSERT_EQ(::access(kConvbin, X_OK), 0) << "convbin is missing: tools/setup --with-test-deps installs rtklib";
-  const fs::path dir = fs::temp_directory_path() / fmt::format("gpsemu_rtklib_{}", ::getpid());
+  const fs::path dir = test::scratch_root() / fmt::format("gpsemu_rtklib_{}", ::getpid());
   fs::create_directories(dir);
   std::string stream;
   append_rtcm3_frame(stream, encode_base_position({42, 1114104.5999, -4850729.7108, 3975521.4643, 1.5}, true));

@@ -15,6 +15,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "tests/support/scratch.hpp"
 #include "tests/support/socat_pair.hpp"
 #include "transport/gpio_pps.hpp"
 #include "transport/modem_pps.hpp"
@@ -223,7 +224,7 @@ TEST(GpioPpsTest, DrivesTheHardwareLineNamedByTheEnvironment) {
 
 TEST(ModemPpsTest, PseudoTerminalIsRefusedAtStartUp) {
   ASSERT_FALSE(test::socat_path().empty()) << "socat is needed: tools/setup --with-test-deps installs it";
-  std::string templ = (fs::path(::testing::TempDir()) / "gpsemu_pps_XXXXXX").string();
+  std::string templ = (test::scratch_root() / "gpsemu_pps_XXXXXX").string();
   ASSERT_NE(::mkdtemp(templ.data()), nullptr);
   const fs::path dir = templ;
   {

@@ -20,6 +20,7 @@
 
 #include "tests/support/nmea_check.hpp"
 #include "tests/support/read_deadline.hpp"
+#include "tests/support/scratch.hpp"
 #include "transport/pty_output.hpp"
 
 namespace gpsemu::transport {
@@ -75,7 +76,7 @@ using test::epoch;
 class PtyOutputTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    std::string templ = (fs::path(::testing::TempDir()) / "gpsemu_pty_XXXXXX").string();
+    std::string templ = (test::scratch_root() / "gpsemu_pty_XXXXXX").string();
     ASSERT_NE(::mkdtemp(templ.data()), nullptr);
     dir_ = templ;
     link_ = dir_ / "gpsemu";

@@ -20,6 +20,7 @@
 
 #include "tests/support/nmea_check.hpp"
 #include "tests/support/read_deadline.hpp"
+#include "tests/support/scratch.hpp"
 #include "tests/support/socat_pair.hpp"
 #include "transport/output_spec.hpp"
 #include "transport/serial_output.hpp"
@@ -161,7 +162,7 @@ class SerialOutputTest : public ::testing::Test {
  protected:
   void SetUp() override {
     ASSERT_FALSE(test::socat_path().empty()) << "socat is needed: tools/setup --with-test-deps installs it";
-    std::string templ = (fs::path(::testing::TempDir()) / "gpsemu_serial_XXXXXX").string();
+    std::string templ = (test::scratch_root() / "gpsemu_serial_XXXXXX").string();
     ASSERT_NE(::mkdtemp(templ.data()), nullptr);
     dir_ = templ;
   }

@@ -22,6 +22,7 @@
 #include "emulator/model/receiver.hpp"
 #include "tests/support/nmea_check.hpp"
 #include "tests/support/paths.hpp"
+#include "tests/support/scratch.hpp"
 
 namespace gpsemu::calibration {
 namespace {
@@ -130,7 +131,7 @@ TEST_P(CalibratedGates, PassAutopilotGpsChecksWhereverTheRealLogDoes) {
   real.pdop = state.pdop ? state.pdop->median : 1.5 * state.hdop->median;
   real.eph_m = sigma_h_m;
 
-  const auto toml_path = std::filesystem::temp_directory_path() / fmt::format("gpsemu_gates_{}_{}.toml", ::getpid(), GetParam());
+  const auto toml_path = test::scratch_root() / fmt::format("gpsemu_gates_{}_{}.toml", ::getpid(), GetParam());
   std::ofstream(toml_path) << config_toml(c, path) << receiver_state_toml(state);
   const Config config = build_config(toml_path.string(), {});
   std::filesystem::remove(toml_path);

@@ -8,6 +8,7 @@
 
 #include "emulator/model/receiver.hpp"
 #include "emulator/sources/sim.hpp"
+#include "tests/support/scratch.hpp"
 
 namespace gpsemu {
 namespace {
@@ -117,7 +118,7 @@ TEST(Sim, NoTruthMeansNoFix) {
 }
 
 std::string write_csv(const std::string& name, const std::string& text) {
-  const auto path = std::filesystem::temp_directory_path() / ("gpsemu_wp_" + std::to_string(::getpid()) + name);
+  const auto path = test::scratch_root() / ("gpsemu_wp_" + std::to_string(::getpid()) + name);
   std::ofstream(path) << text;
   return path.string();
 }

@@ -16,6 +16,7 @@
 #include "emulator/sources/sim.hpp"
 #include "nmea/parse.hpp"
 #include "nmea/sentences.hpp"
+#include "tests/support/scratch.hpp"
 
 namespace gpsemu {
 namespace {
@@ -317,7 +318,7 @@ TEST(ReceiverOptionsConfig, FixQualityColdStartAndRepeatableOutages) {
 }
 
 TEST(ReceiverOptionsConfig, OutagesAndSentencesFromAConfigFileArray) {
-  const auto path = std::filesystem::temp_directory_path() / ("gpsemu_states_" + std::to_string(::getpid()) + ".toml");
+  const auto path = test::scratch_root() / ("gpsemu_states_" + std::to_string(::getpid()) + ".toml");
   std::ofstream(path) << "outage = [\"10+2\", \"20+3\"]\nsentences = [\"GGA\", \"RMC\", \"GST\"]\nfix-quality = \"dgps\"\n";
   const Config c = build_config(path.string(), {});
   std::filesystem::remove(path);

@@ -22,6 +22,7 @@
 #include "emulator/model/sky/embedded_data.hpp"
 #include "emulator/model/sky/orbits.hpp"
 #include "emulator/model/receiver_models.hpp"
+#include "tests/support/scratch.hpp"
 #include "tests/unit/model/sky_kepler.hpp"
 
 namespace gpsemu {
@@ -221,7 +222,7 @@ TEST(SkyOrbits, ExtrapolatedRecordsStayWithinKilometresOfTheValidOnes) {
     if (!body || keep) early << line << "\n";
     body = body || line.find("END OF HEADER") != std::string::npos;
   }
-  const auto path = std::filesystem::temp_directory_path() / ("gpsemu_sky_early_" + std::to_string(::getpid()) + ".rnx");
+  const auto path = test::scratch_root() / ("gpsemu_sky_early_" + std::to_string(::getpid()) + ".rnx");
   std::ofstream(path) << early.str();
   const auto cut = sky::Orbits::from_rinex_nav(path.string());
   std::filesystem::remove(path);

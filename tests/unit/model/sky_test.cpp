@@ -25,6 +25,7 @@
 #include "emulator/model/sky/embedded_data.hpp"
 #include "emulator/model/sky/orbits.hpp"
 #include "emulator/model/receiver_models.hpp"
+#include "tests/support/scratch.hpp"
 #include "tests/unit/model/sky_kepler.hpp"
 
 namespace gpsemu {
@@ -68,7 +69,7 @@ std::string rinex3_gps_nav(const Kepler& k) {
 
 TEST(SkyOrbits, RinexRecordGivesTheIsGps200PositionOfItsEphemeris) {
   const Kepler k;
-  const auto path = std::filesystem::temp_directory_path() / ("gpsemu_sky_" + std::to_string(::getpid()) + ".rnx");
+  const auto path = test::scratch_root() / ("gpsemu_sky_" + std::to_string(::getpid()) + ".rnx");
   std::ofstream(path) << rinex3_gps_nav(k);
   const auto orbits = sky::Orbits::from_rinex_nav(path.string());
   std::filesystem::remove(path);
@@ -93,7 +94,7 @@ TEST(SkyOrbits, RinexRecordGivesTheIsGps200PositionOfItsEphemeris) {
 }
 
 TEST(SkyOrbits, UnreadableEphemerisIsOneClearError) {
-  const auto path = std::filesystem::temp_directory_path() / ("gpsemu_sky_bad_" + std::to_string(::getpid()) + ".rnx");
+  const auto path = test::scratch_root() / ("gpsemu_sky_bad_" + std::to_string(::getpid()) + ".rnx");
   std::ofstream(path) << "not a rinex file\n";
   try {
     (void)sky::Orbits::from_rinex_nav(path.string());

@@ -31,7 +31,7 @@ std::string epoch(int k) {
 class FileOutputTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    std::string templ = (fs::path(::testing::TempDir()) / "gpsemu_file_XXXXXX").string();
+    std::string templ = (test::scratch_root() / "gpsemu_file_XXXXXX").string();
     ASSERT_NE(::mkdtemp(templ.data()), nullptr);
     dir_ = templ;
   }

@@ -107,7 +107,7 @@ TEST(OutputSpecTest, SerialTcpAndUdpKindsParse) {
 class MakeOutputTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    std::string templ = (fs::path(::testing::TempDir()) / "gpsemu_spec_XXXXXX").string();
+    std::string templ = (test::scratch_root() / "gpsemu_spec_XXXXXX").string();
     ASSERT_NE(::mkdtemp(templ.data()), nullptr);
     dir_ = templ;
   }
