@@ -33,8 +33,10 @@ ReceiverEpoch Channel::step(UtcNs t) {
 ReceiverEpoch Channel::step(UtcNs t, const std::optional<sources::Truth>& vehicle) {
   // The antenna's place on the vehicle (docs/heading.md): where this receiver's truth is.
   std::optional<sources::Truth> truth = vehicle;
-  if (truth && truth->yaw_deg) {
-    truth->position_m = truth->position_m + heading::offset_enu(settings_.moving_base.antenna, *truth->yaw_deg,
+  const heading::AntennaOffset& antenna = settings_.moving_base.antenna;
+  const bool offset = antenna.forward_m != 0.0 || antenna.right_m != 0.0 || antenna.down_m != 0.0;
+  if (offset && truth && truth->yaw_deg) {  // no rotation for an antenna at the reference point
+    truth->position_m = truth->position_m + heading::offset_enu(antenna, *truth->yaw_deg,
                                                                 truth->tilt.pitch_deg, truth->tilt.roll_deg);
   }
   last_step_ = t;

@@ -42,7 +42,7 @@ void VelocityNoise::reset() {
   last_.reset();
   // The correlated part starts from its stationary distribution, as a receiver switched on earlier.
   const double s = params_.wander_sigma_mps;
-  wander_ = {s * rng_.normal(), s * rng_.normal(), params_.vertical_ratio * s * rng_.normal()};
+  wander_ = {s * rng_.ziggurat_normal(), s * rng_.ziggurat_normal(), params_.vertical_ratio * s * rng_.ziggurat_normal()};
 }
 
 Enu VelocityNoise::error_at(std::chrono::nanoseconds since_start) {
@@ -57,16 +57,16 @@ Enu VelocityNoise::error_at(std::chrono::nanoseconds since_start) {
         step_dt_ = dt;
       }
       const double a = step_a_, b = step_b_;
-      wander_.east_m = a * wander_.east_m + b * rng_.normal();
-      wander_.north_m = a * wander_.north_m + b * rng_.normal();
-      wander_.up_m = a * wander_.up_m + params_.vertical_ratio * b * rng_.normal();
+      wander_.east_m = a * wander_.east_m + b * rng_.ziggurat_normal();
+      wander_.north_m = a * wander_.north_m + b * rng_.ziggurat_normal();
+      wander_.up_m = a * wander_.up_m + params_.vertical_ratio * b * rng_.ziggurat_normal();
     }
   }
   last_ = since_start;
   const double w = params_.white_sigma_mps;
   if (w == 0.0) return wander_;
-  return {wander_.east_m + w * rng_.normal(), wander_.north_m + w * rng_.normal(),
-          wander_.up_m + params_.vertical_ratio * w * rng_.normal()};
+  return {wander_.east_m + w * rng_.ziggurat_normal(), wander_.north_m + w * rng_.ziggurat_normal(),
+          wander_.up_m + params_.vertical_ratio * w * rng_.ziggurat_normal()};
 }
 
 }  // namespace gpsemu::noise

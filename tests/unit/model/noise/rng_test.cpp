@@ -102,6 +102,47 @@ TEST(NoiseRng, NormalHasMeanZeroStdOneAndGaussianShape) {
   EXPECT_NEAR(static_cast<double>(within_1sigma) / n, 0.6827, 0.003);
 }
 
+TEST(NoiseRng, ZigguratNormalMatchesTheNormalDistributionIncludingItsTail) {
+  Rng r(13, 0);
+  constexpr int n = 1'000'000;
+  std::vector<double> xs(n);
+  double sum = 0.0, sum2 = 0.0, sum4 = 0.0;
+  int beyond_tail_start = 0;
+  for (double& x : xs) {
+    x = r.ziggurat_normal();
+    sum += x;
+    sum2 += x * x;
+    sum4 += x * x * x * x;
+    beyond_tail_start += std::abs(x) > 3.442619855899;
+  }
+  const double mean = sum / n;
+  EXPECT_NEAR(mean, 0.0, 0.005);
+  EXPECT_NEAR(std::sqrt(sum2 / n - mean * mean), 1.0, 0.005);
+  EXPECT_NEAR(sum4 / n, 3.0, 0.05);
+  // The tail is drawn apart from the layers: P(|x| > 3.4426) = 5.76e-4, 576 of a million (sd 24).
+  EXPECT_NEAR(beyond_tail_start, 576, 100);
+  // Kolmogorov-Smirnov against the normal CDF: the largest gap anywhere (layer edges, wedges,
+  // tail) under 1.63 / sqrt(n), the 1 % critical value.
+  std::sort(xs.begin(), xs.end());
+  double worst = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double cdf = 0.5 * std::erfc(-xs[static_cast<std::size_t>(i)] / std::sqrt(2.0));
+    worst = std::max({worst, std::abs(cdf - static_cast<double>(i) / n), std::abs(cdf - static_cast<double>(i + 1) / n)});
+  }
+  EXPECT_LT(worst, 1.63 / std::sqrt(static_cast<double>(n)));
+}
+
+TEST(NoiseRng, ZigguratGoldenSequenceAndReset) {
+  Rng z(42, 2);
+  const double a = z.ziggurat_normal(), b = z.ziggurat_normal();
+  z.reset();
+  EXPECT_EQ(z.ziggurat_normal(), a);
+  EXPECT_EQ(z.ziggurat_normal(), b);
+  Rng g(42, 2);
+  EXPECT_NEAR(g.ziggurat_normal(), -0.53428123039203068, 1e-15);
+  EXPECT_NEAR(g.ziggurat_normal(), 1.274552639604128, 1e-15);
+}
+
 }  // namespace rng_test
 }  // namespace
 }  // namespace gpsemu::noise
