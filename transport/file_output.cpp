@@ -43,15 +43,6 @@ int open_unchanged(const std::filesystem::path& path, FileMode mode, std::filesy
 
 }  // namespace
 
-std::string_view to_string(FileMode mode) {
-  switch (mode) {
-    case FileMode::truncate: return "truncate";
-    case FileMode::append: return "append";
-    case FileMode::create_new: return "new";
-  }
-  return "?";
-}
-
 FileOutput::FileOutput(int fd, bool owns_fd, std::string description, bool flush_each_epoch)
     : fd_(fd),
       owns_fd_(owns_fd),

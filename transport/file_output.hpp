@@ -12,20 +12,10 @@
 #include <string_view>
 #include <vector>
 
+#include "emulator/config/spec/output_spec.hpp"
 #include "transport/output.hpp"
 
 namespace gpsemu::transport {
-
-/// What a file output does with an existing file (`file:PATH?mode=...`). Every mode follows a
-/// symlink at PATH to its target.
-enum class FileMode {
-  truncate,    ///< the default: truncated when the run starts (commit()); created when missing
-  append,      ///< written after what it holds (O_APPEND); created when missing
-  create_new,  ///< `new`: must not exist yet (a symlink, even a dangling one, counts as existing)
-};
-
-/// "truncate", "append", "new".
-[[nodiscard]] std::string_view to_string(FileMode mode);
 
 class FileOutput final : public Output {
  public:

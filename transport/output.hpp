@@ -14,7 +14,8 @@
 #include <utility>
 #include <vector>
 
-#include "transport/log_limit.hpp"
+#include "emulator/common/client_id.hpp"
+#include "emulator/common/log_limit.hpp"
 #include "transport/posix/fd.hpp"
 
 namespace gpsemu::transport {
@@ -45,9 +46,8 @@ struct OutputStats {
   std::uint64_t reply_bytes_dropped = 0;
 };
 
-/// One connection to an output: a TCP client, or whoever has a pty open (a new one after every
-/// client closed it) or the serial line. Unique in the process (new_client_id()).
-using ClientId = std::uint64_t;
+/// One connection to an output (emulator/common/client_id.hpp).
+using gpsemu::ClientId;
 /// A ClientId no output gave before.
 [[nodiscard]] ClientId new_client_id();
 

@@ -1,5 +1,5 @@
-// Output specifications as a user writes them (`--output pty:/tmp/gpsemu`, `file:out.nmea`,
-// `stdout`): a parser into a value, and a factory that opens the matching transport backend.
+// Opening an output from its spec (emulator/config/spec/output_spec.hpp: the value a user writes,
+// `--output pty:/tmp/gpsemu`, `file:out.nmea`, `stdout`): the factory of the matching backend.
 #pragma once
 
 #include <cstdint>
@@ -9,52 +9,12 @@
 #include <string>
 #include <string_view>
 
+#include "emulator/config/spec/output_spec.hpp"
 #include "transport/file_output.hpp"
 #include "transport/output.hpp"
 #include "transport/serial_ports.hpp"
 
 namespace gpsemu::transport {
-
-/// Which backend a spec names.
-enum class OutputKind {
-  pty,              ///< `pty` or `pty:LINK`
-  file,             ///< `file:PATH[?mode=append|new]`
-  standard_output,  ///< `stdout`
-  serial,           ///< `serial:DEVICE[@BAUD]` or `serial:usb:VID:PID[:SERIAL][@BAUD]`
-  tcp,              ///< `tcp:[HOST:]PORT`: a server NMEA clients connect to
-  udp,              ///< `udp:HOST:PORT`: one datagram an epoch to HOST
-};
-
-struct OutputSpec {
-  OutputKind kind = OutputKind::standard_output;
-  /// pty: the stable symlink to create (empty: none); file: the file to create or truncate;
-  /// serial: the device (empty when `usb` names the adapter).
-  std::filesystem::path path;
-  /// serial: the line's speed, bits per second, one of nmea::kStandardBauds (0: nmea::kDefaultBaud).
-  int baud_bps = 0;
-  /// tcp: the address to listen on (default 127.0.0.1); udp: where datagrams go.
-  std::string host{};
-  /// tcp: the port to listen on (0: any free port); udp: the destination port.
-  std::uint16_t port = 0;
-  /// serial: the USB adapter to find by identity (and to re-find after a replug).
-  std::optional<UsbSelector> usb{};
-  /// file: what to do with an existing file (`?mode=append|new`; default: truncate it).
-  FileMode file_mode = FileMode::truncate;
-
-  friend bool operator==(const OutputSpec&, const OutputSpec&) = default;
-};
-
-/// The accepted forms, for help texts and error messages.
-inline constexpr std::string_view kOutputSpecForms =
-    "pty[:LINK], file:PATH[?mode=append|new], stdout, serial:DEVICE[@BAUD], serial:usb:VID:PID[:SERIAL][@BAUD], "
-    "tcp:[HOST:]PORT, udp:HOST:PORT";
-
-/// Parses one of kOutputSpecForms. Throws std::invalid_argument naming the spec and listing the
-/// accepted forms when it is unknown or malformed (a baud that is not a standard one, a bad port).
-[[nodiscard]] OutputSpec parse_output_spec(std::string_view spec);
-
-/// The spec written back in the form parse_output_spec() accepts.
-[[nodiscard]] std::string to_string(const OutputSpec& spec);
 
 struct OutputOptions {
   /// Real-time run (true) or batch generation with --fast (false): files and stdout hand every

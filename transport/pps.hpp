@@ -11,7 +11,8 @@
 #include <string>
 #include <string_view>
 
-#include "transport/log_limit.hpp"
+#include "emulator/common/log_limit.hpp"
+#include "emulator/config/spec/pps_spec.hpp"
 
 namespace gpsemu::transport {
 
@@ -23,11 +24,6 @@ enum class PpsPolarity {
   active_high,  ///< high during the pulse: GPIO value 1, modem line asserted (default)
   active_low,   ///< low during the pulse: GPIO value 0, modem line cleared
 };
-
-/// A modem control line that can carry a PPS pulse.
-enum class ModemLine { rts, dtr };
-
-[[nodiscard]] const char* to_string(ModemLine line);
 
 struct PpsStats {
   std::uint64_t leading_edges = 0;   ///< pulses started
@@ -81,22 +77,5 @@ struct PpsEdge {
 [[nodiscard]] PpsEdge first_pps_edge_at_or_after(PpsTime t, std::chrono::nanoseconds width);
 /// The edge after `edge` in the same train.
 [[nodiscard]] PpsEdge next_pps_edge(const PpsEdge& edge, std::chrono::nanoseconds width);
-
-/// A PPS line as a user writes it: `gpio:CHIP:LINE`, `modem:RTS`, `modem:DTR`.
-struct PpsSpec {
-  enum class Kind { gpio, modem };
-  Kind kind = Kind::gpio;
-  std::string chip;  ///< gpio: "/dev/gpiochip0", "gpiochip0", "0" or a chip label
-  std::string line;  ///< gpio: line offset ("18") or line name ("GPIO18")
-  ModemLine modem_line = ModemLine::rts;  ///< modem: which line of the serial output
-
-  friend bool operator==(const PpsSpec&, const PpsSpec&) = default;
-};
-
-inline constexpr std::string_view kPpsSpecForms = "gpio:CHIP:LINE, modem:RTS, modem:DTR";
-
-/// Parses a PPS spec. Throws std::invalid_argument naming the text and the accepted forms.
-[[nodiscard]] PpsSpec parse_pps_spec(std::string_view text);
-[[nodiscard]] std::string to_string(const PpsSpec& spec);
 
 }  // namespace gpsemu::transport

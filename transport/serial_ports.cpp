@@ -58,45 +58,9 @@ class LibSerialPortLister final : public PortLister {
   }
 };
 
-std::uint16_t parse_hex_id(std::string_view text, std::string_view whole, const char* what) {
-  unsigned value = 0;
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value, 16);
-  if (text.empty() || text.size() > 4 || ec != std::errc{} || end != text.data() + text.size()) {
-    throw std::invalid_argument(fmt::format(
-        "'{}': the USB {} must be 1 to 4 hexadecimal digits (e.g. 0403:6001), got '{}'", whole, what, text));
-  }
-  return static_cast<std::uint16_t>(value);
-}
-
 }  // namespace
 
 std::unique_ptr<PortLister> make_system_port_lister() { return std::make_unique<LibSerialPortLister>(); }
-
-UsbSelector parse_usb_selector(std::string_view text) {
-  UsbSelector s;
-  const std::size_t first = text.find(':');
-  if (first == std::string_view::npos) {
-    throw std::invalid_argument(fmt::format("'{}': expected VID:PID[:SERIAL], e.g. 0403:6001", text));
-  }
-  const std::size_t second = text.find(':', first + 1);
-  s.vid = parse_hex_id(text.substr(0, first), text, "vendor ID");
-  s.pid = parse_hex_id(text.substr(first + 1, second == std::string_view::npos ? std::string_view::npos
-                                                                                : second - first - 1),
-                       text, "product ID");
-  if (second != std::string_view::npos) {
-    s.serial = std::string(text.substr(second + 1));
-    if (s.serial.empty()) {
-      throw std::invalid_argument(fmt::format("'{}': empty serial number after VID:PID:", text));
-    }
-  }
-  return s;
-}
-
-std::string to_string(const UsbSelector& selector) {
-  std::string out = fmt::format("{:04x}:{:04x}", selector.vid, selector.pid);
-  if (!selector.serial.empty()) out += ":" + selector.serial;
-  return out;
-}
 
 std::vector<SerialPortInfo> find_usb_ports(const std::vector<SerialPortInfo>& ports,
                                            const UsbSelector& selector) {

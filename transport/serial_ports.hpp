@@ -12,6 +12,8 @@
 #include <string_view>
 #include <vector>
 
+#include "emulator/config/spec/output_spec.hpp"
+
 namespace gpsemu::transport {
 
 /// One serial port as the system reports it.
@@ -39,22 +41,6 @@ class PortLister {
 
 /// The system's ports through libserialport (sysfs on Linux).
 [[nodiscard]] std::unique_ptr<PortLister> make_system_port_lister();
-
-/// A USB adapter's identity as a spec names it: `VID:PID[:SERIAL]` (hexadecimal IDs).
-struct UsbSelector {
-  std::uint16_t vid = 0;
-  std::uint16_t pid = 0;
-  std::string serial;  ///< empty: any serial number
-
-  friend bool operator==(const UsbSelector&, const UsbSelector&) = default;
-};
-
-/// Parses "0403:6001" or "0403:6001:A10KZ3QF" (IDs: 1-4 hexadecimal digits). Throws
-/// std::invalid_argument saying what is wrong with `text`.
-[[nodiscard]] UsbSelector parse_usb_selector(std::string_view text);
-
-/// "0403:6001" or "0403:6001:A10KZ3QF" (lower-case hex, four digits).
-[[nodiscard]] std::string to_string(const UsbSelector& selector);
 
 /// The USB ports of `ports` that `selector` matches, in the order given.
 [[nodiscard]] std::vector<SerialPortInfo> find_usb_ports(const std::vector<SerialPortInfo>& ports,

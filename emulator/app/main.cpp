@@ -11,14 +11,15 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include "emulator/app/command_line.hpp"
+#include "emulator/app/subcommands.hpp"
 #include "emulator/config/config.hpp"
 #include "emulator/config/config_values.hpp"
 #include "emulator/config/profiles.hpp"
 #include "emulator/config/validate.hpp"
 #include "emulator/pipeline/runner.hpp"
 #include "emulator/ui/http_server.hpp"
-#include "emulator/app/command_line.hpp"
-#include "emulator/app/subcommands.hpp"
+#include "transport/posix/realtime.hpp"
 
 namespace {
 

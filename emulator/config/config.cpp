@@ -3,11 +3,10 @@
 #include "emulator/config/config.hpp"
 #include "emulator/config/toml_shape.hpp"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <cerrno>
+#include <filesystem>
+#include <fstream>
+#include <system_error>
 #include <set>
 #include <sstream>
 
@@ -19,8 +18,6 @@
 #include "emulator/config/fleet_config.hpp"
 #include "emulator/config/profiles.hpp"
 #include "emulator/config/validate.hpp"
-#include "transport/posix/errors.hpp"
-#include "transport/posix/fd.hpp"
 
 namespace gpsemu {
 namespace {
@@ -249,44 +246,52 @@ Config build(const toml::table* file, const std::string& file_name, const RawOpt
   return resolve(config);
 }
 
-/// What a config file is: a regular file (a device or FIFO would read as empty or block).
-const char* kind_of(mode_t mode) {
-  if (S_ISDIR(mode)) return "a directory";
-  if (S_ISFIFO(mode)) return "a FIFO";
-  if (S_ISCHR(mode) || S_ISBLK(mode)) return "a device";
-  if (S_ISSOCK(mode)) return "a socket";
-  return "not a regular file";
+/// What a config file is not: a regular file (a device or FIFO would read as empty or block).
+const char* kind_of(std::filesystem::file_type type) {
+  using T = std::filesystem::file_type;
+  switch (type) {
+    case T::directory: return "a directory";
+    case T::fifo: return "a FIFO";
+    case T::character:
+    case T::block: return "a device";
+    case T::socket: return "a socket";
+    default: return "not a regular file";
+  }
 }
 
 }  // namespace
 
-/// The whole text of a config file. Opened without blocking (a FIFO's open would wait for a
-/// writer), then refused unless it is a regular file.
+/// The whole text of a config file. Refused unless it is a regular file (through a link): its
+/// type is asked first, so a FIFO is never opened (an open would wait for a writer).
 std::string read_config_file(const std::string& path, std::string_view what) {
-  posix::UniqueFd fd(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY));
-  if (!fd.valid()) throw ConfigError(fmt::format("{} {}: {}", what, path, posix::errno_text(errno)));
-  struct stat st{};
-  if (::fstat(fd.get(), &st) != 0) throw ConfigError(fmt::format("{} {}: {}", what, path, posix::errno_text(errno)));
-  if (!S_ISREG(st.st_mode)) {
-    throw ConfigError(fmt::format("{} {}: {}; give a regular TOML file", what, path, kind_of(st.st_mode)));
+  const auto fail = [&](int error) {
+    return ConfigError(fmt::format("{} {}: {}", what, path, std::generic_category().message(error)));
+  };
+  std::error_code ec;
+  const std::filesystem::file_status status = std::filesystem::status(path, ec);
+  if (status.type() == std::filesystem::file_type::not_found) throw fail(ENOENT);
+  if (ec) throw fail(ec.value());
+  if (!std::filesystem::is_regular_file(status)) {
+    throw ConfigError(fmt::format("{} {}: {}; give a regular TOML file", what, path, kind_of(status.type())));
   }
   const auto too_large = [&path, what](std::uint64_t bytes) {
     return ConfigError(fmt::format("{} {}: larger than 1 MiB ({} bytes); a {} may have at most {} "
                                    "bytes", what, path, bytes, what, kMaxConfigFileBytes));
   };
-  if (static_cast<std::uint64_t>(st.st_size) > kMaxConfigFileBytes) throw too_large(static_cast<std::uint64_t>(st.st_size));
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec) throw fail(ec.value());
+  if (size > kMaxConfigFileBytes) throw too_large(size);
+  errno = 0;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw fail(errno != 0 ? errno : EACCES);
   std::string text;
   char buffer[65536];
-  while (true) {
+  while (in) {
+    in.read(buffer, sizeof buffer);
+    text.append(buffer, static_cast<std::size_t>(in.gcount()));
     if (text.size() > kMaxConfigFileBytes) throw too_large(text.size());  // it grew while being read
-    const ssize_t n = ::read(fd.get(), buffer, sizeof buffer);
-    if (n == 0) break;
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      throw ConfigError(fmt::format("{} {}: {}", what, path, posix::errno_text(errno)));
-    }
-    text.append(buffer, static_cast<std::size_t>(n));
   }
+  if (in.bad()) throw fail(errno != 0 ? errno : EIO);
   return text;
 }
 

@@ -12,10 +12,10 @@
 
 #include "emulator/config/config_values.hpp"
 #include "emulator/config/profiles.hpp"
-#include "emulator/pipeline/control_socket.hpp"
+#include "emulator/config/spec/control_spec.hpp"
+#include "emulator/config/spec/pps_spec.hpp"
 #include "emulator/sources/pose_message.hpp"
 #include "emulator/ui/ui_spec.hpp"
-#include "transport/pps.hpp"
 
 namespace gpsemu {
 namespace {

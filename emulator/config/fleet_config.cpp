@@ -9,8 +9,8 @@
 
 #include <fmt/format.h>
 
-#include "transport/input/rtcm_socket.hpp"
-#include "transport/output_spec.hpp"
+#include "emulator/config/spec/output_spec.hpp"
+#include "emulator/config/spec/rtcm_input_spec.hpp"
 #include "emulator/config/validate.hpp"
 
 namespace gpsemu {

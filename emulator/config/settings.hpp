@@ -10,23 +10,23 @@
 #include <string>
 #include <vector>
 
+#include "emulator/config/spec/clock_spec.hpp"
+#include "emulator/config/spec/output_spec.hpp"
+#include "emulator/config/spec/pps_spec.hpp"
+#include "emulator/config/spec/realtime_settings.hpp"
+#include "emulator/config/spec/replay_options.hpp"
+#include "emulator/config/spec/rtcm_input_spec.hpp"
 #include "emulator/faults/fault.hpp"
 #include "emulator/heading/moving_base.hpp"
 #include "emulator/model/geo.hpp"
 #include "emulator/model/noise/noise_model.hpp"
 #include "emulator/model/receiver.hpp"
+#include "emulator/model/receiver_models.hpp"
 #include "emulator/model/time.hpp"
-#include "emulator/pipeline/clock.hpp"
-#include "emulator/replay/replay_options.hpp"
 #include "emulator/rtk/rtk_state.hpp"
 #include "emulator/sources/sim.hpp"
 #include "emulator/sources/source_spec.hpp"
-#include "emulator/model/receiver_models.hpp"
 #include "nmea/fix.hpp"
-#include "transport/input/rtcm_socket.hpp"
-#include "transport/output_spec.hpp"
-#include "transport/posix/realtime.hpp"
-#include "transport/pps.hpp"
 
 namespace gpsemu {
 

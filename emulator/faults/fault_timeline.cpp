@@ -260,7 +260,7 @@ void FaultTimeline::take_pending(UtcNs t, double since_s, const nmea::Fix& fix) 
   pending_.clear();
   pending_requests_.clear();
   for (const AppliedEvent& a : applied_) {
-    (void)transport::log_limited(applied_log_, spdlog::level::info, "{}control: applied {} at epoch {} (+{:.3f} s)", who_,
+    (void)log_limited(applied_log_, spdlog::level::info, "{}control: applied {} at epoch {} (+{:.3f} s)", who_,
                                  a.request, format_iso8601_utc(t), since_s);
   }
 }

@@ -11,13 +11,13 @@
 #include <string>
 #include <vector>
 
+#include "emulator/common/log_limit.hpp"
 #include "emulator/faults/fault.hpp"
 #include "emulator/model/enu.hpp"
+#include "emulator/model/epoch.hpp"
 #include "emulator/model/geo.hpp"
 #include "emulator/model/time.hpp"
-#include "emulator/model/epoch.hpp"
 #include "nmea/fix.hpp"
-#include "transport/log_limit.hpp"
 
 namespace gpsemu::faults {
 
@@ -119,7 +119,7 @@ class FaultTimeline {
   std::vector<AppliedEvent> applied_;
   LastEpoch last_epoch_;
   std::string who_;
-  transport::LogLimit applied_log_{5};  ///< "control: applied" lines: a few a second (a flood of requests)
+  LogLimit applied_log_{5};  ///< "control: applied" lines: a few a second (a flood of requests)
   UtcNs first_epoch_;
   bool keeps_last_ = false;            ///< a freeze is still to come: keep the last fix
   std::optional<nmea::Fix> last_;      ///< the last epoch's fix as written

@@ -116,7 +116,7 @@ bool Channel::reads_input() const {
   return false;
 }
 
-void Channel::client_wrote(std::string_view bytes, transport::ClientId client) {
+void Channel::client_wrote(std::string_view bytes, ClientId client) {
   for (const auto& p : protocols_) p->client_wrote(bytes, client);
   // RTCM3 the client interleaves with the protocol (its input's reader splits and checks it): a
   // base station's corrections drive the RTK state; a rover's moving base, forwarded by the
@@ -130,7 +130,7 @@ void Channel::client_wrote(std::string_view bytes, transport::ClientId client) {
   }
 }
 
-std::string Channel::take_reply(transport::ClientId client) {
+std::string Channel::take_reply(ClientId client) {
   std::string reply;
   for (const auto& p : protocols_) reply += p->take_reply(client);
   if (silent_ && !reply.empty()) {  // a silent receiver writes nothing, answers included
@@ -140,7 +140,7 @@ std::string Channel::take_reply(transport::ClientId client) {
   return reply;
 }
 
-void Channel::client_left(transport::ClientId client) {
+void Channel::client_left(ClientId client) {
   for (const auto& p : protocols_) p->client_left(client);
 }
 

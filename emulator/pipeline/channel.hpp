@@ -94,10 +94,10 @@ class Channel final : public transport::ClientInput {
   bool ended_at(UtcNs t) { return ended_ = ended_ || source_->ended_at(t); }
   [[nodiscard]] bool ended() const { return ended_; }
 
-  void client_wrote(std::string_view bytes, transport::ClientId client) override;
+  void client_wrote(std::string_view bytes, ClientId client) override;
   /// Every protocol's answer to what `client` wrote, in order.
-  [[nodiscard]] std::string take_reply(transport::ClientId client) override;
-  void client_left(transport::ClientId client) override;
+  [[nodiscard]] std::string take_reply(ClientId client) override;
+  void client_left(ClientId client) override;
   /// Whether a protocol reads client input (a u-blox port); NMEA alone drops it.
   [[nodiscard]] bool reads_input() const override;
 

@@ -19,36 +19,6 @@ double seconds(std::chrono::nanoseconds d) { return std::chrono::duration<double
 
 }  // namespace
 
-ClockSpec parse_clock_spec(std::string_view text) {
-  if (text == "realtime") return {};
-  if (text == "fast") return {ClockKind::fast, 1.0};
-  if (text == "lockstep") return {ClockKind::lockstep, 1.0};
-  if (text.rfind("scaled:", 0) == 0) {
-    const std::string_view k = text.substr(7);
-    double scale = 0.0;
-    const auto [ptr, ec] = std::from_chars(k.data(), k.data() + k.size(), scale);
-    if (k.empty() || ec != std::errc{} || ptr != k.data() + k.size() || !std::isfinite(scale)) {
-      throw std::invalid_argument(fmt::format("clock '{}': K in scaled:K must be a number, e.g. scaled:2", text));
-    }
-    if (scale < 0.01 || scale > 1000.0) {
-      throw std::invalid_argument(fmt::format("clock '{}': K in scaled:K must be from 0.01 to 1000", text));
-    }
-    return {ClockKind::scaled, scale};
-  }
-  throw std::invalid_argument(
-      fmt::format("unknown clock '{}' (accepted: realtime, scaled:K, fast, lockstep)", text));
-}
-
-std::string to_string(const ClockSpec& spec) {
-  switch (spec.kind) {
-    case ClockKind::realtime: return "realtime";
-    case ClockKind::fast: return "fast";
-    case ClockKind::lockstep: return "lockstep";
-    case ClockKind::scaled: return fmt::format("scaled:{}", spec.scale);
-  }
-  return "?";
-}
-
 UtcNs system_utc_now() { return posix::wall_clock_now(); }
 
 // ---- EpochClock, RealtimeClock -------------------------------------------------------------
@@ -84,7 +54,7 @@ bool RealtimeClock::late(UtcNs t) {
   const UtcNs deadline = t - shift_ + latency_;
   const auto behind = io_.now() - deadline;
   if (behind <= period_) return false;
-  transport::log_limited(skip_log_, spdlog::level::warn, "epoch {} skipped: {} ms late", format_iso8601_utc(t),
+  log_limited(skip_log_, spdlog::level::warn, "epoch {} skipped: {} ms late", format_iso8601_utc(t),
                std::chrono::duration_cast<std::chrono::milliseconds>(behind).count());
   return true;
 }
@@ -120,7 +90,7 @@ bool ScaledClock::late(UtcNs t) {
   const auto behind = io_.now() - *deadline_of(t);
   const auto wall_period = std::chrono::nanoseconds{std::llround(static_cast<double>(period_.count()) / scale_)};
   if (behind <= std::max<std::chrono::nanoseconds>(wall_period, std::chrono::milliseconds(20))) return false;
-  transport::log_limited(skip_log_, spdlog::level::warn, "epoch {} skipped: {:.0f} ms late on the scaled clock",
+  log_limited(skip_log_, spdlog::level::warn, "epoch {} skipped: {:.0f} ms late on the scaled clock",
                          format_iso8601_utc(t), seconds(behind) * 1e3);
   return true;
 }

@@ -29,28 +29,13 @@
 #include <string_view>
 #include <vector>
 
-#include "emulator/sources/pose_source.hpp"
+#include "emulator/common/log_limit.hpp"
+#include "emulator/config/spec/clock_spec.hpp"
 #include "emulator/model/time.hpp"
-#include "transport/log_limit.hpp"
+#include "emulator/sources/pose_source.hpp"
 #include "transport/posix/wait.hpp"
 
 namespace gpsemu {
-
-enum class ClockKind { realtime, scaled, fast, lockstep };
-
-/// What --clock names.
-struct ClockSpec {
-  ClockKind kind = ClockKind::realtime;
-  double scale = 1.0;  ///< scaled: wall-clock speed-up factor K (0.01..1000); 1 otherwise
-
-  friend bool operator==(const ClockSpec&, const ClockSpec&) = default;
-};
-
-/// Parses "realtime", "fast", "lockstep" or "scaled:K" (K from 0.01 to 1000, e.g. scaled:2 or
-/// scaled:0.5). Throws std::invalid_argument naming the text and the accepted forms.
-[[nodiscard]] ClockSpec parse_clock_spec(std::string_view text);
-/// The spec written back: "scaled:2", "lockstep", ...
-[[nodiscard]] std::string to_string(const ClockSpec& spec);
 
 /// CLOCK_REALTIME as UTC.
 [[nodiscard]] UtcNs system_utc_now();
@@ -158,7 +143,7 @@ class EpochClock {
   /// Moves every deadline `by` earlier (the wall clock went back).
   virtual void move_deadlines_back(std::chrono::nanoseconds /*by*/) {}
   std::chrono::nanoseconds period_{0};
-  transport::LogLimit skip_log_{5};  ///< "epoch ... skipped" lines: at most 5 a second
+  LogLimit skip_log_{5};  ///< "epoch ... skipped" lines: at most 5 a second
   /// What follow_step_back() moves the deadlines by a multiple of: the epoch period (whole epochs
   /// keep each epoch's phase on the wall clock), a second with PPS; 0: exactly the step.
   std::chrono::nanoseconds step_unit_{0};

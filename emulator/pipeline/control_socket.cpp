@@ -81,7 +81,7 @@ void ControlSocket::service() {
     std::string answer = this->answer(line, watch);
     if (answer.rfind(kErrorClass, 0) == 0) {
       ++error_answers_;
-      transport::log_limited(error_log_, spdlog::level::warn, "control socket {}: error answer to {:?}: {}", server_.path(),
+      log_limited(error_log_, spdlog::level::warn, "control socket {}: error answer to {:?}: {}", server_.path(),
                              line.substr(0, 200), answer);  // the client's bytes escaped
     }
     return answer;
@@ -130,7 +130,7 @@ void ControlSocket::log_drops() {
   add(evicted, fmt::format("closed for a newcomer (every slot taken, no request for {} s)",
                            posix::UnixLineServer::kEvictAfter.count() / 1000));
   add(shape, "request(s) refused before parsing (JSON nested too deep or a key twice)");
-  if (transport::log_limited(drop_log_, spdlog::level::warn, "control socket {}: {}", server_.path(), what)) {
+  if (log_limited(drop_log_, spdlog::level::warn, "control socket {}: {}", server_.path(), what)) {
     logged_ = s;
     logged_shape_ = control_.refused_shape();
   }
@@ -144,27 +144,6 @@ std::string ControlSocket::summary() const {
                      server_.path(), s.lines_answered, error_answers_, control_.refused_shape(), s.clients_accepted,
                      s.clients_refused, s.clients_evicted, s.clients_idle_closed, s.clients_not_reading,
                      s.lines_too_long, s.empty_lines, posix::UnixLineServer::kLinesPerSecond, s.clients_throttled);
-}
-
-std::string parse_control_spec(const std::string& spec) {
-  if (spec.rfind("unix:", 0) == 0 && spec.size() > 5) return spec.substr(5);
-  if (spec.rfind("tcp:", 0) == 0) {
-    try {
-      const posix::Endpoint e = posix::parse_endpoint(spec.substr(4));
-      if (!posix::is_loopback_host(e.host)) {
-        // Faults from any host that reaches it, with no token: refused (the bench view asks a token off loopback).
-        throw std::invalid_argument(fmt::format(
-            "control: '{}' would take faults from any host that reaches {} with no token; bind a loopback address "
-            "(tcp:127.0.0.1:{}) and reach it from elsewhere through ssh -L, or use --ui, which asks a token off loopback",
-            spec, e.host, e.port));
-      }
-      return "tcp:" + posix::host_port(e.host, e.port);
-    } catch (const std::invalid_argument& err) {
-      throw std::invalid_argument(fmt::format("control: {}", err.what()));
-    }
-  }
-  throw std::invalid_argument(
-      fmt::format("control: expected unix:PATH or tcp:[HOST:]PORT, e.g. unix:/tmp/gpsemu.ctl or tcp:127.0.0.1:5010, got '{}'", spec));
 }
 
 std::string control_request(const std::string& spec, std::string_view line, std::chrono::milliseconds timeout) {

@@ -13,9 +13,9 @@
 #include <string_view>
 #include <vector>
 
+#include "emulator/common/log_limit.hpp"
 #include "emulator/faults/control.hpp"
 #include "emulator/pipeline/channel_set.hpp"
-#include "transport/log_limit.hpp"
 #include "transport/posix/unix_line_server.hpp"
 
 namespace gpsemu {
@@ -55,13 +55,10 @@ class ControlSocket final : public LoopInput {
   std::uint64_t error_answers_ = 0;
   posix::UnixLineServer::Stats logged_{};  ///< the counts the log has told
   std::uint64_t logged_shape_ = 0;
-  transport::LogLimit drop_log_{2};
-  transport::LogLimit error_log_{2};
+  LogLimit drop_log_{2};
+  LogLimit error_log_{2};
 };
 
-/// "unix:PATH" -> PATH; "tcp:[HOST:]PORT" -> "tcp:HOST:PORT" (HOST default 127.0.0.1; port 0: the
-/// system picks one, logged at start-up); throws std::invalid_argument otherwise.
-[[nodiscard]] std::string parse_control_spec(const std::string& spec);
 /// gpsemu ctl's exchange: one request line to a control socket given as parse_control_spec()
 /// accepts it (or a bare PATH), its answer line. Throws std::runtime_error.
 [[nodiscard]] std::string control_request(const std::string& spec, std::string_view line, std::chrono::milliseconds timeout);

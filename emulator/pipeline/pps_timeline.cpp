@@ -44,7 +44,7 @@ void PpsTimeline::run_until(UtcNs wall_deadline, ClockIo& io, const std::atomic<
       // A pulse that late would mark the wrong instant: skip it (and its trailing edge).
       ++stats_.pulses_late_skipped;
       next_edge_ = transport::next_pps_edge(next_edge_, width_);
-      transport::log_limited(skip_log_, spdlog::level::warn, "PPS pulse of {} skipped: {} ms late",
+      log_limited(skip_log_, spdlog::level::warn, "PPS pulse of {} skipped: {} ms late",
                              format_iso8601_utc(edge.time + shift_),
                              std::chrono::duration_cast<std::chrono::milliseconds>(late).count());
       continue;

@@ -62,7 +62,7 @@ class PpsTimeline {
   std::chrono::nanoseconds width_;
   std::chrono::nanoseconds shift_;
   transport::PpsEdge next_edge_{};
-  transport::LogLimit skip_log_{1};  ///< "PPS pulse ... skipped" lines: at most one a second
+  LogLimit skip_log_{1};  ///< "PPS pulse ... skipped" lines: at most one a second
   PpsStats stats_;
 };
 

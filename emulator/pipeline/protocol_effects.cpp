@@ -23,7 +23,7 @@ void check_line(const Channel& channel, const ReceiverSchedule& schedule, Receiv
   if (widest <= carried) return;
   const double rate_hz = 1e3 / ms(schedule.period());
   const int fitting = nmea::smallest_standard_baud(nmea::line_budget(widest, rate_hz));
-  transport::log_limited(line.effect_log, spdlog::level::warn, "{}{}: the widest epoch ({} bytes) does not fit the line: {} baud carries {} bytes a {} ms epoch; "
+  log_limited(line.effect_log, spdlog::level::warn, "{}{}: the widest epoch ({} bytes) does not fit the line: {} baud carries {} bytes a {} ms epoch; "
                "the TX buffer overflows and the messages that do not fit are dropped whole (counted in the summary){}",
                who, channel.protocol().name(), widest, line.baud, carried, ms(schedule.period()),
                fitting != 0 ? fmt::format("; {} baud would carry it", fitting) : std::string{});
@@ -36,22 +36,22 @@ void change_baud(const std::vector<std::unique_ptr<transport::Output>>& outputs,
     if (!serial) continue;
     std::string error_text;
     if (!serial->set_baud(baud_bps, error_text)) {
-      transport::log_limited(line.effect_log, spdlog::level::warn, "{}{}: {}", who, origin, error_text);
+      log_limited(line.effect_log, spdlog::level::warn, "{}{}: {}", who, origin, error_text);
       continue;
     }
-    transport::log_limited(line.effect_log, spdlog::level::info, "{}{}: {} now at {} baud", who, origin,
+    log_limited(line.effect_log, spdlog::level::info, "{}{}: {} now at {} baud", who, origin,
                            serial->device(), baud_bps);
   }
   line.baud = line_of(outputs).baud;
 }
 
 void change_period(ReceiverSchedule& schedule, const protocol::PeriodChanged& changed, UtcNs t,
-                   const std::string& origin, transport::LogLimit& log, const std::string& who) {
+                   const std::string& origin, LogLimit& log, const std::string& who) {
   schedule.follow(changed.grid, t);
   if (!changed.warning.empty()) {
-    transport::log_limited(log, spdlog::level::warn, "{}{}: {}", who, origin, changed.warning);
+    log_limited(log, spdlog::level::warn, "{}{}: {}", who, origin, changed.warning);
   } else {
-    transport::log_limited(log, spdlog::level::info, "{}{}: a solution every {} ms", who, origin,
+    log_limited(log, spdlog::level::info, "{}{}: a solution every {} ms", who, origin,
                            schedule.period().count() / 1'000'000);
   }
 }
@@ -84,7 +84,7 @@ void apply_protocol_effects(Channel& channel, const std::vector<std::unique_ptr<
       change_baud(outputs, line, static_cast<int>(baud->baud_bps), effect.origin, who);
       recheck = true;
     } else if (std::holds_alternative<protocol::ColdStart>(effect.what)) {
-      transport::log_limited(line.effect_log, spdlog::level::info, "{}{}: cold start", who, effect.origin);
+      log_limited(line.effect_log, spdlog::level::info, "{}{}: cold start", who, effect.origin);
       channel.cold_start(t);
     }
   }
@@ -98,7 +98,7 @@ void fit_epoch_to_line(Channel& channel, std::chrono::nanoseconds period, Receiv
   if (drops.messages == 0) return;
   line.dropped.messages += drops.messages;
   line.dropped.bytes += drops.bytes;
-  transport::log_limited(line.tx_drop_log, spdlog::level::warn,
+  log_limited(line.tx_drop_log, spdlog::level::warn,
                          "{}{} TX buffer overflow: {} message(s) ({} bytes) dropped so far: {} baud carries {} "
                          "bytes a {} ms epoch",
                          who, channel.protocol().name(), line.dropped.messages, line.dropped.bytes, line.baud, carried,

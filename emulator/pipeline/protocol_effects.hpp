@@ -15,7 +15,7 @@
 //   line limit (for a u-blox it is UART1, its baud recorded, docs/ublox.md "Ports");
 // - a cold start: the receiver model starts again at the epoch (its --cold-start phases replay).
 // The lines saying so (rate, baud, cold start, the line check) are rate-limited per receiver
-// (transport/log_limit.hpp): a client toggling CFG-RATE or flooding CFG-RST writes a few lines a
+// (emulator/common/log_limit.hpp): a client toggling CFG-RATE or flooding CFG-RST writes a few lines a
 // second, with the count of those suppressed. Nothing here names a protocol.
 #pragma once
 
@@ -26,10 +26,10 @@
 #include <string>
 #include <vector>
 
+#include "emulator/common/log_limit.hpp"
 #include "emulator/model/time.hpp"
 #include "emulator/pipeline/channel.hpp"
 #include "emulator/pipeline/receiver_schedule.hpp"
-#include "transport/log_limit.hpp"
 #include "transport/output.hpp"
 
 namespace gpsemu {
@@ -42,8 +42,8 @@ struct ReceiverLine {
   std::uint32_t baud = 0;      ///< the slowest serial output's (bits per second); 0: no serial output
   protocol::LineDrops dropped;  ///< messages (and bytes) the line could not carry
   /// The TX-drop lines: the first at once, then at most one every 10 s (the totals so far).
-  transport::LogLimit tx_drop_log{1, std::chrono::seconds(10)};
-  transport::LogLimit effect_log{5};  ///< the effect lines of this receiver: at most 5 a second
+  LogLimit tx_drop_log{1, std::chrono::seconds(10)};
+  LogLimit effect_log{5};  ///< the effect lines of this receiver: at most 5 a second
 };
 
 /// The line of a receiver with `outputs`.

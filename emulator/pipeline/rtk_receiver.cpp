@@ -85,14 +85,14 @@ std::size_t RtkReceiver::service() {
   const transport::RtcmSocket::Drops drops = socket_->drops();
   if ((drops.refused != drops_logged_.refused || drops.replaced != drops_logged_.replaced ||
        drops.other_senders != drops_logged_.other_senders) &&
-      transport::log_limited(drop_log_, spdlog::level::warn,
+      log_limited(drop_log_, spdlog::level::warn,
                              "RTK: {}: {} connection(s) refused (every slot held by a base), {} closed to make room "
                              "(no good frame, or quiet {} s), {} datagram(s) of other senders dropped (so far)",
                              socket_->describe(), drops.refused, drops.replaced, transport::RtcmSocket::kQuietS,
                              drops.other_senders)) {
     drops_logged_ = drops;
   }
-  if (counts_.stream_bad_crc != bad_crc_logged_ && bad_crc_log_.admit(transport::LogLimit::Clock::now())) {
+  if (counts_.stream_bad_crc != bad_crc_logged_ && bad_crc_log_.admit(LogLimit::Clock::now())) {
     (void)bad_crc_log_.take_suppressed();
     spdlog::warn("RTK: {} RTCM3 frame(s) with a bad CRC dropped on {} ({} in all)", counts_.stream_bad_crc - bad_crc_logged_,
                  socket_->describe(), counts_.stream_bad_crc);

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "emulator/common/log_limit.hpp"
 #include "emulator/model/enu.hpp"
 #include "emulator/model/geo.hpp"
 #include "emulator/model/time.hpp"
@@ -24,7 +25,6 @@
 #include "emulator/rtk/rtk_state.hpp"
 #include "nmea/fix.hpp"
 #include "transport/input/rtcm_socket.hpp"
-#include "transport/log_limit.hpp"
 
 namespace gpsemu {
 
@@ -90,8 +90,8 @@ class RtkReceiver {
   RtkCounts counts_;
   std::optional<nmea::FixQuality> logged_;  ///< the last state logged
   std::uint64_t bad_crc_logged_ = 0;
-  transport::LogLimit bad_crc_log_{1};
-  transport::LogLimit drop_log_{1};
+  LogLimit bad_crc_log_{1};
+  LogLimit drop_log_{1};
   transport::RtcmSocket::Drops drops_logged_{};
 };
 

@@ -9,6 +9,7 @@
 #include "emulator/config/validate.hpp"
 #include "emulator/pipeline/serial_line_check.hpp"
 #include "emulator/protocol/registry.hpp"
+#include "transport/posix/fd.hpp"
 
 namespace gpsemu {
 namespace {
@@ -60,7 +61,7 @@ ReceiverSetup receiver_setup(const ReceiverSettings& receiver, const TimelineSet
                .noise = receiver.noise,
                .seed = receiver.seed,
                .format = receiver.format,
-               .protocol = protocol::protocol_for(receiver, options, timeline),
+               .protocol = protocol::protocol_for(receiver, options, timeline, posix::replace_file),
                .faults = {},
                .rtk = receiver.rtk,
                .rtcm = receiver.rtcm,

@@ -10,8 +10,8 @@
 #include "emulator/config/config.hpp"
 #include "emulator/pipeline/channel_set.hpp"
 #include "emulator/pipeline/epoch_loop.hpp"
-#include "emulator/pipeline/rtk_receiver.hpp"
 #include "emulator/pipeline/protocol_effects.hpp"
+#include "emulator/pipeline/rtk_receiver.hpp"
 #include "emulator/ui/hub.hpp"
 #include "nmea/sentences.hpp"
 
@@ -227,7 +227,7 @@ void Runner::log_summary() const {
   }
   if (pps_) pps_->log_summary();
   if (control_) spdlog::info("{}", control_->summary());
-  if (const std::uint64_t suppressed = transport::log_lines_suppressed(); suppressed != 0) {
+  if (const std::uint64_t suppressed = log_lines_suppressed(); suppressed != 0) {
     spdlog::info("{} repeated log lines suppressed (at most a few a second of each kind are written)", suppressed);
   }
 }

@@ -21,12 +21,12 @@
 #include <variant>
 #include <vector>
 
+#include "emulator/common/client_id.hpp"
 #include "emulator/model/epoch.hpp"
 #include "emulator/model/receiver.hpp"
 #include "emulator/model/time.hpp"
 #include "emulator/rtk/rtcm3_messages.hpp"
 #include "nmea/fix.hpp"
-#include "transport/output.hpp"
 
 namespace gpsemu::protocol {
 
@@ -86,12 +86,12 @@ class ReceiverProtocol {
 
   // What the client writes, and the answers.
   /// Bytes `client` wrote to one of the receiver's outputs, in arrival order. Default: ignored.
-  virtual void client_wrote(std::string_view /*bytes*/, transport::ClientId /*client*/) {}
+  virtual void client_wrote(std::string_view /*bytes*/, ClientId /*client*/) {}
   /// The answer to what `client` wrote, due at once (written back to it by the output before the
   /// next epoch: PX4 waits 250 ms for an ACK). Default: none.
-  [[nodiscard]] virtual std::string take_reply(transport::ClientId /*client*/) { return {}; }
+  [[nodiscard]] virtual std::string take_reply(ClientId /*client*/) { return {}; }
   /// `client` went away: its half-read input is forgotten. Default: nothing.
-  virtual void client_left(transport::ClientId /*client*/) {}
+  virtual void client_left(ClientId /*client*/) {}
   /// Whether client_wrote() reads the bytes rather than ignoring them. Default: no.
   [[nodiscard]] virtual bool reads_client_input() const { return false; }
 

@@ -41,9 +41,11 @@ ubx::SessionSettings ublox_settings(const ReceiverSettings& receiver, const Rece
 }  // namespace
 
 std::shared_ptr<const ProtocolSpec> protocol_for(const ReceiverSettings& receiver, const ReceiverOptions& options,
-                                                 const TimelineSettings& timeline) {
+                                                 const TimelineSettings& timeline, const ReplaceFile& replace_file) {
   if (receiver.protocol == Protocol::nmea && !factory_state(receiver)) return nmea_protocol(receiver.format);
-  return ublox_protocol(ublox_settings(receiver, options, timeline), receiver.receiver_state);
+  std::optional<StateFile> state;
+  if (receiver.receiver_state) state = StateFile{*receiver.receiver_state, replace_file};
+  return ublox_protocol(ublox_settings(receiver, options, timeline), std::move(state));
 }
 
 int factory_baud(const ReceiverSettings& receiver) {

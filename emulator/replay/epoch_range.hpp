@@ -10,8 +10,8 @@
 #include <cstdint>
 #include <optional>
 
+#include "emulator/config/spec/replay_options.hpp"
 #include "emulator/replay/replay_log.hpp"
-#include "emulator/replay/replay_options.hpp"
 
 namespace gpsemu::replay {
 

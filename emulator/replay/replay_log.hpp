@@ -28,7 +28,7 @@
 #include <string_view>
 #include <vector>
 
-#include "emulator/replay/replay_options.hpp"
+#include "emulator/config/spec/replay_options.hpp"
 #include "emulator/model/time.hpp"
 #include "nmea/parse.hpp"
 

@@ -17,9 +17,9 @@ using mavlink::FrameCounts;
 
 double seconds(std::chrono::nanoseconds d) { return std::chrono::duration<double>(d).count(); }
 
-transport::LogLimit::Clock::time_point log_time(UtcNs t) {
-  return transport::LogLimit::Clock::time_point{
-      std::chrono::duration_cast<transport::LogLimit::Clock::duration>(t.time_since_epoch())};
+LogLimit::Clock::time_point log_time(UtcNs t) {
+  return LogLimit::Clock::time_point{
+      std::chrono::duration_cast<LogLimit::Clock::duration>(t.time_since_epoch())};
 }
 
 /// The frame reader's problems, in the order of MavlinkPoseSource::frame_log_.
@@ -58,8 +58,8 @@ std::size_t message_index(std::uint32_t id) {
 MavlinkPoseSource::MavlinkPoseSource(std::unique_ptr<transport::PoseSocket> socket, const LocalFrame& frame,
                                      const MavlinkSourceOptions& options)
     : socket_(std::move(socket)), frame_(frame), options_(options), history_(options.history) {
-  reject_log_.fill(transport::LogLimit(1));
-  frame_log_.fill(transport::LogLimit(1));
+  reject_log_.fill(LogLimit(1));
+  frame_log_.fill(LogLimit(1));
   spdlog::info("waiting for MAVLink SIM_STATE / HIL_STATE_QUATERNION / SIMSTATE on {}", socket_->describe());
 }
 

@@ -31,14 +31,14 @@
 #include <optional>
 #include <string>
 
+#include "emulator/common/log_limit.hpp"
 #include "emulator/model/geo.hpp"
-#include "emulator/sources/mavlink/mavlink_frame.hpp"
 #include "emulator/sources/fix_transitions.hpp"
+#include "emulator/sources/mavlink/mavlink_frame.hpp"
 #include "emulator/sources/mavlink/vehicle_state.hpp"
 #include "emulator/sources/pose_history.hpp"
 #include "emulator/sources/pose_source.hpp"
 #include "transport/input/pose_socket.hpp"
-#include "transport/log_limit.hpp"
 
 namespace gpsemu::sources {
 
@@ -120,12 +120,12 @@ class MavlinkPoseSource final : public PoseSource {
   std::optional<Attitude> attitude_;
   /// An ATTITUDE times the state that arrives within this after it (sent in the same tick).
   static constexpr std::chrono::milliseconds kAttitudeFreshness{100};
-  std::array<transport::LogLimit, kPoseRejectCount> reject_log_;
+  std::array<LogLimit, kPoseRejectCount> reject_log_;
   std::array<std::uint64_t, kPoseRejectCount> unreported_{};
-  transport::LogLimit lost_log_{1};
+  LogLimit lost_log_{1};
   std::uint64_t unreported_lost_ = 0;
   static constexpr std::size_t kFrameKinds = 6;  ///< bad_crc .. partial_frame, garbage
-  std::array<transport::LogLimit, kFrameKinds> frame_log_;
+  std::array<LogLimit, kFrameKinds> frame_log_;
   std::array<std::uint64_t, kFrameKinds> frame_reported_{};
   bool warned_no_state_ = false;
 };

@@ -14,9 +14,9 @@ double seconds(std::chrono::nanoseconds d) { return std::chrono::duration<double
 
 /// An arrival time as the limiter's time (it looks only at differences): the limiter follows the
 /// messages' own times, which the tests feed.
-transport::LogLimit::Clock::time_point log_time(UtcNs arrival) {
-  return transport::LogLimit::Clock::time_point{
-      std::chrono::duration_cast<transport::LogLimit::Clock::duration>(arrival.time_since_epoch())};
+LogLimit::Clock::time_point log_time(UtcNs arrival) {
+  return LogLimit::Clock::time_point{
+      std::chrono::duration_cast<LogLimit::Clock::duration>(arrival.time_since_epoch())};
 }
 
 /// The start of a refused message for the log: printable, at most 48 characters.

@@ -26,6 +26,7 @@
 #include <optional>
 #include <string>
 
+#include "emulator/common/log_limit.hpp"
 #include "emulator/model/geo.hpp"
 #include "emulator/sources/fix_transitions.hpp"
 #include "emulator/sources/pose_history.hpp"
@@ -33,7 +34,6 @@
 #include "emulator/sources/pose_source.hpp"
 #include "emulator/sources/sender_clock.hpp"
 #include "transport/input/pose_socket.hpp"
-#include "transport/log_limit.hpp"
 
 namespace gpsemu::sources {
 
@@ -90,17 +90,17 @@ class SocketPoseSource final : public PoseSource {
   std::string owner_name_;
   UtcNs owner_last_{};                  ///< arrival of the owner's newest accepted pose
   /// Refused messages, a line a second for each reason (the shared limiter, on arrival times).
-  std::array<transport::LogLimit, kPoseRejectCount> reject_log_ = one_a_second<kPoseRejectCount>();
+  std::array<LogLimit, kPoseRejectCount> reject_log_ = one_a_second<kPoseRejectCount>();
   std::array<std::uint64_t, kPoseRejectCount> unreported_{};
   /// Connection notes, indexed by transport::ReceivedMessage::Kind (connected .. taken_over).
   static constexpr std::size_t kNoteKinds = 9;
-  std::array<transport::LogLimit, kNoteKinds> note_log_ = one_a_second<kNoteKinds>();
+  std::array<LogLimit, kNoteKinds> note_log_ = one_a_second<kNoteKinds>();
   std::array<std::uint64_t, kNoteKinds> unnoted_{};
 
   template <std::size_t N>
-  static std::array<transport::LogLimit, N> one_a_second() {
-    std::array<transport::LogLimit, N> limits;
-    limits.fill(transport::LogLimit(1));
+  static std::array<LogLimit, N> one_a_second() {
+    std::array<LogLimit, N> limits;
+    limits.fill(LogLimit(1));
     return limits;
   }
 };

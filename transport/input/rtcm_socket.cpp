@@ -170,19 +170,6 @@ class TcpRtcmServer final : public RtcmSocket {
 
 }  // namespace
 
-RtcmInputSpec parse_rtcm_input_spec(std::string_view text) {
-  RtcmInputSpec spec;
-  if (text.starts_with("tcp:")) {
-    spec.tcp = true;
-  } else if (text.starts_with("udp:")) {
-    spec.tcp = false;
-  } else {
-    throw std::invalid_argument(fmt::format("expected tcp:[HOST:]PORT or udp:[HOST:]PORT, got '{}'", text));
-  }
-  spec.endpoint = posix::parse_endpoint(text.substr(4));
-  return spec;
-}
-
 std::unique_ptr<RtcmSocket> open_rtcm_socket(const RtcmInputSpec& spec) {
   if (spec.tcp) return std::make_unique<TcpRtcmServer>(spec.endpoint);
   return std::make_unique<UdpRtcmSocket>(spec.endpoint);

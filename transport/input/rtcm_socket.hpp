@@ -11,17 +11,10 @@
 #include <string>
 #include <string_view>
 
+#include "emulator/config/spec/rtcm_input_spec.hpp"
 #include "transport/posix/sockets.hpp"
 
 namespace gpsemu::transport {
-
-struct RtcmInputSpec {
-  bool tcp = true;
-  posix::Endpoint endpoint;
-};
-
-/// Parses "tcp:[HOST:]PORT" or "udp:[HOST:]PORT". Throws std::invalid_argument naming the text.
-[[nodiscard]] RtcmInputSpec parse_rtcm_input_spec(std::string_view text);
 
 /// Bytes that arrived: `source` names the stream (UDP: the sender's address, TCP: the connection's
 /// number), so the caller assembles frames per stream: bytes of two senders never mix.

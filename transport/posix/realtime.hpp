@@ -9,13 +9,9 @@
 #include <string>
 #include <vector>
 
-namespace gpsemu::posix {
+#include "emulator/config/spec/realtime_settings.hpp"
 
-struct RealtimeSettings {
-  std::optional<int> fifo_priority;     ///< SCHED_FIFO priority 1..99; empty: normal scheduling
-  bool lock_memory = false;             ///< mlockall(MCL_CURRENT | MCL_FUTURE): no page faults in the loop
-  std::optional<long> timer_slack_ns;   ///< prctl(PR_SET_TIMERSLACK) in nanoseconds (1 = minimal; kernel default 50 000)
-};
+namespace gpsemu::posix {
 
 /// Applies `settings` to the calling process (thread) and returns one line per setting saying what
 /// was done or why not (for the log); never throws for a refused permission.

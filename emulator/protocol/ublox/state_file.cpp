@@ -8,8 +8,6 @@
 
 #include <fmt/format.h>
 
-#include "transport/posix/fd.hpp"
-
 namespace gpsemu::protocol {
 
 /// A state file is a few kilobytes; anything far larger is not one.
@@ -34,9 +32,13 @@ ubx::StoredLayers read_receiver_state(const std::string& path, ReceiverModel mod
   }
 }
 
-bool write_receiver_state(const std::string& path, const ubx::StoredLayers& layers, ReceiverModel model,
+bool write_receiver_state(const StateFile& file, const ubx::StoredLayers& layers, ReceiverModel model,
                           std::string& error) {
-  return posix::replace_file(path, ubx::to_text(layers, model), error);
+  if (!file.replace) {
+    error = file.path + ": no way to write it was given";
+    return false;
+  }
+  return file.replace(file.path, ubx::to_text(layers, model), error);
 }
 
 }  // namespace gpsemu::protocol

@@ -16,7 +16,7 @@
 
 namespace gpsemu::protocol {
 
-UbloxProtocol::UbloxProtocol(ubx::SessionSettings settings, std::optional<std::string> state_file)
+UbloxProtocol::UbloxProtocol(ubx::SessionSettings settings, std::optional<StateFile> state_file)
     : session_(settings), format_(std::move(settings.format)), start_period_(settings.start.measurement_period),
       nmea_on_at_start_(!settings.start.sentences.empty()), state_file_(std::move(state_file)),
       saved_version_(session_.machine().stored_version()) {}
@@ -36,7 +36,7 @@ void UbloxProtocol::save_state() {
   saved_version_ = machine.stored_version();
   std::string error;
   if (write_receiver_state(*state_file_, machine.stored(), machine.model(), error)) {
-    if (state_error_reported_) spdlog::info("u-blox: --receiver-state {} written again", *state_file_);
+    if (state_error_reported_) spdlog::info("u-blox: --receiver-state {} written again", state_file_->path);
     state_error_reported_ = false;
   } else if (!state_error_reported_) {  // once until a write succeeds again
     spdlog::warn("u-blox: --receiver-state: {}; the stored configuration is kept in memory only", error);
@@ -44,13 +44,13 @@ void UbloxProtocol::save_state() {
   }
 }
 
-void UbloxProtocol::client_wrote(std::string_view bytes, transport::ClientId client) {
+void UbloxProtocol::client_wrote(std::string_view bytes, ClientId client) {
   session_.client_wrote(bytes, client);
   save_state();
   report_dropped_answers();
   const ubx::FrameStats& stats = session_.reader_stats();
   const std::uint64_t bad = stats.bad_checksum + stats.too_long + stats.rtcm_bad_crc;
-  if (bad == bad_frames_reported_ || !bad_frame_log_.admit(transport::LogLimit::Clock::now())) return;
+  if (bad == bad_frames_reported_ || !bad_frame_log_.admit(LogLimit::Clock::now())) return;
   (void)bad_frame_log_.take_suppressed();  // the line counts the frames themselves
   spdlog::warn("u-blox: {} bad frame(s) from the client ({} UBX bad checksum, {} UBX too long, {} RTCM3 bad CRC in all)",
                bad - bad_frames_reported_, stats.bad_checksum, stats.too_long, stats.rtcm_bad_crc);
@@ -60,7 +60,7 @@ void UbloxProtocol::client_wrote(std::string_view bytes, transport::ClientId cli
 void UbloxProtocol::report_dropped_answers() {
   const ubx::SessionStats& stats = session_.stats();
   if (stats.answers_dropped == answers_dropped_reported_) return;
-  if (transport::log_limited(answer_drop_log_, spdlog::level::warn,
+  if (log_limited(answer_drop_log_, spdlog::level::warn,
                              "u-blox: {} answer(s) dropped whole, more than {} bytes of answers waited for their client "
                              "({} in all)",
                              stats.answers_dropped - answers_dropped_reported_, ubx::Session::max_reply_bytes,
@@ -195,7 +195,7 @@ namespace {
 
 class UbloxSpec final : public ProtocolSpec {
  public:
-  UbloxSpec(ubx::SessionSettings settings, std::optional<std::string> state_file)
+  UbloxSpec(ubx::SessionSettings settings, std::optional<StateFile> state_file)
       : settings_(std::move(settings)), state_file_(std::move(state_file)) {}
   [[nodiscard]] std::unique_ptr<ReceiverProtocol> make() const override {
     return std::make_unique<UbloxProtocol>(settings_, state_file_);
@@ -208,13 +208,13 @@ class UbloxSpec final : public ProtocolSpec {
 
  private:
   ubx::SessionSettings settings_;
-  std::optional<std::string> state_file_;
+  std::optional<StateFile> state_file_;
 };
 
 }  // namespace
 
 std::shared_ptr<const ProtocolSpec> ublox_protocol(ubx::SessionSettings settings,
-                                                   std::optional<std::string> state_file) {
+                                                   std::optional<StateFile> state_file) {
   return std::make_shared<UbloxSpec>(std::move(settings), std::move(state_file));
 }
 

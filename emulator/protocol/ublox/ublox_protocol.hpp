@@ -18,16 +18,17 @@
 #include <string_view>
 #include <vector>
 
+#include "emulator/common/log_limit.hpp"
 #include "emulator/protocol/receiver_protocol.hpp"
+#include "emulator/protocol/ublox/state_file.hpp"
 #include "emulator/ubx/session.hpp"
-#include "transport/log_limit.hpp"
 
 namespace gpsemu::protocol {
 
 class UbloxProtocol final : public ReceiverProtocol {
  public:
   /// `state_file`: where the stored layers are written each time a client changes them.
-  explicit UbloxProtocol(ubx::SessionSettings settings, std::optional<std::string> state_file = std::nullopt);
+  explicit UbloxProtocol(ubx::SessionSettings settings, std::optional<StateFile> state_file = std::nullopt);
 
   void encode(const ReceiverEpoch& epoch, std::string& out) override { session_.append_solution(epoch, out); }
   [[nodiscard]] std::size_t widest_epoch_bytes(const Geometry& sky) const override;
@@ -35,9 +36,9 @@ class UbloxProtocol final : public ReceiverProtocol {
   [[nodiscard]] std::string written() const override { return nmea_on_at_start_ ? "NMEA+UBX" : "UBX"; }
   [[nodiscard]] std::string receiver_name() const override;
 
-  void client_wrote(std::string_view bytes, transport::ClientId client) override;
-  [[nodiscard]] std::string take_reply(transport::ClientId client) override { return session_.take_reply(client); }
-  void client_left(transport::ClientId client) override { session_.client_left(client); }
+  void client_wrote(std::string_view bytes, ClientId client) override;
+  [[nodiscard]] std::string take_reply(ClientId client) override { return session_.take_reply(client); }
+  void client_left(ClientId client) override { session_.client_left(client); }
   [[nodiscard]] bool reads_client_input() const override { return true; }
 
   [[nodiscard]] std::vector<Effect> take_effects() override;
@@ -67,13 +68,13 @@ class UbloxProtocol final : public ReceiverProtocol {
   nmea::FormatOptions format_;                 ///< how its NMEA part is written
   std::chrono::milliseconds start_period_{};   ///< --rate's: asking for it again is the run's grid
   bool nmea_on_at_start_ = false;
-  std::optional<std::string> state_file_;
+  std::optional<StateFile> state_file_;
   std::uint64_t saved_version_ = 0;
   bool state_error_reported_ = false;
   std::uint64_t bad_frames_reported_ = 0;
-  transport::LogLimit bad_frame_log_{1};
+  LogLimit bad_frame_log_{1};
   std::uint64_t answers_dropped_reported_ = 0;
-  transport::LogLimit answer_drop_log_{1};  ///< "answer(s) dropped whole" lines: at most one a second
+  LogLimit answer_drop_log_{1};  ///< "answer(s) dropped whole" lines: at most one a second
 };
 
 /// The widest epoch of a u-blox port with `settings`: the NMEA sentences on for `port` (written as
@@ -83,7 +84,7 @@ class UbloxProtocol final : public ReceiverProtocol {
 
 /// The u-blox port of `settings` (its stored layers written to `state_file`, when given).
 [[nodiscard]] std::shared_ptr<const ProtocolSpec> ublox_protocol(ubx::SessionSettings settings,
-                                                                 std::optional<std::string> state_file = std::nullopt);
+                                                                 std::optional<StateFile> state_file = std::nullopt);
 
 /// `protocol` as a u-blox port, or null.
 [[nodiscard]] inline const UbloxProtocol* as_ublox(const ReceiverProtocol& protocol) {

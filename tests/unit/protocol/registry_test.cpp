@@ -10,6 +10,7 @@
 #include "emulator/protocol/nmea_protocol.hpp"
 #include "emulator/protocol/registry.hpp"
 #include "nmea/line_budget.hpp"
+#include "transport/posix/fd.hpp"
 
 namespace gpsemu::protocol {
 namespace {
@@ -29,7 +30,7 @@ Chosen choose(const RawOptions& cli) {
   const Config c = config_of(cli);
   const ReceiverOptions options = receiver_options(c.receiver());
   Chosen out;
-  out.spec = protocol_for(c.receiver(), options, c.timeline);
+  out.spec = protocol_for(c.receiver(), options, c.timeline, posix::replace_file);
   out.made = out.spec->make();
   out.spec_widest = out.spec->widest_epoch_bytes(resolve_geometry(options));
   out.made_widest = out.made->widest_epoch_bytes(resolve_geometry(options));

@@ -1,4 +1,4 @@
-// Repeated events of an output go through the one shared limiter (transport/log_limit.hpp), not a
+// Repeated events of an output go through the one shared limiter (emulator/common/log_limit.hpp), not a
 // once-a-second logic of their own (issue 22 point 7): an output whose every write fails, and one
 // whose clients' answers find no room, write a line a second each, and the lines account for
 // every event — each line stands for itself plus the "N similar lines suppressed" it says — and
@@ -17,7 +17,7 @@
 #include <string>
 #include <thread>
 
-#include "transport/log_limit.hpp"
+#include "emulator/common/log_limit.hpp"
 #include "transport/output.hpp"
 
 namespace gpsemu::transport {

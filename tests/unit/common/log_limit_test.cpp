@@ -1,6 +1,6 @@
-// The one rate limiter of repeated log lines (transport/log_limit.hpp): at most N lines a second,
+// The one rate limiter of repeated log lines (emulator/common/log_limit.hpp): at most N lines a second,
 // the others counted and reported with the next line let through. Times are fed, not waited for.
-#include "transport/log_limit.hpp"
+#include "emulator/common/log_limit.hpp"
 
 #include <gtest/gtest.h>
 

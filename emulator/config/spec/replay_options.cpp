@@ -1,4 +1,4 @@
-#include "emulator/replay/replay_options.hpp"
+#include "emulator/config/spec/replay_options.hpp"
 
 #include <charconv>
 #include <stdexcept>

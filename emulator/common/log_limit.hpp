@@ -11,7 +11,7 @@
 
 #include <spdlog/spdlog.h>
 
-namespace gpsemu::transport {
+namespace gpsemu {
 
 class LogLimit {
  public:
@@ -58,4 +58,4 @@ bool log_limited(LogLimit& limit, spdlog::level::level_enum level, fmt::format_s
   return true;
 }
 
-}  // namespace gpsemu::transport
+}  // namespace gpsemu

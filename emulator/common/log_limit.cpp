@@ -1,10 +1,10 @@
-#include "transport/log_limit.hpp"
+#include "emulator/common/log_limit.hpp"
 
 #include <atomic>
 
 #include <fmt/format.h>
 
-namespace gpsemu::transport {
+namespace gpsemu {
 namespace {
 
 std::atomic<std::uint64_t> g_suppressed{0};
@@ -40,4 +40,4 @@ std::string suppressed_note(std::uint64_t suppressed) {
   return fmt::format(" ({} similar line{} suppressed)", suppressed, suppressed == 1 ? "" : "s");
 }
 
-}  // namespace gpsemu::transport
+}  // namespace gpsemu
