@@ -5,6 +5,7 @@
 // for a place to write it (ArduPilot's AP_GPS::GPS_State, the flow reversed, as an emulator needs it).
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <optional>
 
@@ -48,10 +49,34 @@ struct RfState {
   std::uint8_t spoof_detection_state = 0;
 };
 
+/// The receiver clock at an epoch (u-blox NAV-CLOCK's units).
+struct ClockState {
+  std::int32_t bias_ns = 0;         ///< receiver clock minus GPS time (ns)
+  std::int32_t drift_ns_per_s = 0;  ///< its rate (ns/s)
+  std::uint32_t time_accuracy_ns = 20;              ///< 1 sigma of the time (ns)
+  std::uint32_t frequency_accuracy_ps_per_s = 500;  ///< 1 sigma of the frequency (ps/s)
+};
+
+/// How much of the time a receiver knows.
+struct TimeValidity {
+  bool valid = true;      ///< time of week and week known (u-blox validDate, validTime, TOW/WKN set)
+  bool resolved = true;   ///< UTC fully resolved (fullyResolved, validUTC, leap seconds valid)
+  bool confirmed = true;  ///< date and time confirmed (confirmedDate, confirmedTime)
+};
+
+/// What a receiver knows about itself beside the fix (model/receiver_clock.hpp keeps it).
+struct ReceiverStatus {
+  std::chrono::milliseconds since_start{0};        ///< since the receiver started (u-blox msss)
+  std::chrono::milliseconds time_to_first_fix{0};  ///< 0 before the first fix
+  TimeValidity time;
+  ClockState clock;
+};
+
 /// One epoch of one receiver (the library's gpsemu::Epoch, emulator/library/gpsemu.hpp, is its public summary).
 struct ReceiverEpoch {
   nmea::Fix fix;  ///< the solution, the satellites (used or not) and their DOPs, the accuracy
   RfState rf;     ///< the front end
+  ReceiverStatus status;  ///< run time, TTFF, time validity and clock, from the fix after the faults
   /// The relative position a rover reports (a moving-base rover, or a rover of a fixed base once
   /// corrections arrived); empty: none (a protocol that reports it writes its zeros).
   std::optional<RelativePosition> relative_position;

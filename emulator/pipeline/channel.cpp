@@ -11,7 +11,8 @@
 
 namespace gpsemu {
 
-Channel::Channel(const ChannelSettings& settings, UtcNs first_epoch) : settings_(settings), frame_(settings.origin) {
+Channel::Channel(const ChannelSettings& settings, UtcNs first_epoch)
+    : settings_(settings), frame_(settings.origin), status_(settings.seed) {
   receiver_ = std::make_unique<Receiver>(frame_, settings_.receiver,
                                          noise::make_noise_model(settings_.noise, settings_.seed), first_epoch);
   protocols_.push_back(settings_.protocol ? settings_.protocol->make()
@@ -60,6 +61,9 @@ ReceiverEpoch Channel::step(UtcNs t, const std::optional<sources::Truth>& vehicl
   if (silent_) {
     ++stats_.epochs_silent;
   } else {
+    // Last, from the fix as the faults left it: run time, TTFF, time validity and the clock (a
+    // silent receiver reports nothing; after a reboot its run time counts from its first word).
+    epoch.status = status_.at(fix);
     if (!fix.has_fix()) ++stats_.epochs_without_fix;
     for (const auto& p : protocols_) p->encode(epoch, bytes_);
     if (settings_.moving_base.role == heading::Role::moving_base) bytes_ += heading::base_rtcm3_epoch(fix, 0);
@@ -71,11 +75,13 @@ ReceiverEpoch Channel::step(UtcNs t, const std::optional<sources::Truth>& vehicl
 void Channel::cold_start(UtcNs t) {
   receiver_->restart(t);
   rtk_->restart();
+  status_.restart();
 }
 
 void Channel::reboot(UtcNs t, double cold_start_s) {
   receiver_->restart(t, cold_start_s);
   rtk_->restart();
+  status_.restart();
   protocol_->reset(protocol::ResetKind::hardware_cold);
 }
 

@@ -19,6 +19,7 @@
 #include "emulator/model/geo.hpp"
 #include "emulator/model/noise/noise_model.hpp"
 #include "emulator/model/receiver.hpp"
+#include "emulator/model/receiver_clock.hpp"
 #include "emulator/model/time.hpp"
 #include "emulator/protocol/receiver_protocol.hpp"
 #include "emulator/rtk/rtk_state.hpp"
@@ -144,6 +145,7 @@ class Channel final : public transport::ClientInput {
   protocol::ReceiverProtocol* protocol_ = nullptr;  ///< the receiver's own: protocols_'s first
   std::optional<faults::FaultTimeline> faults_;
   std::unique_ptr<RtkReceiver> rtk_;
+  ReceiverStatusTracker status_;  ///< run time, TTFF, time validity, clock: the epoch's last stage
   /// Applies the byte-level faults (garble, latency) to the epoch `t`'s bytes.
   void apply_byte_faults(UtcNs t, const faults::EpochEffect& effect);
 

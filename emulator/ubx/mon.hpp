@@ -1,4 +1,4 @@
-// The receiver's RF monitoring messages from its RF state (receiver_state.hpp): MON-HW (60 bytes,
+// The receiver's RF monitoring messages from its RF state (the epoch's, emulator/model/epoch.hpp): MON-HW (60 bytes,
 // u-blox 7 and later; deprecated but still answered in protocol 27+) and MON-RF (protocol 27+:
 // one 24-byte block per RF path, two on the dual-band F9P) and MON-HW2 (28 bytes: the I/Q
 // imbalance; ArduPilot turns it on). Layouts: u-blox's interface
@@ -9,7 +9,8 @@
 #include <string>
 
 #include "emulator/ubx/model.hpp"
-#include "emulator/ubx/receiver_state.hpp"
+#include "emulator/model/epoch.hpp"
+#include "emulator/model/receiver_models.hpp"
 
 namespace gpsemu::ubx {
 

@@ -18,7 +18,8 @@
 #include "emulator/ubx/frame.hpp"
 #include "emulator/ubx/model.hpp"
 #include "emulator/ubx/nav_sat.hpp"
-#include "emulator/ubx/receiver_state.hpp"
+#include "emulator/model/epoch.hpp"
+#include "emulator/ubx/relposned.hpp"
 #include "emulator/ubx/relposned.hpp"
 #include "emulator/model/gps_time.hpp"
 #include "nmea/fix.hpp"
@@ -29,7 +30,10 @@ namespace gpsemu::ubx {
 inline constexpr int gps_leap_seconds = kGpsMinusUtcDefaultS;
 
 /// GPS week and time of week (iTOW): the model's (emulator/model/gps_time.hpp).
+using gpsemu::ClockState;
 using gpsemu::GpsTime;
+using gpsemu::RfState;
+using gpsemu::TimeValidity;
 using gpsemu::gps_time;
 
 /// Receiver values the NAV messages carry beside the fix.

@@ -14,7 +14,7 @@
 namespace gpsemu::ubx {
 
 Session::Session(SessionSettings settings)
-    : settings_(std::move(settings)), machine_(settings_.start, settings_.stored), state_(settings_.seed) {
+    : settings_(std::move(settings)), machine_(settings_.start, settings_.stored) {
   // What the stored layers changed at power-up reaches the emulator as a client's change would.
   const Settings& now = machine_.settings();
   const Settings& start = machine_.defaults();
@@ -115,7 +115,6 @@ void Session::handle(Answer answer, Client& c) {
         effects_.erase(same);
         ++stats_.effects_superseded;
       }
-      if (std::holds_alternative<ColdStart>(effect)) state_.restart();
       effects_.push_back(std::move(effect));
     }
     // Rates, sentences and protocols are in the settings append_solution() reads.
@@ -133,7 +132,6 @@ void Session::hardware_reset() {
     effects_.erase(waiting);
     ++stats_.effects_superseded;
   }
-  state_.restart();
   Client nobody;  // a reset answers no client
   handle(std::move(answer), nobody);
 }
@@ -153,13 +151,12 @@ std::vector<Effect> Session::take_effects() { return std::exchange(effects_, std
 void Session::append_solution(const ReceiverEpoch& epoch, std::string& out) {
   const nmea::Fix& fix = epoch.fix;
   if (!on_solution_grid(fix.time_utc)) return;
-  const ReceiverState::AtSolution now = state_.at(fix);
   NavExtras extras;
-  extras.since_start = now.since_start;
-  extras.time_to_first_fix = now.time_to_first_fix;
+  extras.since_start = epoch.status.since_start;
+  extras.time_to_first_fix = epoch.status.time_to_first_fix;
   extras.model = machine_.model();
-  extras.time = now.time;
-  extras.clock = now.clock;
+  extras.time = epoch.status.time;
+  extras.clock = epoch.status.clock;
   extras.rf = epoch.rf;
   extras.relpos = epoch.relative_position.value_or(RelPosNed{});
 

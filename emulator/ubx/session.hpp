@@ -3,9 +3,9 @@
 // (ACKs, poll answers) come out at once through take_reply() for the loop to write before the
 // next epoch, the effects the emulator must apply (measurement period, baud, cold start) through
 // take_effects(), and each epoch's bytes (NAV and MON messages, NMEA sentences, then NAV-EOE, as
-// the settings turn them on: output.hpp) through append_solution(). The receiver's own state
-// (run time, TTFF, time validity, clock, RF: receiver_state.hpp) advances with each solution and
-// starts again at a CFG-RST cold start.
+// the settings turn them on: output.hpp) through append_solution(). The receiver's own status
+// (run time, TTFF, time validity, clock: model/receiver_clock.hpp) and RF state come with each
+// epoch; a CFG-RST cold start is an effect the channel applies to the model.
 //
 // What waits for the next solution is bounded, as on a u-blox: a NAV poll waits once per message
 // kind (a second poll of a kind already waiting gets the same one answer, counted), and of the
@@ -31,7 +31,6 @@
 #include "emulator/rtk/rtcm3_messages.hpp"
 #include "emulator/ubx/machine.hpp"
 #include "emulator/ubx/nav.hpp"
-#include "emulator/ubx/receiver_state.hpp"
 #include "nmea/fix.hpp"
 
 namespace gpsemu::ubx {
@@ -132,7 +131,6 @@ class Session {
   std::vector<MessageId> polled_;  ///< one a kind
   std::vector<rtk::Rtcm3Message> rtcm_;  ///< at most max_pending_rtcm
   std::uint64_t solutions_ = 0;
-  ReceiverState state_;
 };
 
 }  // namespace gpsemu::ubx

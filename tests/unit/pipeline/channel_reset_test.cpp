@@ -83,6 +83,51 @@ TEST(ChannelReset, SilentThenColdWithTheConfigurationLostUntilTheClientConfigure
   }
 }
 
+// A client's CFG-RST (cold start, GNSS only): the channel restarts the model and the receiver's
+// status, so the next NAV-STATUS has run 0 ms and no TTFF until the cold start's first fix, and
+// the clock starts again from the seed (the same bias as at first).
+TEST(ChannelReset, ACfgRstColdStartStartsTheRunTimeAndTheTimeAgain) {
+  ChannelSettings settings;
+  settings.origin = {43.0725, -89.4125, 260.0};
+  ubx::SessionSettings ubx_settings;
+  ubx_settings.start.model = ReceiverModel::ublox_m8n;
+  settings.protocol = protocol::ublox_protocol(ubx_settings);
+  settings.receiver.cold_start_s = 3.0;
+  Channel channel(settings, kT0);
+  channel.client_wrote(ubx::frame_bytes(ubx::msg::cfg_msg, std::string("\x01\x03\x01", 3)), 1);  // NAV-STATUS
+  (void)channel.take_reply(1);
+  const auto status_at = [&](int s) {
+    const UtcNs t = kT0 + seconds(s);
+    for (const protocol::Effect& e : channel.protocol().take_effects()) {
+      if (std::holds_alternative<protocol::ColdStart>(e.what)) channel.cold_start(t);  // as apply_protocol_effects does
+    }
+    const ReceiverEpoch epoch = channel.step(t, sources::Truth{});
+    const std::vector<ubx::Frame> frames = frames_in(channel.bytes());
+    const ubx::Frame* status = find(frames, ubx::msg::nav_status);
+    return std::pair{epoch, status ? status->payload : std::string()};
+  };
+  const auto [first, first_status] = status_at(0);
+  ASSERT_FALSE(first_status.empty());
+  EXPECT_EQ(ubx::get_u4(first_status, 12), 0u) << "msss: a cold start from the first epoch";
+  for (int s = 1; s < 5; ++s) (void)status_at(s);
+  const auto [before, before_status] = status_at(5);
+  ASSERT_TRUE(before.fix.has_fix());
+  EXPECT_EQ(ubx::get_u4(before_status, 12), 5000u) << "msss";
+  EXPECT_EQ(ubx::get_u4(before_status, 8), 3000u) << "ttff";
+  channel.client_wrote(ubx::frame_bytes(ubx::msg::cfg_rst, std::string("\xff\xff\x02\x00", 4)), 1);
+  (void)channel.take_reply(1);
+  const auto [after, after_status] = status_at(6);
+  ASSERT_FALSE(after_status.empty());
+  EXPECT_FALSE(after.fix.has_fix());
+  EXPECT_EQ(ubx::get_u4(after_status, 12), 0u) << "msss";
+  EXPECT_EQ(ubx::get_u4(after_status, 8), 0u) << "no TTFF before the new first fix";
+  EXPECT_EQ(after.status.clock.bias_ns, first.status.clock.bias_ns) << "the clock from the seed again";
+  for (int s = 7; s < 9; ++s) (void)status_at(s);
+  const auto [fixed, fixed_status] = status_at(9);
+  ASSERT_TRUE(fixed.fix.has_fix());
+  EXPECT_EQ(ubx::get_u4(fixed_status, 8), 3000u) << "ttff of the cold start";
+}
+
 TEST(ChannelReset, AnNmeaReceiverRebootsToo) {
   ChannelSettings settings;
   settings.origin = {43.0725, -89.4125, 260.0};

@@ -116,17 +116,22 @@ TEST(UbxSession, BaudAndColdStartAreEffectsForTheCaller) {
   EXPECT_TRUE(std::holds_alternative<ColdStart>(effects[1]));
 }
 
-TEST(UbxSession, StatusCountsTimeToFirstFix) {
+// The receiver's run time, TTFF and time validity are the epoch's (model/receiver_clock.hpp keeps
+// them): NAV-STATUS writes what the epoch says.
+TEST(UbxSession, StatusWritesTheEpochsRunTimeAndTimeToFirstFix) {
   Session session(f9p_nmea_only());
   session.client_wrote(frame_bytes(msg::cfg_msg, test::unhex("0103 01")));
   std::string out;
-  session.append_solution(epoch_of(fix_at(hours{12}, false)), out);
-  out.clear();
-  session.append_solution(epoch_of(fix_at(hours{12} + milliseconds{2500}, true)), out);
+  ReceiverEpoch e = epoch_of(fix_at(hours{12} + milliseconds{2500}, true));
+  e.status.since_start = milliseconds{2500};
+  e.status.time_to_first_fix = milliseconds{2400};
+  e.status.time = {.valid = true, .resolved = false, .confirmed = false};
+  session.append_solution(e, out);
   const auto frames = frames_in(out);
   ASSERT_EQ(frames.size(), 1u);
-  EXPECT_EQ(get_u4(frames[0].payload, 8), 2500u);   // ttff
+  EXPECT_EQ(get_u4(frames[0].payload, 8), 2400u);   // ttff
   EXPECT_EQ(get_u4(frames[0].payload, 12), 2500u);  // msss
+  EXPECT_EQ(get_u1(frames[0].payload, 5) & 0x0C, 0x0C);  // week and time of week valid
 }
 
 // Each connection has its own frame reader and its own answers (issue 22 point 8): two clients
@@ -318,19 +323,14 @@ TEST(UbxSession, U9NaksTheSvinfoAndSbasKeys) {
   }
 }
 
-TEST(UbxSession, ColdResetStartsTheRunTimeAgain) {
+// CFG-RST is a cold start effect for the channel to apply to the model (the run time starting
+// again is the channel's: ChannelReset.ACfgRstColdStartStartsTheRunTimeAndTheTimeAgain).
+TEST(UbxSession, ColdResetIsAColdStartEffect) {
   Session session(f9p_nmea_only());
-  session.client_wrote(frame_bytes(msg::cfg_msg, test::unhex("0103 01")));
-  std::string out;
-  session.append_solution(epoch_of(fix_at(hours{12})), out);
-  EXPECT_EQ(get_u4(frames_in(out).at(0).payload, 12), 1000u);  // hot: on a second before
   session.client_wrote(frame_bytes(msg::cfg_rst, test::unhex("ffff 0200")));
-  out.clear();
-  session.append_solution(epoch_of(fix_at(hours{12} + milliseconds{100}, false)), out);
-  const std::string status = frames_in(out).at(0).payload;
-  EXPECT_EQ(get_u4(status, 12), 0u);  // msss
-  EXPECT_EQ(get_u4(status, 8), 0u);   // no fix since the reset
-  EXPECT_EQ(get_u1(status, 5) & 0x0C, 0);  // no time
+  const auto effects = session.take_effects();
+  ASSERT_EQ(effects.size(), 1u);
+  EXPECT_TRUE(std::holds_alternative<ColdStart>(effects[0]));
 }
 
 TEST(UbxSession, AHardwareResetNoClientAskedForReloadsRamWithoutAColdStartEffect) {

@@ -10,11 +10,11 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "emulator/ubx/receiver_state.hpp"
+#include "emulator/model/receiver_clock.hpp"
 
-namespace gpsemu::ubx {
+namespace gpsemu {
 namespace {
-namespace receiver_state_test {
+namespace receiver_clock_test {
 
 using namespace std::chrono;
 
@@ -28,8 +28,8 @@ nmea::Fix epoch(milliseconds since, int satellites, bool fix) {
   return f;
 }
 
-TEST(UbxReceiverState, HotStartHasRunASecondWithConfirmedTime) {
-  ReceiverState state(1);
+TEST(ReceiverStatus, HotStartHasRunASecondWithConfirmedTime) {
+  ReceiverStatusTracker state(1);
   const auto s = state.at(epoch(0ms, 10, true));
   EXPECT_EQ(s.since_start, kHotStartTtff);
   EXPECT_EQ(s.time_to_first_fix, kHotStartTtff);
@@ -38,8 +38,8 @@ TEST(UbxReceiverState, HotStartHasRunASecondWithConfirmedTime) {
   EXPECT_TRUE(s.time.confirmed);
 }
 
-TEST(UbxReceiverState, ColdStartValidatesResolvesThenConfirmsTime) {
-  ReceiverState state(1);
+TEST(ReceiverStatus, ColdStartValidatesResolvesThenConfirmsTime) {
+  ReceiverStatusTracker state(1);
   auto s = state.at(epoch(0ms, 0, false));
   EXPECT_FALSE(s.time.valid);
   EXPECT_EQ(s.since_start, 0ms);
@@ -70,8 +70,8 @@ TEST(UbxReceiverState, ColdStartValidatesResolvesThenConfirmsTime) {
   EXPECT_FALSE(s.time.confirmed);
 }
 
-TEST(UbxReceiverState, ResetStartsOver) {
-  ReceiverState state(1);
+TEST(ReceiverStatus, ResetStartsOver) {
+  ReceiverStatusTracker state(1);
   (void)state.at(epoch(0ms, 10, true));
   state.restart();
   auto s = state.at(epoch(10000ms, 0, false));
@@ -82,7 +82,7 @@ TEST(UbxReceiverState, ResetStartsOver) {
   EXPECT_EQ(s.time_to_first_fix, 30000ms);
 }
 
-TEST(UbxReceiverState, ClockIsDeterministicGivenTheSeed) {
+TEST(ReceiverStatus, ClockIsDeterministicGivenTheSeed) {
   ReceiverClock a(7), b(7), c(8);
   bool differs = false;
   for (int k = 0; k < 100; ++k) {
@@ -94,7 +94,7 @@ TEST(UbxReceiverState, ClockIsDeterministicGivenTheSeed) {
   EXPECT_TRUE(differs);
 }
 
-TEST(UbxReceiverState, BiasFollowsTheDriftAndIsSteppedByWholeMilliseconds) {
+TEST(ReceiverStatus, BiasFollowsTheDriftAndIsSteppedByWholeMilliseconds) {
   for (const std::uint64_t seed : {1u, 2u, 3u, 4u}) {
     ReceiverClock clock(seed);
     ClockState last = clock.step(0ms, true);
@@ -118,6 +118,6 @@ TEST(UbxReceiverState, BiasFollowsTheDriftAndIsSteppedByWholeMilliseconds) {
   EXPECT_EQ(ReceiverClock(1).step(1000ms, false).time_accuracy_ns, 1'000'000'000u);
 }
 
-}  // namespace receiver_state_test
+}  // namespace receiver_clock_test
 }  // namespace
-}  // namespace gpsemu::ubx
+}  // namespace gpsemu

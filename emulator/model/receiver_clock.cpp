@@ -1,13 +1,10 @@
-// A u-blox's own state (see receiver_state.hpp).
-#include "emulator/ubx/receiver_state.hpp"
-
-#include "emulator/model/noise/splitmix.hpp"
+// A receiver's own status and clock (see receiver_clock.hpp).
+#include "emulator/model/receiver_clock.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
-namespace gpsemu::ubx {
+namespace gpsemu {
 namespace {
 
 using std::chrono::milliseconds;
@@ -23,40 +20,37 @@ constexpr std::uint32_t kFixFrequencyAccuracyPsPerS = 500;
 constexpr std::uint32_t kNoFixTimeAccuracyNs = 1'000'000'000;
 constexpr std::uint32_t kNoFixFrequencyAccuracyPsPerS = 1'000'000;
 
-/// The shared SplitMix64, stepping `state` (model/noise/splitmix.hpp).
-std::uint64_t next_draw(std::uint64_t& state) {
-  const std::uint64_t z = noise::splitmix64(state);
-  state += 0x9E3779B97F4A7C15ULL;
-  return z;
-}
+constexpr std::uint64_t kClockStream = 0x636c6f636bULL;  // "clock"
 
-std::int32_t to_i32(double v) { return static_cast<std::int32_t>(std::clamp(std::round(v), -2147483648.0, 2147483647.0)); }
+/// Rounded half away from zero, clamped to the int32 range (without libm's round: an epoch's cost).
+std::int32_t to_i32(double v) {
+  const double c = std::clamp(v, -2147483648.0, 2147483647.0);
+  return static_cast<std::int32_t>(c >= 0.0 ? std::min(c + 0.5, 2147483647.0) : c - 0.5);
+}
 
 }  // namespace
 
-ReceiverClock::ReceiverClock(std::uint64_t seed) : seed_(seed) { restart(); }
-
-double ReceiverClock::gaussian() {
-  // Box-Muller over two uniform draws in (0, 1].
-  const double u1 = (static_cast<double>(next_draw(state_) >> 11) + 1.0) / 9007199254740992.0;
-  const double u2 = static_cast<double>(next_draw(state_) >> 11) / 9007199254740992.0;
-  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
-}
+ReceiverClock::ReceiverClock(std::uint64_t seed) : rng_(seed, kClockStream) { restart(); }
 
 void ReceiverClock::restart() {
-  state_ = seed_ ^ 0x636c6f636bULL;  // "clock": a stream of its own
-  unit_offset_ns_per_s_ = std::clamp(kUnitOffsetSigmaNsPerS * gaussian(), -kUnitOffsetMaxNsPerS, kUnitOffsetMaxNsPerS);
-  drift_ns_per_s_ = unit_offset_ns_per_s_ + kDriftWanderSigmaNsPerS * gaussian();
-  bias_ns_ = std::clamp(kBiasLimitNs / 2.0 * gaussian(), -kBiasLimitNs, kBiasLimitNs);
+  rng_.reset();
+  step_dt_ = milliseconds{-1};
+  unit_offset_ns_per_s_ = std::clamp(kUnitOffsetSigmaNsPerS * rng_.ziggurat_normal(), -kUnitOffsetMaxNsPerS, kUnitOffsetMaxNsPerS);
+  drift_ns_per_s_ = unit_offset_ns_per_s_ + kDriftWanderSigmaNsPerS * rng_.ziggurat_normal();
+  bias_ns_ = std::clamp(kBiasLimitNs / 2.0 * rng_.ziggurat_normal(), -kBiasLimitNs, kBiasLimitNs);
 }
 
 ClockState ReceiverClock::step(milliseconds dt, bool has_fix) {
   const double dt_s = std::max(0.0, static_cast<double>(dt.count()) / 1000.0);
   if (dt_s > 0.0) {
-    const double a = std::exp(-dt_s / kDriftTauS);
+    if (dt != step_dt_) {  // the same interval epoch after epoch: its coefficients once
+      step_a_ = std::exp(-dt_s / kDriftTauS);
+      step_b_ = std::sqrt(1.0 - step_a_ * step_a_) * kDriftWanderSigmaNsPerS;
+      step_dt_ = dt;
+    }
     const double before = drift_ns_per_s_;
-    drift_ns_per_s_ = unit_offset_ns_per_s_ + a * (drift_ns_per_s_ - unit_offset_ns_per_s_) +
-                      std::sqrt(1.0 - a * a) * kDriftWanderSigmaNsPerS * gaussian();
+    drift_ns_per_s_ = unit_offset_ns_per_s_ + step_a_ * (drift_ns_per_s_ - unit_offset_ns_per_s_) +
+                      step_b_ * rng_.ziggurat_normal();
     bias_ns_ += 0.5 * (before + drift_ns_per_s_) * dt_s;
     while (bias_ns_ > kBiasLimitNs) bias_ns_ -= kBiasStepNs;
     while (bias_ns_ < -kBiasLimitNs) bias_ns_ += kBiasStepNs;
@@ -69,7 +63,7 @@ ClockState ReceiverClock::step(milliseconds dt, bool has_fix) {
   return c;
 }
 
-ReceiverState::AtSolution ReceiverState::at(const nmea::Fix& fix) {
+ReceiverStatus ReceiverStatusTracker::at(const nmea::Fix& fix) {
   const nmea::UtcTime t = fix.time_utc;
   if (!power_on_) {
     // A fix at the first solution: the receiver was on (hot) before it; its time is known.
@@ -84,7 +78,7 @@ ReceiverState::AtSolution ReceiverState::at(const nmea::Fix& fix) {
   const milliseconds dt = last_ ? std::max(milliseconds{0}, t - *last_) : milliseconds{0};
   last_ = t;
 
-  AtSolution s;
+  ReceiverStatus s;
   s.since_start = t - *power_on_;
   if (!ttff_ && fix.has_fix()) ttff_ = s.since_start;
   s.time_to_first_fix = ttff_.value_or(milliseconds{0});
@@ -103,7 +97,7 @@ ReceiverState::AtSolution ReceiverState::at(const nmea::Fix& fix) {
   return s;
 }
 
-void ReceiverState::restart() {
+void ReceiverStatusTracker::restart() {
   power_on_.reset();
   last_.reset();
   ttff_.reset();
@@ -112,4 +106,4 @@ void ReceiverState::restart() {
   clock_.restart();
 }
 
-}  // namespace gpsemu::ubx
+}  // namespace gpsemu
