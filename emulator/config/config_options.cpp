@@ -5,8 +5,10 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <optional>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -14,6 +16,7 @@
 #include "emulator/config/profiles.hpp"
 #include "emulator/config/spec/control_spec.hpp"
 #include "emulator/config/spec/pps_spec.hpp"
+#include "emulator/model/receiver_models.hpp"
 #include "emulator/sources/pose_message.hpp"
 #include "emulator/ui/ui_spec.hpp"
 
@@ -336,8 +339,14 @@ std::vector<OptionDef> make_option_table() {
       "factory state, its NMEA and baud, UBX answered) | generic (NMEA only unless --protocol says; answers as an M8) "
       "(default generic)",
       [](ConfigDraft& d, V v) {
-        const std::string m = parse_choice("receiver", v.back(), {"ublox-m8n", "ublox-m9n", "ublox-f9p", "ublox-m10", "generic"});
-        d.receiver.settings.receiver_model = *receiver_model_from_name(m);
+        // The names are the receiver table's (model/receiver_models.cpp): a new row is a new --receiver.
+        const std::optional<ReceiverModel> model = receiver_model_from_name(v.back());
+        if (!model) {
+          std::string names;
+          for (const ReceiverFacts& row : receiver_table()) names += (names.empty() ? "" : ", ") + std::string(row.name);
+          throw std::invalid_argument(fmt::format("receiver must be one of {}, got '{}'", names, v.back()));
+        }
+        d.receiver.settings.receiver_model = *model;
       });
   add("receiver-state", "FILE", "a u-blox's stored configuration (BBR and flash layers: CFG-VALSET to them, "
       "CFG-CFG save) read at start when FILE exists and written whenever it changes, so a saved configuration "

@@ -57,7 +57,7 @@ gpsemu_cli_test(bad_sentence 2 "--sentences: sentences: unknown sentence 'GXX'" 
 gpsemu_cli_test(bad_outage 2 "--outage: outage: expected START\\+DURATION" --outage 10)
 gpsemu_cli_test(bad_fix_quality 2 "--fix-quality: fix-quality" --fix-quality ppp)
 gpsemu_cli_test(bad_protocol 2 "gpsemu: --protocol: protocol must be one of nmea, ubx, nmea\\+ubx, got 'ubx2'" --protocol ubx2)
-gpsemu_cli_test(bad_receiver 2 "gpsemu: --receiver: receiver must be one of ublox-m8n, ublox-m9n, ublox-f9p, ublox-m10, generic, got 'ublox-m7'"
+gpsemu_cli_test(bad_receiver 2 "gpsemu: --receiver: receiver must be one of generic, ublox-m8n, ublox-m9n, ublox-f9p, ublox-m10, got 'ublox-m7'"
                 --receiver ublox-m7)
 gpsemu_cli_test(outage_has_empty_fields 0 "\\$GNGGA,000001\\.00,,,,,0,00,99\\.99,,,,,,\\*[0-9A-F]+[^$]*\\$GNGSA,A,1,[^$]*\\$GPGSV,1,1,00,1\\*64"
                 --fast --duration 3 --output stdout --outage 1+1 --start-time 2024-01-01T00:00:00Z --log-level warn)
