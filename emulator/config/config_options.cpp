@@ -341,11 +341,7 @@ std::vector<OptionDef> make_option_table() {
       [](ConfigDraft& d, V v) {
         // The names are the receiver table's (model/receiver_models.cpp): a new row is a new --receiver.
         const std::optional<ReceiverModel> model = receiver_model_from_name(v.back());
-        if (!model) {
-          std::string names;
-          for (const ReceiverFacts& row : receiver_table()) names += (names.empty() ? "" : ", ") + std::string(row.name);
-          throw std::invalid_argument(fmt::format("receiver must be one of {}, got '{}'", names, v.back()));
-        }
+        if (!model) throw std::invalid_argument(fmt::format("receiver must be one of {}, got '{}'", receiver_model_names(), v.back()));
         d.receiver.settings.receiver_model = *model;
       });
   add("receiver-state", "FILE", "a u-blox's stored configuration (BBR and flash layers: CFG-VALSET to them, "

@@ -64,4 +64,10 @@ std::optional<ReceiverModel> receiver_model_from_name(std::string_view name) {
   return std::nullopt;
 }
 
+std::string receiver_model_names() {
+  std::string names;
+  for (const ReceiverFacts& row : table()) names += (names.empty() ? "" : ", ") + std::string(row.name);
+  return names;
+}
+
 }  // namespace gpsemu

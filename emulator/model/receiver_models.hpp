@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 
 #include "emulator/model/sky/tracking.hpp"
@@ -60,5 +61,7 @@ struct ReceiverFacts {
 [[nodiscard]] const ReceiverFacts& facts_of(ReceiverModel model);
 /// The model named `name` ("ublox-f9p"), nullopt for an unknown name.
 [[nodiscard]] std::optional<ReceiverModel> receiver_model_from_name(std::string_view name);
+/// Every model's name in table order, comma-separated ("generic, ublox-m8n, ..."): for messages.
+[[nodiscard]] std::string receiver_model_names();
 
 }  // namespace gpsemu

@@ -28,12 +28,18 @@ const ubx::Frame* find(const std::vector<ubx::Frame>& frames, ubx::MessageId id)
   return nullptr;
 }
 
-TEST(ChannelReset, SilentThenColdWithTheConfigurationLostUntilTheClientConfiguresAgain) {
+/// A u-blox M8N channel at Madison, the defaults otherwise.
+ChannelSettings ublox_m8n_channel() {
   ChannelSettings settings;
   settings.origin = {43.0725, -89.4125, 260.0};
   ubx::SessionSettings ubx_settings;
   ubx_settings.start.model = ReceiverModel::ublox_m8n;
   settings.protocol = protocol::ublox_protocol(ubx_settings);
+  return settings;
+}
+
+TEST(ChannelReset, SilentThenColdWithTheConfigurationLostUntilTheClientConfiguresAgain) {
+  ChannelSettings settings = ublox_m8n_channel();
   settings.faults.faults.push_back(faults::make_fault(
       {{"kind", std::string("reset")}, {"at", 2.0}, {"silent_s", 2.0}, {"ttff_s", 3.0}}));
   Channel channel(settings, kT0);
@@ -87,11 +93,7 @@ TEST(ChannelReset, SilentThenColdWithTheConfigurationLostUntilTheClientConfigure
 // status, so the next NAV-STATUS has run 0 ms and no TTFF until the cold start's first fix, and
 // the clock starts again from the seed (the same bias as at first).
 TEST(ChannelReset, ACfgRstColdStartStartsTheRunTimeAndTheTimeAgain) {
-  ChannelSettings settings;
-  settings.origin = {43.0725, -89.4125, 260.0};
-  ubx::SessionSettings ubx_settings;
-  ubx_settings.start.model = ReceiverModel::ublox_m8n;
-  settings.protocol = protocol::ublox_protocol(ubx_settings);
+  ChannelSettings settings = ublox_m8n_channel();
   settings.receiver.cold_start_s = 3.0;
   Channel channel(settings, kT0);
   channel.client_wrote(ubx::frame_bytes(ubx::msg::cfg_msg, std::string("\x01\x03\x01", 3)), 1);  // NAV-STATUS
