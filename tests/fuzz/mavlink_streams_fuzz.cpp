@@ -22,6 +22,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include <spdlog/spdlog.h>
 
@@ -41,8 +42,10 @@ using Kind = transport::ReceivedMessage::Kind;
 constexpr double kTrackSpacingM = 100.0;
 const LocalFrame kFrame(Geodetic{43.0725, -89.4125, 260.0});
 
-/// The track of (sender, system): east of the origin by its number × 100 m.
-double track_east_m(std::uint64_t sender, std::uint8_t system) { return kTrackSpacingM * static_cast<double>(sender * 4 + system); }
+/// The track of (sender, system 1..4): east of the origin by its number (sender * 4 + system - 1) × 100 m.
+double track_east_m(std::uint64_t sender, std::uint8_t system) {
+  return kTrackSpacingM * static_cast<double>(sender * 4 + (system - 1u));
+}
 
 std::uint64_t sum(const MavlinkSourceStats& s) {
   std::uint64_t n = s.accepted + s.superseded;
@@ -50,26 +53,33 @@ std::uint64_t sum(const MavlinkSourceStats& s) {
   return n;
 }
 
-/// State frames (not ATTITUDE) a fresh reader finds in `bytes`, finished.
+/// The state frames (not ATTITUDE) a reader finds: per datagram, or over a connection's bytes.
 class ReferenceReader {
  public:
-  std::uint64_t feed(const std::string& bytes) {
+  std::vector<mavlink::Frame> feed(const std::string& bytes) {
     reader_.feed(std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()));
     return take();
   }
-  std::uint64_t finish() {
+  std::vector<mavlink::Frame> finish() {
     reader_.finish();
     return take();
   }
 
  private:
-  std::uint64_t take() {
-    std::uint64_t n = 0;
-    while (const auto f = reader_.next()) n += f->message_id != mavlink::kAttitudeId ? 1 : 0;
-    return n;
+  std::vector<mavlink::Frame> take() {
+    std::vector<mavlink::Frame> frames;
+    while (const auto f = reader_.next()) {
+      if (f->message_id != mavlink::kAttitudeId) frames.push_back(*f);
+    }
+    return frames;
   }
   mavlink::FrameReader reader_;
 };
+
+bool same(const mavlink::Frame& a, const mavlink::Frame& b) {
+  return a.version == b.version && a.sequence == b.sequence && a.system_id == b.system_id &&
+         a.message_id == b.message_id && a.wire_length == b.wire_length && a.payload == b.payload;
+}
 
 std::string state_frame(std::uint64_t sender, std::uint8_t system, std::uint8_t choice, std::uint8_t offset, std::uint8_t seq) {
   static constexpr std::uint32_t kIds[] = {mavlink::kSimStateId, mavlink::kHilStateQuaternionId, mavlink::kSimstateId};
@@ -112,7 +122,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::optional<std::uint64_t> connection;  // TCP: the sender connected
   std::uint64_t frames_expected = 0;
   // The vehicle whose state was taken last, and when.
-  std::optional<std::uint64_t> owner;  // sender * 4 + system
+  std::optional<std::uint64_t> owner;  // sender * 4 + system - 1
   UtcNs owner_last{};
   bool owner_unknown = false;  // a frame found in raw bytes was taken: whose is not known here
   std::uint8_t seq = 0;
@@ -134,6 +144,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       at += 2;
       is_state = true;
     } else if (kind == 1) {
+      if (at >= size) break;
       const std::size_t n = std::min<std::size_t>(data[at], size - at - 1);
       event.bytes.assign(reinterpret_cast<const char*>(data) + at + 1, n);
       at += 1 + n;
@@ -145,18 +156,27 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                                                now.time_since_epoch()).count()));
     }
     // What the source should find in it.
+    std::vector<mavlink::Frame> found;
     if (event.kind == Kind::disconnected) {
-      frames_expected += stream.finish();
+      found = stream.finish();
       stream = ReferenceReader{};
       if (owner && *owner / 4 == sender) owner.reset();
       connection.reset();
     } else if (datagrams) {
       ReferenceReader one;
-      frames_expected += one.feed(event.bytes);
-      frames_expected += one.finish();
+      found = one.feed(event.bytes);
+      for (const auto& f : one.finish()) found.push_back(f);
     } else {
       connection = sender;
-      frames_expected += stream.feed(event.bytes);
+      found = stream.feed(event.bytes);
+    }
+    frames_expected += found.size();
+    // This event's state is the one frame read (not a frame that an earlier cut frame held back).
+    bool alone = false;
+    if (is_state && found.size() == 1) {
+      ReferenceReader ours;
+      const std::vector<mavlink::Frame> mine = ours.feed(event.bytes);
+      alone = mine.size() == 1 && same(mine[0], found[0]);
     }
 
     const MavlinkSourceStats before = source.stats();
@@ -166,10 +186,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const MavlinkSourceStats& after = source.stats();
     GPSEMU_FUZZ_CHECK(sum(after) == frames_expected);
 
-    const std::uint64_t vehicle = sender * 4 + system;
+    const std::uint64_t vehicle = sender * 4 + (system - 1u);
     const std::uint64_t taken = after.accepted - before.accepted;
-    if (is_state && taken == 1 && sum(after) - sum(before) == 1) {
-      // Our state alone was read from this event and taken.
+    if (alone && taken == 1) {
       GPSEMU_FUZZ_CHECK(owner_unknown || !owner || *owner == vehicle || now - owner_last > options.history.timeout);
       owner = vehicle;
       owner_unknown = false;
@@ -178,8 +197,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       GPSEMU_FUZZ_CHECK(truth.has_value());
       const double from_track_m = truth->position_m.east_m - track_east_m(sender, system);
       GPSEMU_FUZZ_CHECK(from_track_m > -0.5 && from_track_m < 10.5 && std::abs(truth->position_m.north_m) < 0.5);
-    } else if (is_state && after.rejected[static_cast<std::size_t>(PoseReject::other_sender)] >
-                               before.rejected[static_cast<std::size_t>(PoseReject::other_sender)]) {
+    } else if (alone && after.rejected[static_cast<std::size_t>(PoseReject::other_sender)] >
+                            before.rejected[static_cast<std::size_t>(PoseReject::other_sender)]) {
       GPSEMU_FUZZ_CHECK(owner_unknown || (owner && *owner != vehicle));
     } else if (taken > 0) {
       owner_unknown = true;
