@@ -13,7 +13,7 @@ constexpr std::array<KindInfo, 14> kCatalogue{{
     {FaultKind::fix_quality, "fix-quality", {"quality"}},
     {FaultKind::degrade, "degrade", {"satellites", "dop_k", "noise_k", "ramp_s", "ramp_out_s"}},
     {FaultKind::silence, "silence", {}},
-    {FaultKind::jam, "jam", {"db", "ramp_s", "ramp_out_s"}},
+    {FaultKind::jam, "jam", {"db", "leave", "ramp_s", "ramp_out_s"}},
     {FaultKind::sky_mask, "sky-mask", {"mask"}},
     {FaultKind::spoof, "spoof",
      {"speed_mps", "bearing_deg", "east_m", "north_m", "up_m", "ramp_s", "ramp_out_s", "time_drift_ms_per_s", "detected"}},
@@ -23,7 +23,7 @@ constexpr std::array<KindInfo, 14> kCatalogue{{
     {FaultKind::latency, "latency", {"delay_ms", "jitter_ms"}},
 }};
 
-constexpr std::array<ParameterInfo, 32> kParameters{{
+constexpr std::array<ParameterInfo, 33> kParameters{{
     // Every fault.
     {"kind", "the fault (outage, freeze, jump, ...)"},
     {"at", "start, seconds after the first epoch (default 0)"},
@@ -44,6 +44,7 @@ constexpr std::array<ParameterInfo, 32> kParameters{{
     {"dop_k", "DOP factor, 1..100 (default: from the satellites dropped)"},
     {"noise_k", "factor on the position error and sigmas, 0..1000 (default dop_k)"},
     {"db", "C/N0 drop at full strength, dB, 0..60"},
+    {"leave", "jam instead of --db: at full strength as far as leaves at most this many satellites tracked, from each epoch's C/N0 (3: the fix is lost whatever the sky)"},
     {"mask", "urban-canyon, tree-line, tunnel-entry or sectors FROM-TO:ELEV[,...] (degrees)"},
     {"speed_mps", "drag speed, m/s, 0..1000"},
     {"bearing_deg", "drag direction, degrees true, 0..360"},

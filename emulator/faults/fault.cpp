@@ -141,7 +141,13 @@ void add_parameters(std::string& s, const Degrade& p) {
   if (p.noise_k) add(s, "noise_k", *p.noise_k);
 }
 void add_parameters(std::string&, const Silence&) {}
-void add_parameters(std::string& s, const Jam& p) { add(s, "db", p.db); }
+void add_parameters(std::string& s, const Jam& p) {
+  if (p.leave) {
+    add(s, "leave", *p.leave);
+  } else {
+    add(s, "db", p.db);
+  }
+}
 void add_parameters(std::string& s, const SkyMask& p) { s += fmt::format(" mask={}", p.mask_name); }
 void add_parameters(std::string& s, const Spoof& p) {
   add(s, "speed_mps", p.speed_mps);
@@ -198,7 +204,13 @@ void parse_key(Degrade& p, const std::string& key, const FaultValue& value) {
     unparsed(key);
   }
 }
-void parse_key(Jam& p, const std::string& key, const FaultValue& value) { p.db = number(key, value, 0.0, 60.0); }
+void parse_key(Jam& p, const std::string& key, const FaultValue& value) {
+  if (key == "leave") {
+    p.leave = whole(key, value, 0, static_cast<int>(nmea::max_satellites));
+  } else {
+    p.db = number(key, value, 0.0, 60.0);
+  }
+}
 void parse_key(SkyMask& p, const std::string& key, const FaultValue& value) {
   p.mask_name = text(key, value);
   p.mask = parse_fault_mask(p.mask_name);
@@ -280,7 +292,10 @@ void finish(const ForcedQuality&, Fault&, const Seen& seen) {
     throw std::invalid_argument("quality: missing (fix-quality forces gps, dgps, rtk-float, rtk-fixed or estimated)");
 }
 void finish(const Jam&, Fault&, const Seen& seen) {
-  if (!seen.count("db")) throw std::invalid_argument("db: missing (jam lowers C/N0 by db dB)");
+  if (seen.count("db") && seen.count("leave")) throw std::invalid_argument("jam: db or leave, not both");
+  if (!seen.count("db") && !seen.count("leave"))
+    throw std::invalid_argument("db: missing (jam lowers C/N0 by db dB; or leave = N: as far as leaves at most N "
+                                "satellites tracked, whatever the sky)");
 }
 void finish(const SkyMask&, Fault&, const Seen& seen) {
   if (!seen.count("mask"))

@@ -1,7 +1,10 @@
 #include "emulator/faults/fault_timeline.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstddef>
+#include <functional>
 #include <variant>
 
 #include <fmt/format.h>
@@ -153,9 +156,25 @@ void act(const Degrade& p, EpochContext& c) {
 
 void act(const Silence&, EpochContext& c) { c.effect.silent = true; }
 
+/// The C/N0 drop (dB) that leaves at most `leave` of the fix's satellites tracked: just enough to
+/// take the next strongest under the tracking threshold (C/N0 are whole dB-Hz), at most 60 dB.
+double drop_leaving(const nmea::Fix& fix, int leave) {
+  std::array<int, nmea::max_satellites> cn0{};
+  std::size_t n = 0;
+  for (int i = 0; i < fix.satellites_in_view; ++i) {
+    const auto& s = fix.satellites[static_cast<std::size_t>(i)];
+    if (s.snr_dbhz && *s.snr_dbhz >= kTrackingThresholdDbHz) cn0[n++] = *s.snr_dbhz;
+  }
+  const auto k = static_cast<std::size_t>(leave);
+  if (n <= k) return 0.0;
+  std::nth_element(cn0.begin(), cn0.begin() + static_cast<std::ptrdiff_t>(k), cn0.begin() + static_cast<std::ptrdiff_t>(n),
+                   std::greater<>());
+  return std::min(60.0, cn0[k] - kTrackingThresholdDbHz + 0.5);
+}
+
 void act(const Jam& p, EpochContext& c) {
   nmea::Fix& fix = c.fix;
-  const double drop_db = c.strength * p.db;
+  const double drop_db = c.strength * (p.leave ? drop_leaving(fix, *p.leave) : p.db);
   RfState& rf = c.rf;
   rf.jamming_indicator = static_cast<std::uint8_t>(std::clamp(9.0 + 8.0 * drop_db, 0.0, 255.0));
   rf.jamming_state = drop_db < 6.0 ? 1 : drop_db < 15.0 ? 2 : 3;

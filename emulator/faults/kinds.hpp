@@ -49,6 +49,9 @@ struct Silence {};
 /// C/N0 down by db: weak satellites drop, accuracy follows, fix lost below 4.
 struct Jam {
   double db = 0.0;  ///< C/N0 reduction at full strength (dB)
+  /// Instead of db: at full strength, the drop that leaves at most this many satellites tracked,
+  /// from the C/N0 of each epoch (the same reaction whatever the sky of the moment; 3: no fix).
+  std::optional<int> leave;
 };
 /// Azimuth/elevation sectors blocked (sky_faults.hpp).
 struct SkyMask {

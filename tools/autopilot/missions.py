@@ -15,7 +15,8 @@ SIDE_M = 100.0
 FAULTS = [
     ("jump 50 m east", ["jump", "--east", "50", "--duration", "20"], 20),
     ("outage 20 s", ["outage", "--duration", "20"], 20),
-    ("jam 25 dB", ["jam", "--db", "25", "--ramp", "5", "--duration", "30"], 30),
+    # Strong enough to leave 3 satellites whatever the sky of the hour (a fixed 25 dB left 7 at some hours).
+    ("jam leaving 3 satellites", ["jam", "--leave", "3", "--ramp", "5", "--duration", "30"], 30),
     ("spoof drag 2 m/s east", ["spoof", "--speed", "2", "--bearing", "90", "--duration", "30"], 30),
 ]
 

@@ -98,6 +98,9 @@ TEST(MakeFault, BadKeysAndValuesNameTheKey) {
   EXPECT_NE(error_of({{"kind", std::string("jump")}, {"east", 3.0}}).find("east_m, north_m"), std::string::npos);
   EXPECT_NE(error_of({{"kind", std::string("jam")}, {"db", 99.0}}).find("db: 99 is outside [0, 60]"), std::string::npos);
   EXPECT_NE(error_of({{"kind", std::string("jam")}}).find("db: missing"), std::string::npos);
+  EXPECT_NE(error_of({{"kind", std::string("jam")}, {"db", 20.0}, {"leave", 3.0}}).find("db or leave, not both"),
+            std::string::npos);
+  EXPECT_NE(error_of({{"kind", std::string("jam")}, {"leave", 2.5}}).find("whole number"), std::string::npos);
   EXPECT_NE(error_of({{"kind", std::string("outage")}, {"at", -1.0}}).find("at:"), std::string::npos);
   EXPECT_NE(error_of({{"kind", std::string("outage")}, {"duration", 0.0}}).find("duration: must be > 0"), std::string::npos);
   EXPECT_NE(error_of({{"kind", std::string("outage")}, {"at", 5.0}, {"end", 3.0}}).find("not after at"), std::string::npos);

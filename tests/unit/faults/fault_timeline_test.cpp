@@ -173,7 +173,7 @@ TEST(FaultTimeline, SilenceWritesNothingForItsDuration) {
 }
 
 TEST(FaultTimeline, JamLowersCn0DropsWeakSatellitesAndLosesTheFix) {
-  Fault jam = fault(Jam{.db = 25.0}, 10, 20);
+  Fault jam = fault(Jam{.db = 25.0, .leave = {}}, 10, 20);
   jam.ramp_s = 10.0;
   Epochs run({jam});
   const RfState clean = run.rf;
@@ -209,6 +209,26 @@ TEST(FaultTimeline, JamLowersCn0DropsWeakSatellitesAndLosesTheFix) {
   EXPECT_EQ(run.rf.jamming_state, clean.jamming_state);
   EXPECT_EQ(run.rf.agc_count, clean.agc_count);
   EXPECT_EQ(run.timeline.entries()[0].epochs, 3u);
+}
+
+TEST(FaultTimeline, JamLeavingNSatellitesTakesItsStrengthFromTheSkyOfTheEpoch) {
+  // C/N0 26..48: leaving 3 needs 42 under 20 dB-Hz, 22.5 dB; 48, 46 and 44 stay (26, 24, 22).
+  Fault lose_fix = fault(Jam{.db = 0.0, .leave = 3}, 10, 20);
+  EXPECT_EQ(lose_fix.describe().find("jam leave=3"), 0u) << lose_fix.describe();
+  Epochs run({lose_fix});
+  const nmea::Fix lost = run.at(12);
+  EXPECT_FALSE(lost.has_fix());
+  EXPECT_EQ(lost.satellites[11].snr_dbhz, 26);
+  EXPECT_EQ(lost.satellites[9].snr_dbhz, 22);
+  EXPECT_EQ(lost.satellites[8].snr_dbhz, std::nullopt);
+  EXPECT_EQ(run.rf.jamming_state, 3);  // 22.5 dB: critical
+  // Leaving 6: the 6 strongest (38..48) tracked and used (a fix), the drop 36 - 20 + 0.5 = 16.5 dB.
+  Epochs six({fault(Jam{.db = 0.0, .leave = 6}, 10, 20)});
+  const nmea::Fix kept = six.at(12);
+  EXPECT_TRUE(kept.has_fix());
+  EXPECT_EQ(kept.satellites_used, 6);
+  EXPECT_EQ(kept.satellites[6].snr_dbhz, 22);
+  EXPECT_EQ(kept.satellites[5].snr_dbhz, std::nullopt);
 }
 
 TEST(FaultTimeline, ScenarioOrderAppliesAndOnlyActiveFaultsCount) {
