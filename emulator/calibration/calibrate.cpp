@@ -152,6 +152,7 @@ Calibration calibrate(ReceiverLog log, const CalibrateOptions& options) {
   EnuSeries& s = c.series;
   c.window_samples = std::min<std::size_t>(s.size(), static_cast<std::size_t>(noise::kCgrwMaxWindowSamples));
   c.motion = check_motion(s, log.speeds);
+  c.velocity = fit_velocity(log.speeds, s.rate_hz > 0 ? 1.0 / s.rate_hz : 1.0, options.seed);
   if (options.detrend) {
     const Detrended d = detrend(s);
     c.notes.push_back(fmt::format("detrended: a smooth trajectory (local quadratic over {:.0f} s) removed first: "
@@ -309,6 +310,7 @@ std::string config_toml(const Calibration& c, const std::string& log_name) {
   line(fmt::format("rate = {}", s.rate_hz));
   line(fmt::format("resolution = {}", std::clamp(s.minute_decimals, 1, 8)));
   out += hold_toml(c.hold);
+  out += velocity_toml(c.velocity);
   line(fmt::format("origin = \"{:.9f},{:.9f},{:.2f}\"", s.centre.lat_deg, s.centre.lon_deg, s.centre.alt_m));
   const ModelResult* best_gm = nullptr;  // the gauss-markov order whose keys are written
   for (const ModelResult& m : c.models)

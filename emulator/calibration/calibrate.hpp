@@ -16,6 +16,7 @@
 #include "emulator/calibration/model_fits.hpp"
 #include "emulator/calibration/motion.hpp"
 #include "emulator/calibration/receiver_log.hpp"
+#include "emulator/calibration/velocity_fit.hpp"
 #include "emulator/calibration/series_stats.hpp"
 #include "emulator/model/noise/cgrw_fit.hpp"
 #include "emulator/model/noise/noise_model.hpp"
@@ -57,6 +58,7 @@ struct Calibration {
   EnuSeries series;                       ///< the log on its grid, metres about its mean
   LogCounts counts;                       ///< what reading it skipped
   MotionCheck motion;                     ///< the log's displacement and speed (before any detrending)
+  VelocityFit velocity;                   ///< the velocity error, from the speeds reported at rest
   std::array<AxisStats, 3> real;          ///< the log's statistics
   std::size_t window_samples = 0;         ///< cgrw window (the log's length, at most 100 000)
   /// cgrw: the measured four statistics, the best compromise fit of each (max_ratio infinite),

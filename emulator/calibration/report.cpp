@@ -135,7 +135,7 @@ std::string calibration_summary(const Calibration& c) {
       out += composite_lines(c, m);
     }
   }
-  return out + hold_summary(c.hold) + scores_line(c);
+  return out + hold_summary(c.hold) + velocity_summary(c.velocity) + scores_line(c);
 }
 
 std::string comparison_table(const Calibration& c) {
@@ -180,6 +180,7 @@ std::string comparison_table(const Calibration& c) {
   }
   out += "  (acf rows: the ratio is of 1 - autocorrelation)\n";
   out += hold_summary(c.hold);
+  out += velocity_summary(c.velocity);
   for (const ModelResult& m : c.models)
     if (m.config.model == noise::Model::composite) out += composite_lines(c, m);
   return out;
