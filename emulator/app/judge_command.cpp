@@ -36,6 +36,7 @@ Subcommand add_judge_command(CLI::App& app) {
             std::fputs(calibration::receiver_state_summary(learned_receiver_state(args->log, c)).c_str(), stdout);
             std::fputs(calibration::judgement_table(j).c_str(), stdout);
             std::fputs(calibration::disagreement(j, c).c_str(), stdout);
+            std::fputs(calibration::velocity_summary(c.velocity).c_str(), stdout);
             if (!args->json.empty()) {
               std::ofstream f(args->json);
               if (!f || !(f << calibration::judgement_json(j)) || !f.flush())

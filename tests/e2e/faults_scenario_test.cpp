@@ -182,7 +182,7 @@ TEST(FaultsScenario, ABadKeyIsOneClearMessageAndExit2) {
   const auto scenario = test::write_file(dir / "bad.toml", "[[fault]]\nkind = \"jam\"\nat = 3\ndb = 25\nramp = 5\n");
   const test::Result r = test::run_fast(GPSEMU_BINARY, {"--duration", "5", "--scenario", scenario.string()});
   EXPECT_EQ(r.status, 2);
-  EXPECT_TRUE(test::contains(r.err, "ramp: not a parameter of jam (its parameters: db, ramp_out_s, ramp_s")) << r.err;
+  EXPECT_TRUE(test::contains(r.err, "ramp: not a parameter of jam (its parameters: db, leave, ramp_out_s, ramp_s")) << r.err;
   EXPECT_TRUE(test::contains(r.err, "bad.toml:5")) << r.err;  // the line of the key at fault
   const auto other = test::write_file(dir / "other.toml", "[[fault]]\nkind = \"outage\"\nreceiver = 3\n");
   const test::Result n = test::run_fast(GPSEMU_BINARY, {"--duration", "5", "--scenario", other.string()});

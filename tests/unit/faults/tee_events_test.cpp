@@ -74,7 +74,8 @@ TEST(TeeEvents, ABadLineIsNamed) {
     (void)faults_from_tee("# sent x\n# fault +1.0 2024-05-01T00:00:01.000Z {\"fault\":\"jam\"}\n");
     FAIL() << "no error";
   } catch (const std::invalid_argument& e) {
-    EXPECT_EQ(std::string(e.what()), "line 2: db: missing (jam lowers C/N0 by db dB)");
+    EXPECT_EQ(std::string(e.what()), "line 2: db: missing (jam lowers C/N0 by db dB; or leave = N: as far as leaves at most N "
+              "satellites tracked, whatever the sky)");
   }
   EXPECT_THROW((void)faults_from_tee("# fault +x {}\n"), std::invalid_argument);
 }
