@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "emulator/model/noise/sample_stats.hpp"
 #include "emulator/model/receiver.hpp"
 
 namespace gpsemu::calibration {
@@ -48,12 +49,7 @@ double lag1(const std::vector<double>& x) {
   return den > 0.0 ? num / den : 0.0;
 }
 
-double percentile95(std::vector<double> x) {
-  if (x.empty()) return 0.0;
-  const auto i = static_cast<std::size_t>(std::floor(0.95 * static_cast<double>(x.size() - 1)));
-  std::nth_element(x.begin(), x.begin() + static_cast<std::ptrdiff_t>(i), x.end());
-  return x[i];
-}
+double percentile95(std::vector<double> x) { return noise::quantile(std::move(x), 0.95); }
 
 double log_ratio(double a, double b) { return a > 0.0 && b > 0.0 ? std::abs(std::log(a / b)) : 1.0; }
 
@@ -127,12 +123,10 @@ namespace {
 FilterScore quantile_score(std::vector<FilterScore> runs, double q) {
   FilterScore out;
   if (runs.empty()) return out;
-  const auto k = static_cast<std::size_t>(std::clamp(q, 0.0, 1.0) * static_cast<double>(runs.size() - 1));
   const auto pick = [&](double FilterScore::*field) {
     std::vector<double> v;
     for (const FilterScore& r : runs) v.push_back(r.*field);
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-    out.*field = v[k];
+    out.*field = noise::quantile(std::move(v), q);
   };
   pick(&FilterScore::nis_mean), pick(&FilterScore::nis_p95), pick(&FilterScore::innov_rho1), pick(&FilterScore::pos_err_m);
   return out;

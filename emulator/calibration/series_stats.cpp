@@ -168,9 +168,7 @@ AxisStats quantile_stats(const std::vector<AxisStats>& runs, double q) {
   const auto pick = [&](auto get) {
     std::vector<double> v;
     for (const AxisStats& r : runs) v.push_back(get(r));
-    const auto k = static_cast<std::size_t>(std::clamp(q, 0.0, 1.0) * static_cast<double>(v.size() - 1));
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-    return v[k];
+    return noise::quantile(std::move(v), q);
   };
   m.range_m = pick([](const AxisStats& r) { return r.range_m; });
   m.sd_m = pick([](const AxisStats& r) { return r.sd_m; });

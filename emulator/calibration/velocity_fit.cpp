@@ -3,39 +3,30 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include <fmt/format.h>
 
+#include "emulator/model/noise/sample_stats.hpp"
+
 namespace gpsemu::calibration {
 namespace {
 
-double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  const auto k = static_cast<std::size_t>(std::clamp(q, 0.0, 1.0) * static_cast<double>(v.size() - 1));
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-  return v[k];
-}
-
-/// Correlation of x between reports one interval apart (pairs across a gap left out).
-double lag1_correlation(std::span<const SpeedReport> speeds, double interval_s) {
-  std::vector<double> a, b;
-  for (std::size_t i = 1; i < speeds.size(); ++i) {
-    if (std::abs(speeds[i].time_s - speeds[i - 1].time_s - interval_s) > 0.25 * interval_s) continue;
-    const double x0 = speeds[i - 1].speed_mps, x1 = speeds[i].speed_mps;
-    a.push_back(x0 * x0);
-    b.push_back(x1 * x1);
+/// Lag-1 autocorrelation of speed^2 over consecutive reports; a pair across a gap (not one
+/// interval apart) is left out, as NaN between them.
+double lag1_correlation_of_squares(std::span<const SpeedReport> speeds, double interval_s) {
+  std::vector<double> x;
+  x.reserve(speeds.size() + speeds.size() / 8);
+  for (std::size_t i = 0; i < speeds.size(); ++i) {
+    if (i > 0 && std::abs(speeds[i].time_s - speeds[i - 1].time_s - interval_s) > 0.25 * interval_s) {
+      x.push_back(std::numeric_limits<double>::quiet_NaN());
+    }
+    const double v = speeds[i].speed_mps;
+    x.push_back(v * v);
   }
-  if (a.size() < 3) return 0.0;
-  const auto n = static_cast<double>(a.size());
-  double ma = 0, mb = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) ma += a[i], mb += b[i];
-  ma /= n, mb /= n;
-  double sab = 0, saa = 0, sbb = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    sab += (a[i] - ma) * (b[i] - mb), saa += (a[i] - ma) * (a[i] - ma), sbb += (b[i] - mb) * (b[i] - mb);
-  }
-  return saa > 0 && sbb > 0 ? sab / std::sqrt(saa * sbb) : 0.0;
+  const double r = noise::autocorrelation(x, 1);
+  return std::isnan(r) ? 0.0 : r;
 }
 
 }  // namespace
@@ -51,7 +42,7 @@ SpeedQuantiles simulated_speeds(const noise::VelocityNoiseParams& params, double
     const double speed = std::hypot(e.east_m, e.north_m);
     s.push_back(speed < params.static_clamp_mps ? 0.0 : speed);
   }
-  return {quantile(s, 0.5), quantile(s, 0.95)};
+  return {noise::quantile(s, 0.5), noise::quantile(s, 0.95)};
 }
 
 VelocityFit fit_velocity(std::span<const SpeedReport> speeds, double interval_s, std::uint64_t seed) {
@@ -69,38 +60,33 @@ VelocityFit fit_velocity(std::span<const SpeedReport> speeds, double interval_s,
     if (v == 0.0) ++zeros;
   }
   const auto n = static_cast<double>(s.size());
-  fit.median_mps = quantile(s, 0.5);
-  fit.p95_mps = quantile(s, 0.95);
+  fit.median_mps = noise::quantile(s, 0.5);
+  fit.p95_mps = noise::quantile(s, 0.95);
   fit.zero_share = static_cast<double>(zeros) / n;
   fit.fitted = true;
   noise::VelocityNoiseParams& p = fit.params;
-  const double tau_s = p.wander_tau_s;
-  const double default_wander_share = p.wander_sigma_mps * p.wander_sigma_mps /
-                                      (p.horizontal_sigma_mps() * p.horizontal_sigma_mps());
-  double sigma = 0.0, wander_share = default_wander_share;
-  if (fit.zero_share > kClampZeroShare) {
-    const std::size_t above_count = s.size() - zeros;
-    if (above_count < kMinSpeedsAboveClamp) {
-      p.static_clamp_mps = kAllZeroClamp_mps;  // the sigma stays the model's: the clamp hid it whole
-      const SpeedQuantiles q = simulated_speeds(p, interval_s, std::max<std::size_t>(s.size(), 2000), seed);
-      fit.model_median_mps = q.median_mps, fit.model_p95_mps = q.p95_mps;
-      return fit;
-    }
-    // The speeds above the clamp c are a Rayleigh tail: P(s > c) = p = exp(-c^2 / 2 sigma^2) and
-    // E[s^2 | s > c] = c^2 + 2 sigma^2, so sigma^2 = E[s^2 | s > c] / (2 (1 - ln p)).
-    const double above = static_cast<double>(above_count) / n;
-    const double mean_sq_above = sum_sq / static_cast<double>(above_count);
-    sigma = std::sqrt(mean_sq_above / (2.0 * (1.0 - std::log(above))));
-    p.static_clamp_mps = std::min(1.0, sigma * std::sqrt(-2.0 * std::log(above)));
+  const std::size_t above_count = s.size() - zeros;
+  if (fit.zero_share > kClampZeroShare && above_count < kMinSpeedsAboveClamp) {
+    p.static_clamp_mps = kAllZeroClamp_mps;  // the sigmas stay the model's: the clamp hid them whole
   } else {
-    sigma = std::sqrt(sum_sq / n / 2.0);
-    fit.lag1_corr = lag1_correlation(speeds, interval_s);
-    const double rho_wander = std::exp(-interval_s / tau_s);
-    wander_share = std::clamp(std::sqrt(std::max(0.0, fit.lag1_corr)) / rho_wander, 0.0, 1.0);
+    double sigma = 0.0;
+    double wander_share = p.wander_sigma_mps * p.wander_sigma_mps / (p.horizontal_sigma_mps() * p.horizontal_sigma_mps());
+    if (fit.zero_share > kClampZeroShare) {
+      // The speeds above the clamp c are a Rayleigh tail: P(s > c) = p = exp(-c^2 / 2 sigma^2) and
+      // E[s^2 | s > c] = c^2 + 2 sigma^2, so sigma^2 = E[s^2 | s > c] / (2 (1 - ln p)).
+      const double above = static_cast<double>(above_count) / n;
+      sigma = std::sqrt(sum_sq / static_cast<double>(above_count) / (2.0 * (1.0 - std::log(above))));
+      p.static_clamp_mps = std::min(1.0, sigma * std::sqrt(-2.0 * std::log(above)));
+    } else {
+      sigma = std::sqrt(sum_sq / n / 2.0);
+      fit.lag1_corr = lag1_correlation_of_squares(speeds, interval_s);
+      const double rho_wander = std::exp(-interval_s / p.wander_tau_s);
+      wander_share = std::clamp(std::sqrt(std::max(0.0, fit.lag1_corr)) / rho_wander, 0.0, 1.0);
+    }
+    sigma = std::min(sigma, 10.0);
+    p.white_sigma_mps = sigma * std::sqrt(1.0 - wander_share);
+    p.wander_sigma_mps = sigma * std::sqrt(wander_share);
   }
-  sigma = std::min(sigma, 10.0);
-  p.white_sigma_mps = sigma * std::sqrt(1.0 - wander_share);
-  p.wander_sigma_mps = sigma * std::sqrt(wander_share);
   const SpeedQuantiles q = simulated_speeds(p, interval_s, std::max<std::size_t>(s.size(), 2000), seed);
   fit.model_median_mps = q.median_mps, fit.model_p95_mps = q.p95_mps;
   return fit;

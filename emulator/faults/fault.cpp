@@ -208,7 +208,7 @@ void parse_key(Jam& p, const std::string& key, const FaultValue& value) {
   if (key == "leave") {
     p.leave = whole(key, value, 0, static_cast<int>(nmea::max_satellites));
   } else {
-    p.db = number(key, value, 0.0, 60.0);
+    p.db = number(key, value, 0.0, kMaxJamDb);
   }
 }
 void parse_key(SkyMask& p, const std::string& key, const FaultValue& value) {

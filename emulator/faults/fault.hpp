@@ -30,6 +30,8 @@ inline constexpr int kRolloverWeeks = 1024;
 
 /// A C/N0 below this is not tracked (dB-Hz): a jammed satellite under it drops from the solution.
 inline constexpr double kTrackingThresholdDbHz = 20.0;
+/// The strongest jam (C/N0 drop at full strength, dB): `db`'s upper bound and `leave`'s largest drop.
+inline constexpr double kMaxJamDb = 60.0;
 /// Fewest satellites of a 3-D fix: below, a jammed or degraded receiver has no fix.
 inline constexpr int kMinFixSatellites = 4;
 

@@ -157,7 +157,7 @@ void act(const Degrade& p, EpochContext& c) {
 void act(const Silence&, EpochContext& c) { c.effect.silent = true; }
 
 /// The C/N0 drop (dB) that leaves at most `leave` of the fix's satellites tracked: just enough to
-/// take the next strongest under the tracking threshold (C/N0 are whole dB-Hz), at most 60 dB.
+/// take the next strongest under the tracking threshold (C/N0 are whole dB-Hz), at most kMaxJamDb.
 double drop_leaving(const nmea::Fix& fix, int leave) {
   std::array<int, nmea::max_satellites> cn0{};
   std::size_t n = 0;
@@ -169,7 +169,7 @@ double drop_leaving(const nmea::Fix& fix, int leave) {
   if (n <= k) return 0.0;
   std::nth_element(cn0.begin(), cn0.begin() + static_cast<std::ptrdiff_t>(k), cn0.begin() + static_cast<std::ptrdiff_t>(n),
                    std::greater<>());
-  return std::min(60.0, cn0[k] - kTrackingThresholdDbHz + 0.5);
+  return std::min(kMaxJamDb, cn0[k] - kTrackingThresholdDbHz + 0.5);
 }
 
 void act(const Jam& p, EpochContext& c) {

@@ -1,5 +1,6 @@
 #include "emulator/model/noise/sample_stats.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -20,6 +21,13 @@ Sum sum_of(std::span<const double> x) {
 }
 
 }  // namespace
+
+double quantile(std::vector<double> x, double q) {
+  if (x.empty()) return 0.0;
+  const auto k = static_cast<std::size_t>(std::clamp(q, 0.0, 1.0) * static_cast<double>(x.size() - 1));
+  std::nth_element(x.begin(), x.begin() + static_cast<std::ptrdiff_t>(k), x.end());
+  return x[k];
+}
 
 double mean(std::span<const double> x) {
   const Sum s = sum_of(x);

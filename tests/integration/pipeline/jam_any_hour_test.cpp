@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,38 +18,20 @@
 #include "emulator/config/config.hpp"
 #include "emulator/pipeline/channel.hpp"
 #include "emulator/pipeline/run_settings.hpp"
+#include "nmea/parse.hpp"
+#include "tests/support/nmea_check.hpp"
 
 namespace gpsemu {
 namespace {
 namespace jam_any_hour_test {
 
-/// The comma-separated fields of the sentence beginning at `at` (its type first), up to '*'.
-std::vector<std::string> fields_from(const std::string& bytes, std::size_t at) {
-  std::vector<std::string> fields;
-  if (at == std::string::npos) return fields;
-  const std::size_t end = bytes.find('*', at);
-  std::string field;
-  for (std::size_t i = at; i < end && i < bytes.size(); ++i) {
-    if (bytes[i] == ',') {
-      fields.push_back(field);
-      field.clear();
-    } else {
-      field += bytes[i];
-    }
+/// The sentences of one epoch's bytes, checked and split by nmea::parse_sentence.
+std::vector<nmea::Sentence> sentences_of(const std::string& bytes) {
+  std::vector<nmea::Sentence> out;
+  for (const std::string& line : test::split_sentences(bytes).sentences) {
+    if (auto s = nmea::parse_sentence(line); s.ok()) out.push_back(std::move(s).value());
   }
-  fields.push_back(field);
-  return fields;
-}
-
-/// GSV satellites with a C/N0 in one epoch's bytes.
-int tracked_in_gsv(const std::string& bytes) {
-  int tracked = 0;
-  for (std::size_t at = bytes.find("GSV,"); at != std::string::npos; at = bytes.find("GSV,", at + 1)) {
-    const std::vector<std::string> f = fields_from(bytes, at);
-    // GSV,total,number,in view, then (id, elevation, azimuth, snr) x up to 4 [, signal id].
-    for (std::size_t s = 4; s + 3 < f.size(); s += 4) tracked += f[s + 3].empty() ? 0 : 1;
-  }
-  return tracked;
+  return out;
 }
 
 struct HourResult {
@@ -74,12 +57,20 @@ HourResult jam_at(int hour, const std::string& jam_keys) {
   for (int k = 0; k < 8; ++k) {
     (void)channel.step(t0 + std::chrono::seconds(k), at_rest);
     if (k < 2) continue;  // before the jam
-    const std::vector<std::string> gga = fields_from(channel.bytes(), channel.bytes().find("GGA,"));
-    if (gga.size() < 8) continue;
+    int tracked = 0;
+    std::optional<std::vector<std::string>> gga;
+    for (const nmea::Sentence& s : sentences_of(channel.bytes())) {
+      if (s.type == "GGA") gga = s.fields;
+      // GSV: total, number, in view, then (id, elevation, azimuth, C/N0) x up to 4 [, signal id].
+      if (s.type == "GSV") {
+        for (std::size_t at = 3; at + 3 < s.fields.size(); at += 4) tracked += s.fields[at + 3].empty() ? 0 : 1;
+      }
+    }
+    if (!gga || gga->size() < 7) continue;
     ++r.epochs_jammed;
-    if (!gga[6].empty() && gga[6] != "0") ++r.with_fix;
-    r.most_used = std::max(r.most_used, gga[7].empty() ? 0 : std::stoi(gga[7]));
-    r.most_tracked = std::max(r.most_tracked, tracked_in_gsv(channel.bytes()));
+    if (!(*gga)[5].empty() && (*gga)[5] != "0") ++r.with_fix;
+    r.most_used = std::max(r.most_used, (*gga)[6].empty() ? 0 : std::stoi((*gga)[6]));
+    r.most_tracked = std::max(r.most_tracked, tracked);
   }
   return r;
 }
